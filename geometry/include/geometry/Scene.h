@@ -1,0 +1,49 @@
+// Scene description (DESIGN.md §3): camera, one rectangular light, objects in world space.
+// loadScene() accepts the scene JSON or a .gltf/.glb directly (then camera and light are framed on
+// the model's bounds). Every problem with the input throws geometry::InputError naming the key or
+// file; nothing is ever silently defaulted except the documented optional keys.
+#pragma once
+
+#include <geometry/Types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace geometry {
+
+struct SceneObject {
+    std::string name;                          // "objects[3] (box)" or the glTF file name
+    ShadowMethod method = ShadowMethod::Auto;  // "method" key
+    MeshData mesh;                             // world space, all transforms applied
+};
+
+struct Scene {
+    Camera camera;
+    RectLight light;
+    std::vector<SceneObject> objects;
+    std::filesystem::path source; // the file it was loaded from (empty if built in code)
+
+    Aabb bounds() const;
+    std::size_t triangleCount() const;
+};
+
+// Load a scene JSON (.json) or a glTF/GLB file (.gltf/.glb). Throws InputError.
+Scene loadScene(const std::filesystem::path& path);
+
+// Parse a scene from JSON text; relative "file" paths resolve against baseDir. Throws InputError.
+// `origin` names the source in error messages.
+Scene parseScene(const std::string& jsonText, const std::filesystem::path& baseDir,
+                 const std::string& origin = "<scene>");
+
+// Checks that the light has finite values and non-zero area, and that the camera is usable.
+// Throws InputError. (Called by loadScene/parseScene; public for code that edits a scene.)
+void validateScene(const Scene& scene);
+
+// Camera and light framed on bounds: used when a glTF is given directly.
+Camera defaultCamera(const Aabb& bounds);
+RectLight defaultLight(const Aabb& bounds);
+
+const char* toString(ShadowMethod m);
+
+} // namespace geometry

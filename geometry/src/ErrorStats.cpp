@@ -1,0 +1,1 @@
+// TODO: implemented by the ErrorStats work item

@@ -1,0 +1,1 @@
+// TODO: implemented by the RayTracer work item

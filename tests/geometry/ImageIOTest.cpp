@@ -1,0 +1,1 @@
+// placeholder: tests for this area are being written
