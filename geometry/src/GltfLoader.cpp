@@ -1,1 +1,611 @@
-// TODO: implemented by the GltfLoader work item
+// glTF 2.0 / GLB → one world-space MeshData.
+// - Nodes of the default scene (or every root node when there is none) are walked with their
+//   matrices / TRS composed; every primitive of every mesh is merged, one vertex range each.
+// - TRIANGLES are kept as stored; strips and fans are converted to lists, dropping the
+//   index-degenerate triangles those encodings use as restarts.
+// - Accessors are read through one routine that honours byteStride, normalisation and sparse
+//   substitution, and checks every byte range against its buffer (files are untrusted input).
+// - A node transform with negative determinant mirrors the geometry, so winding is flipped to keep
+//   front faces counter-clockwise.
+#include <geometry/GltfLoader.h>
+
+#include <geometry/Error.h>
+
+#include <tiny_gltf.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <string>
+#include <unordered_set>
+
+namespace geometry {
+namespace {
+
+// Every accessor element as doubles (exact for all glTF component types), row per element.
+struct AccessorValues {
+    std::size_t count = 0;
+    int components = 0;
+    int componentType = 0;
+    std::vector<double> values; // count * components
+    double at(std::size_t i, int c) const { return values[i * components + c]; }
+};
+
+class Loader {
+public:
+    Loader(const std::filesystem::path& path, const tinygltf::Model& model)
+        : mPath(path), mModel(model) {}
+
+    MeshData load(const glm::mat4& transform);
+
+private:
+    [[noreturn]] void fail(const std::string& what) const {
+        throw InputError(mPath.string() + ": " + what);
+    }
+
+    AccessorValues readAccessor(int index, const std::string& what) const;
+    void readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_t byteOffset,
+                 std::size_t stride, std::size_t count, int componentType, int components,
+                 bool normalized, const std::string& what, double* out,
+                 std::size_t outStride) const;
+
+    void visitNode(int nodeIndex, const glm::dmat4& parent, int depth);
+    void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world,
+                      const std::string& where);
+    std::uint32_t materialIndex(int gltfMaterial);
+    int textureIndex(int gltfTexture, const std::string& materialName, bool required);
+
+    std::filesystem::path mPath;
+    const tinygltf::Model& mModel;
+    MeshData mMesh;
+    bool mAnyTexcoords = false;
+    std::map<int, std::uint32_t> mMaterialMap; // glTF material (-1 = default) → ours
+    std::map<int, int> mTextureMap;            // glTF texture → MeshData::textures
+    std::vector<int> mOnPath;                  // nodes on the current path (cycle check)
+};
+
+int componentSize(int type) {
+    switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+    default:
+        return 0;
+    }
+}
+
+int componentCount(int type) {
+    switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+        return 1;
+    case TINYGLTF_TYPE_VEC2:
+        return 2;
+    case TINYGLTF_TYPE_VEC3:
+        return 3;
+    case TINYGLTF_TYPE_VEC4:
+        return 4;
+    case TINYGLTF_TYPE_MAT2:
+        return 4;
+    case TINYGLTF_TYPE_MAT3:
+        return 9;
+    case TINYGLTF_TYPE_MAT4:
+        return 16;
+    default:
+        return 0;
+    }
+}
+
+// One component at p, converted per the glTF normalisation rules when `normalized`.
+double decodeComponent(const unsigned char* p, int type, bool normalized) {
+    switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        std::int8_t v;
+        std::memcpy(&v, p, 1);
+        return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        std::uint8_t v;
+        std::memcpy(&v, p, 1);
+        return normalized ? v / 255.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_INT: {
+        std::int32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+    }
+    default: { // FLOAT (validated by the caller)
+        float v;
+        std::memcpy(&v, p, 4);
+        return v;
+    }
+    }
+}
+
+void Loader::readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_t byteOffset,
+                     std::size_t stride, std::size_t count, int componentType, int components,
+                     bool normalized, const std::string& what, double* out,
+                     std::size_t outStride) const {
+    if (view.buffer < 0 || std::size_t(view.buffer) >= mModel.buffers.size()) {
+        fail(what + ": bufferView " + std::to_string(viewIndex) + " names a missing buffer");
+    }
+    const auto& data = mModel.buffers[view.buffer].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
+        fail(what + ": bufferView " + std::to_string(viewIndex) + " lies outside its buffer");
+    }
+    const std::size_t elementBytes = std::size_t(componentSize(componentType)) * components;
+    if (count > 0) {
+        // Last byte read must stay inside the view; written to avoid overflow on huge counts.
+        const std::size_t span = view.byteLength;
+        if (byteOffset > span || elementBytes > span - byteOffset ||
+            (count - 1) > (span - byteOffset - elementBytes) / std::max<std::size_t>(stride, 1)) {
+            fail(what + ": accessor data runs past the end of bufferView " +
+                 std::to_string(viewIndex));
+        }
+    }
+    const unsigned char* base = data.data() + view.byteOffset + byteOffset;
+    const int compBytes = componentSize(componentType);
+    for (std::size_t i = 0; i < count; ++i) {
+        const unsigned char* e = base + i * stride;
+        for (int c = 0; c < components; ++c) {
+            out[i * outStride + c] = decodeComponent(e + c * compBytes, componentType, normalized);
+        }
+    }
+}
+
+AccessorValues Loader::readAccessor(int index, const std::string& what) const {
+    if (index < 0 || std::size_t(index) >= mModel.accessors.size()) {
+        fail(what + ": accessor " + std::to_string(index) + " does not exist");
+    }
+    const tinygltf::Accessor& acc = mModel.accessors[index];
+    const std::string name = what + " (accessor " + std::to_string(index) + ")";
+    AccessorValues result;
+    result.components = componentCount(acc.type);
+    result.componentType = acc.componentType;
+    result.count = acc.count;
+    if (result.components == 0 || componentSize(acc.componentType) == 0) {
+        fail(name + ": unsupported type/componentType");
+    }
+    // Refuse absurd counts before allocating (a few hundred million values is no mesh of ours).
+    if (acc.count > (std::size_t(1) << 28)) fail(name + ": count too large");
+    result.values.assign(acc.count * result.components, 0.0);
+
+    // No bufferView means all zeros (only meaningful with sparse substitution below).
+    if (acc.bufferView >= 0) {
+        if (std::size_t(acc.bufferView) >= mModel.bufferViews.size()) {
+            fail(name + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
+        }
+        const auto& view = mModel.bufferViews[acc.bufferView];
+        const std::size_t packed =
+            std::size_t(componentSize(acc.componentType)) * result.components;
+        const std::size_t stride = view.byteStride ? view.byteStride : packed;
+        if (stride < packed) fail(name + ": byteStride smaller than one element");
+        readRaw(view, acc.bufferView, acc.byteOffset, stride, acc.count, acc.componentType,
+                result.components, acc.normalized, name, result.values.data(), result.components);
+    }
+
+    if (acc.sparse.isSparse && acc.sparse.count > 0) {
+        const auto& sp = acc.sparse;
+        const std::size_t n = std::size_t(sp.count);
+        if (n > acc.count) fail(name + ": sparse count exceeds accessor count");
+        const int idxType = sp.indices.componentType;
+        if (idxType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            idxType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            idxType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+            fail(name + ": sparse indices must be unsigned byte/short/int");
+        }
+        auto view = [&](int v) -> const tinygltf::BufferView& {
+            if (v < 0 || std::size_t(v) >= mModel.bufferViews.size()) {
+                fail(name + ": sparse bufferView " + std::to_string(v) + " does not exist");
+            }
+            return mModel.bufferViews[v];
+        };
+        if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) {
+            fail(name + ": negative sparse byteOffset");
+        }
+        std::vector<double> indices(n);
+        readRaw(view(sp.indices.bufferView), sp.indices.bufferView,
+                std::size_t(sp.indices.byteOffset), std::size_t(componentSize(idxType)), n, idxType,
+                1, false, name + " sparse indices", indices.data(), 1);
+        std::vector<double> values(n * result.components);
+        readRaw(view(sp.values.bufferView), sp.values.bufferView, std::size_t(sp.values.byteOffset),
+                std::size_t(componentSize(acc.componentType)) * result.components, n,
+                acc.componentType, result.components, acc.normalized, name + " sparse values",
+                values.data(), result.components);
+        for (std::size_t k = 0; k < n; ++k) {
+            if (indices[k] >= double(acc.count)) {
+                fail(name + ": sparse index " + std::to_string(std::size_t(indices[k])) +
+                     " out of range (count " + std::to_string(acc.count) + ")");
+            }
+            const std::size_t dst = std::size_t(indices[k]) * result.components;
+            std::copy_n(values.begin() + k * result.components, result.components,
+                        result.values.begin() + dst);
+        }
+    } else if (acc.bufferView < 0) {
+        fail(name + ": accessor has neither a bufferView nor sparse data (compressed mesh?)");
+    }
+    return result;
+}
+
+glm::dmat4 localMatrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        glm::dmat4 m;
+        std::copy(node.matrix.begin(), node.matrix.end(), glm::value_ptr(m)); // column-major
+        return m;
+    }
+    glm::dmat4 m(1.0);
+    if (node.translation.size() == 3) {
+        m = glm::translate(
+            m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+    }
+    if (node.rotation.size() == 4) {
+        // glTF stores quaternions as x, y, z, w; glm's constructor takes w first.
+        const glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+        m = m * glm::mat4_cast(glm::normalize(q));
+    }
+    if (node.scale.size() == 3) {
+        m = glm::scale(m, glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+    }
+    return m;
+}
+
+void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
+    if (nodeIndex < 0 || std::size_t(nodeIndex) >= mModel.nodes.size()) {
+        fail("node " + std::to_string(nodeIndex) + " does not exist");
+    }
+    if (std::find(mOnPath.begin(), mOnPath.end(), nodeIndex) != mOnPath.end() || depth > 1000) {
+        fail("node hierarchy has a cycle through node " + std::to_string(nodeIndex));
+    }
+    const tinygltf::Node& node = mModel.nodes[nodeIndex];
+    const glm::dmat4 world = parent * localMatrix(node);
+    for (int i = 0; i < 16; ++i) {
+        if (!std::isfinite(glm::value_ptr(world)[i])) {
+            fail("node " + std::to_string(nodeIndex) + " has a non-finite transform");
+        }
+    }
+    if (node.mesh >= 0) {
+        if (std::size_t(node.mesh) >= mModel.meshes.size()) {
+            fail("node " + std::to_string(nodeIndex) + " references missing mesh " +
+                 std::to_string(node.mesh));
+        }
+        const auto& mesh = mModel.meshes[node.mesh];
+        for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+            addPrimitive(mesh.primitives[p], world,
+                         "mesh " + std::to_string(node.mesh) +
+                             (mesh.name.empty() ? "" : " \"" + mesh.name + "\"") + " primitive " +
+                             std::to_string(p));
+        }
+    }
+    mOnPath.push_back(nodeIndex);
+    for (int child : node.children)
+        visitNode(child, world, depth + 1);
+    mOnPath.pop_back();
+}
+
+void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world,
+                          const std::string& where) {
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        static const char* names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
+        const std::string modeName =
+            mode >= 0 && mode < 4 ? names[mode] : "mode " + std::to_string(mode);
+        fail(where + ": primitive mode " + modeName +
+             " is not supported (only triangles, strips and fans cast shadows)");
+    }
+
+    const auto posIt = prim.attributes.find("POSITION");
+    if (posIt == prim.attributes.end()) fail(where + ": no POSITION attribute");
+    {
+        const int a = posIt->second;
+        if (a < 0 || std::size_t(a) >= mModel.accessors.size()) {
+            fail(where + ": POSITION accessor " + std::to_string(a) + " does not exist");
+        }
+        const auto& acc = mModel.accessors[a];
+        if (acc.type != TINYGLTF_TYPE_VEC3 || acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            fail(where + ": POSITION must be float VEC3 (quantized positions are not supported)");
+        }
+    }
+    const AccessorValues pos = readAccessor(posIt->second, where + " POSITION");
+    const std::size_t base = mMesh.positions.size();
+    if (base + pos.count > std::size_t(UINT32_MAX)) fail(where + ": too many vertices");
+
+    for (std::size_t i = 0; i < pos.count; ++i) {
+        const glm::dvec3 p(pos.at(i, 0), pos.at(i, 1), pos.at(i, 2));
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            fail(where + ": POSITION " + std::to_string(i) + " is NaN or infinite");
+        }
+        const glm::dvec3 w = glm::dvec3(world * glm::dvec4(p, 1.0));
+        const glm::vec3 f(w);
+        if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
+            fail(where + ": POSITION " + std::to_string(i) + " is not finite after transform");
+        }
+        mMesh.positions.push_back(f);
+    }
+
+    // TEXCOORD_0: float, or normalized unsigned byte/short (glTF 2.0 §3.7.2.1).
+    const auto uvIt = prim.attributes.find("TEXCOORD_0");
+    if (uvIt != prim.attributes.end()) {
+        const AccessorValues uv = readAccessor(uvIt->second, where + " TEXCOORD_0");
+        const auto& acc = mModel.accessors[uvIt->second];
+        const bool okType =
+            acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            (acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+        if (uv.components != 2 || !okType) {
+            fail(where + ": TEXCOORD_0 must be VEC2 of float or normalized unsigned byte/short");
+        }
+        if (uv.count != pos.count) {
+            fail(where + ": TEXCOORD_0 has " + std::to_string(uv.count) + " elements, POSITION " +
+                 std::to_string(pos.count));
+        }
+        // Earlier primitives without texcoords get zeros so the arrays stay parallel.
+        mMesh.texcoords.resize(base, glm::vec2(0.0f));
+        for (std::size_t i = 0; i < uv.count; ++i) {
+            glm::vec2 t(float(uv.at(i, 0)), float(uv.at(i, 1)));
+            if (!std::isfinite(t.x) || !std::isfinite(t.y)) t = glm::vec2(0.0f);
+            mMesh.texcoords.push_back(t);
+        }
+        mAnyTexcoords = true;
+    }
+
+    // Index stream: explicit, or 0..count-1.
+    std::vector<std::uint32_t> idx;
+    if (prim.indices >= 0) {
+        const AccessorValues ia = readAccessor(prim.indices, where + " indices");
+        const int t = ia.componentType;
+        if (ia.components != 1 || (t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                   t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                   t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+            fail(where + ": indices must be SCALAR unsigned byte/short/int");
+        }
+        idx.reserve(ia.count);
+        for (std::size_t i = 0; i < ia.count; ++i) {
+            const double v = ia.values[i];
+            if (v >= double(pos.count)) {
+                fail(where + ": index " + std::to_string(std::uint64_t(v)) + " at position " +
+                     std::to_string(i) + " is out of range (" + std::to_string(pos.count) +
+                     " vertices)");
+            }
+            idx.push_back(std::uint32_t(v));
+        }
+    } else {
+        idx.resize(pos.count);
+        for (std::size_t i = 0; i < pos.count; ++i)
+            idx[i] = std::uint32_t(i);
+    }
+
+    // glTF 2.0 §3.7.2.1 primitive topologies.
+    std::vector<glm::uvec3> tris;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        if (idx.size() % 3 != 0) {
+            fail(where + ": TRIANGLES with " + std::to_string(idx.size()) +
+                 " indices (not a multiple of 3)");
+        }
+        for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+            tris.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
+        }
+    } else {
+        for (std::size_t i = 0; i + 2 < idx.size(); ++i) {
+            glm::uvec3 t;
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                // Odd triangles swap their first two vertices to keep one winding.
+                t = (i % 2 == 0) ? glm::uvec3(idx[i], idx[i + 1], idx[i + 2])
+                                 : glm::uvec3(idx[i + 1], idx[i], idx[i + 2]);
+            } else {
+                t = glm::uvec3(idx[i + 1], idx[i + 2], idx[0]);
+            }
+            // Strips use repeated indices as restarts; those triangles have no area.
+            if (t.x == t.y || t.y == t.z || t.x == t.z) continue;
+            tris.push_back(t);
+        }
+    }
+
+    // A mirroring transform turns counter-clockwise into clockwise; swap to restore it.
+    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+    const std::uint32_t material = materialIndex(prim.material);
+    const auto b = std::uint32_t(base);
+    for (const auto& t : tris) {
+        if (mirrored) {
+            mMesh.triangles.emplace_back(b + t.x, b + t.z, b + t.y);
+        } else {
+            mMesh.triangles.emplace_back(b + t.x, b + t.y, b + t.z);
+        }
+        mMesh.triangleMaterial.push_back(material);
+    }
+}
+
+std::uint32_t Loader::materialIndex(int gltfMaterial) {
+    if (gltfMaterial >= 0 && std::size_t(gltfMaterial) >= mModel.materials.size()) {
+        fail("material " + std::to_string(gltfMaterial) + " does not exist");
+    }
+    const int key = gltfMaterial < 0 ? -1 : gltfMaterial;
+    if (auto it = mMaterialMap.find(key); it != mMaterialMap.end()) return it->second;
+
+    Material m;
+    if (key < 0) {
+        m.name = "default"; // glTF default material: opaque white, single-sided
+    } else {
+        const tinygltf::Material& g = mModel.materials[key];
+        m.name = g.name.empty() ? "material " + std::to_string(key) : g.name;
+        if (g.alphaMode == "MASK") {
+            m.alphaMode = AlphaMode::Mask;
+        } else if (g.alphaMode == "BLEND") {
+            m.alphaMode = AlphaMode::Blend;
+        } else if (g.alphaMode == "OPAQUE" || g.alphaMode.empty()) {
+            m.alphaMode = AlphaMode::Opaque;
+        } else {
+            fail("material \"" + m.name + "\": unknown alphaMode \"" + g.alphaMode + "\"");
+        }
+        m.alphaCutoff = float(g.alphaCutoff);
+        m.doubleSided = g.doubleSided;
+        const auto& f = g.pbrMetallicRoughness.baseColorFactor;
+        if (f.size() == 4)
+            m.baseColor = glm::vec4(float(f[0]), float(f[1]), float(f[2]), float(f[3]));
+        if (g.pbrMetallicRoughness.baseColorTexture.index >= 0) {
+            // Alpha-tested materials need their texture; for opaque ones it is only decoration.
+            m.baseColorTexture = textureIndex(g.pbrMetallicRoughness.baseColorTexture.index, m.name,
+                                              m.alphaMode != AlphaMode::Opaque);
+        }
+    }
+    const auto index = std::uint32_t(mMesh.materials.size());
+    mMesh.materials.push_back(std::move(m));
+    mMaterialMap[key] = index;
+    return index;
+}
+
+int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool required) {
+    if (auto it = mTextureMap.find(gltfTexture); it != mTextureMap.end()) return it->second;
+    auto missing = [&](const std::string& why) {
+        if (required) fail("material \"" + materialName + "\": base colour texture " + why);
+        mTextureMap[gltfTexture] = -1;
+        return -1;
+    };
+    if (std::size_t(gltfTexture) >= mModel.textures.size()) {
+        return missing(std::to_string(gltfTexture) + " does not exist");
+    }
+    const int source = mModel.textures[gltfTexture].source;
+    if (source < 0 || std::size_t(source) >= mModel.images.size()) {
+        return missing("has no image source");
+    }
+    const tinygltf::Image& img = mModel.images[source];
+    const int comps = img.component;
+    const int bytesPer = img.bits == 16 ? 2 : 1;
+    if (img.width <= 0 || img.height <= 0 || comps < 1 || comps > 4 ||
+        (img.bits != 8 && img.bits != 16) ||
+        img.image.size() < std::size_t(img.width) * img.height * comps * bytesPer) {
+        return missing(
+            "image " + std::to_string(source) +
+            (img.uri.empty() || img.uri.rfind("data:", 0) == 0 ? "" : " (" + img.uri + ")") +
+            " could not be decoded");
+    }
+
+    TextureImage tex;
+    tex.width = img.width;
+    tex.height = img.height;
+    const std::size_t pixels = std::size_t(img.width) * img.height;
+    tex.rgba8.resize(pixels * 4);
+    // Expand grey / grey+alpha / RGB to RGBA8; 16-bit channels keep their high byte.
+    auto channel = [&](std::size_t p, int c) -> std::uint8_t {
+        const std::size_t off = (p * comps + c) * bytesPer;
+        if (bytesPer == 1) return img.image[off];
+        std::uint16_t v;
+        std::memcpy(&v, img.image.data() + off, 2);
+        return std::uint8_t(v >> 8);
+    };
+    for (std::size_t p = 0; p < pixels; ++p) {
+        std::uint8_t* d = tex.rgba8.data() + p * 4;
+        if (comps <= 2) {
+            d[0] = d[1] = d[2] = channel(p, 0);
+            d[3] = comps == 2 ? channel(p, 1) : 255;
+        } else {
+            d[0] = channel(p, 0);
+            d[1] = channel(p, 1);
+            d[2] = channel(p, 2);
+            d[3] = comps == 4 ? channel(p, 3) : 255;
+        }
+    }
+    const int index = int(mMesh.textures.size());
+    mMesh.textures.push_back(std::move(tex));
+    mTextureMap[gltfTexture] = index;
+    return index;
+}
+
+MeshData Loader::load(const glm::mat4& transform) {
+    for (const auto& ext : mModel.extensionsRequired) {
+        // Extensions that only change shading are harmless here; anything touching geometry
+        // (Draco, meshopt, quantization) would silently produce wrong shadows.
+        const bool harmless = ext.rfind("KHR_materials_", 0) == 0 ||
+                              ext == "KHR_texture_transform" || ext == "KHR_lights_punctual";
+        if (!harmless) fail("requires unsupported glTF extension " + ext);
+    }
+    if (mModel.meshes.empty()) fail("no meshes");
+
+    mMesh.name = mPath.stem().string();
+    const glm::dmat4 root(transform);
+    std::vector<int> roots;
+    if (mModel.defaultScene >= 0 && std::size_t(mModel.defaultScene) < mModel.scenes.size()) {
+        roots = mModel.scenes[mModel.defaultScene].nodes;
+    } else {
+        // No default scene: every node that is nobody's child is a root.
+        std::vector<bool> isChild(mModel.nodes.size(), false);
+        for (const auto& n : mModel.nodes) {
+            for (int c : n.children) {
+                if (c >= 0 && std::size_t(c) < isChild.size()) isChild[c] = true;
+            }
+        }
+        for (std::size_t i = 0; i < mModel.nodes.size(); ++i) {
+            if (!isChild[i]) roots.push_back(int(i));
+        }
+    }
+    for (int r : roots)
+        visitNode(r, root, 0);
+
+    if (mMesh.triangles.empty()) fail("no triangles (no node of the scene draws a triangle mesh)");
+    if (mAnyTexcoords) {
+        mMesh.texcoords.resize(mMesh.positions.size(), glm::vec2(0.0f));
+    } else {
+        mMesh.texcoords.clear();
+    }
+    return std::move(mMesh);
+}
+
+} // namespace
+
+MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        throw InputError(path.string() + ": glTF file not found");
+    }
+    // Decide binary vs JSON from the content, not the extension: a mislabelled file should still
+    // load, and garbage should get tinygltf's parse error rather than a guess.
+    char magic[4] = {};
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InputError(path.string() + ": cannot open glTF file");
+        in.read(magic, 4);
+    }
+    const bool binary = std::memcmp(magic, "glTF", 4) == 0;
+
+    tinygltf::TinyGLTF gltf;
+    tinygltf::Model model;
+    std::string err, warn;
+    const bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path.string())
+                           : gltf.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    if (!ok) {
+        while (!err.empty() && (err.back() == '\n' || err.back() == '\r'))
+            err.pop_back();
+        throw InputError(path.string() + ": glTF parse error: " +
+                         (err.empty() ? std::string("unknown error") : err));
+    }
+    return Loader(path, model).load(transform);
+}
+
+} // namespace geometry

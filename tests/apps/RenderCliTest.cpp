@@ -1,1 +1,204 @@
-// placeholder: tests for this area are being written
+// penumbra-render's command-line contract (DESIGN.md §3): bad input exits with code 2, prints a
+// clear error naming the key or file, and writes nothing; a good run writes the four outputs.
+#include <geometry/ImageIO.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output; // stdout + stderr
+};
+
+class RenderCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::random_device rd;
+        mDir = fs::temp_directory_path() / ("penumbra-cli-" + std::to_string(rd()));
+        fs::create_directories(mDir);
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+
+    fs::path write(const std::string& name, const std::string& text) {
+        const fs::path p = mDir / name;
+        std::ofstream(p, std::ios::binary) << text;
+        return p;
+    }
+
+    RunResult run(const std::string& args) {
+        const fs::path log = mDir / "log.txt";
+        const std::string cmd = std::string(PENUMBRA_BIN_DIR) + "/penumbra-render " + args +
+                                " > '" + log.string() + "' 2>&1";
+        const int status = std::system(cmd.c_str());
+        RunResult r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        std::ifstream in(log);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        r.output = ss.str();
+        return r;
+    }
+
+    // Runs with a scene that must be rejected: exit 2, message mentions `needle`, no output dir.
+    void expectRejected(const fs::path& scene, const std::string& needle,
+                        const std::string& extra = "--method hard") {
+        const fs::path out = mDir / "out";
+        const RunResult r =
+            run("--scene '" + scene.string() + "' " + extra + " --out '" + out.string() + "'");
+        EXPECT_EQ(r.exitCode, 2) << r.output;
+        EXPECT_NE(r.output.find(needle), std::string::npos)
+            << "expected '" << needle << "' in: " << r.output;
+        EXPECT_FALSE(fs::exists(out)) << "nothing may be written on bad input";
+    }
+
+    fs::path mDir;
+};
+
+const char* kValidScene = R"({
+  "camera": {"eye": [0, 4, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 50},
+  "light":  {"center": [0, 3, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]},
+  "objects": [
+    {"type": "quad", "center": [0, 0, 0], "u": [2, 0, 0], "v": [0, 0, -2]},
+    {"type": "box", "center": [0, 1, 0], "size": [0.6, 0.2, 0.6]}
+  ]
+})";
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+    const auto pos = s.find(from);
+    if (pos != std::string::npos) s.replace(pos, from.size(), to);
+    return s;
+}
+
+TEST_F(RenderCli, BadJsonSyntax) {
+    expectRejected(write("s.json", "{\"camera\": [1, 2,"), "s.json");
+}
+
+TEST_F(RenderCli, UnknownKey) {
+    expectRejected(write("s.json", replaced(kValidScene, "\"fov_y_deg\"", "\"fov\"")), "fov");
+}
+
+TEST_F(RenderCli, WrongType) {
+    expectRejected(write("s.json", replaced(kValidScene, "[0, 3, 0]", "\"up there\"")),
+                   "light.center");
+}
+
+TEST_F(RenderCli, MissingSceneFile) { expectRejected(mDir / "nope.json", "nope.json"); }
+
+TEST_F(RenderCli, MissingGltfFile) {
+    expectRejected(write("s.json", replaced(kValidScene, "{\"type\": \"quad\"",
+                                            "{\"type\": \"gltf\", \"file\": \"missing.glb\"}, "
+                                            "{\"type\": \"quad\"")),
+                   "missing.glb");
+}
+
+TEST_F(RenderCli, ZeroAreaLight) {
+    expectRejected(write("s.json", replaced(kValidScene, "\"v\": [0, 0, 0.5]", "\"v\": [0, 0, 0]")),
+                   "light");
+}
+
+TEST_F(RenderCli, GltfWithNoMeshes) {
+    expectRejected(write("empty.gltf", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}]})"),
+                   "empty.gltf");
+}
+
+TEST_F(RenderCli, GltfWithNanPosition) {
+    // One triangle whose first x is NaN (0x7FC00000), as an embedded base64 buffer.
+    // Bytes: 9 floats = 36 bytes: NaN,0,0, 1,0,0, 0,1,0.
+    const std::string b64 = "AADAfwAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
+    const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0,
+      "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+      "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,)" + b64 + R"("}],
+      "bufferViews": [{"buffer": 0, "byteLength": 36}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                     "min": [0, 0, 0], "max": [1, 1, 0]}]})";
+    expectRejected(write("nan.gltf", gltf), "nan.gltf");
+}
+
+TEST_F(RenderCli, UnknownMethod) {
+    expectRejected(write("s.json", kValidScene), "unknown method", "--method softest");
+}
+
+TEST_F(RenderCli, MethodNotImplementedYetIsAClearError) {
+    expectRejected(write("s.json", kValidScene), "not implemented", "--method wedges-blend");
+}
+
+TEST_F(RenderCli, BadSize) {
+    expectRejected(write("s.json", kValidScene), "--size", "--method hard --size 0x64");
+    expectRejected(write("s.json", kValidScene), "--size", "--method hard --size big");
+}
+
+TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {
+    const fs::path scene = write("s.json", kValidScene);
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + scene.string() + "' --method reference --samples 16 " +
+                            "--size 64x48 --frames 2 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* f : {"image.png", "visibility.pfm", "position.pfm", "report.json"})
+        EXPECT_TRUE(fs::exists(out / f)) << f;
+
+    const auto v = geometry::readPfm(out / "visibility.pfm");
+    EXPECT_EQ(v.width, 64);
+    EXPECT_EQ(v.height, 48);
+    EXPECT_EQ(v.channels, 1);
+    const auto p = geometry::readPfm(out / "position.pfm");
+    EXPECT_EQ(p.channels, 3);
+    int surface = 0, shadowed = 0;
+    for (float x : v.data) {
+        surface += std::isfinite(x);
+        shadowed += std::isfinite(x) && x < 0.5f;
+    }
+    EXPECT_GT(surface, 1000);
+    EXPECT_GT(shadowed, 20);
+
+    nlohmann::json report;
+    std::ifstream(out / "report.json") >> report;
+    for (const char* key : {"method", "parameters", "size", "gl_renderer", "gl_version",
+                            "triangles", "silhouette_edges", "silhouette_groups", "wedges",
+                            "gpu_ms", "cpu_ms", "frame_ms"})
+        EXPECT_TRUE(report.contains(key)) << key;
+    EXPECT_EQ(report["method"], "reference");
+    EXPECT_EQ(report["size"], nlohmann::json::array({64, 48}));
+    EXPECT_EQ(report["triangles"], 14);
+    EXPECT_FALSE(report["gl_renderer"].get<std::string>().empty());
+    EXPECT_TRUE(report["gpu_ms"].contains("shadow-volume"));
+    EXPECT_GT(report["frame_ms"].get<double>(), 0.0);
+}
+
+TEST_F(RenderCli, CompareReportsErrorAgainstAReference) {
+    const fs::path scene = write("s.json", kValidScene);
+    const fs::path ref = mDir / "ref", hard = mDir / "hard";
+    ASSERT_EQ(run("--scene '" + scene.string() + "' --method reference --samples 16 --size 64x64 "
+                  "--quiet --out '" + ref.string() + "'").exitCode, 0);
+    const RunResult r = run("--scene '" + scene.string() + "' --method hard --size 64x64 --out '" +
+                            hard.string() + "' --compare '" + (ref / "visibility.pfm").string() +
+                            "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    nlohmann::json report;
+    std::ifstream(hard / "report.json") >> report;
+    ASSERT_TRUE(report.contains("error"));
+    // Hard shadows are not soft: a real penumbra means a non-zero error.
+    EXPECT_GT(report["error"]["mean_abs_err"].get<double>(), 0.001);
+    EXPECT_GT(report["error"]["pixels"].get<int>(), 1000);
+    // A size mismatch with the reference is bad input.
+    const RunResult bad = run("--scene '" + scene.string() + "' --method hard --size 32x32 --out '" +
+                              (mDir / "x").string() + "' --compare '" +
+                              (ref / "visibility.pfm").string() + "'");
+    EXPECT_EQ(bad.exitCode, 2) << bad.output;
+    EXPECT_FALSE(fs::exists(mDir / "x"));
+}
+
+} // namespace

@@ -1,1 +1,378 @@
-// placeholder: tests for this area are being written
+#include <geometry/Error.h>
+#include <geometry/GltfLoader.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <random>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kShared = PENUMBRA_SHARED_DIR;
+
+std::string base64(const std::string& bytes) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    std::size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 |
+                           (unsigned char)bytes[i + 2];
+        out += {table[v >> 18], table[(v >> 12) & 63], table[(v >> 6) & 63], table[v & 63]};
+    }
+    if (i + 1 == bytes.size()) {
+        const unsigned v = (unsigned char)bytes[i] << 16;
+        out += {table[v >> 18], table[(v >> 12) & 63], '=', '='};
+    } else if (i + 2 == bytes.size()) {
+        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
+        out += {table[v >> 18], table[(v >> 12) & 63], table[(v >> 6) & 63], '='};
+    }
+    return out;
+}
+
+template <class T> std::string bytesOf(std::initializer_list<T> values) {
+    std::string s;
+    for (T v : values)
+        s.append(reinterpret_cast<const char*>(&v), sizeof v);
+    return s;
+}
+
+// Builds a small .gltf with one embedded base64 buffer: add views and accessors, then write with
+// hand-written meshes/nodes JSON.
+class GltfWriter {
+public:
+    int view(const std::string& bytes, int stride = 0) {
+        while (mBuffer.size() % 4)
+            mBuffer.push_back('\0');
+        mViews.push_back(R"({"buffer":0,"byteOffset":)" + std::to_string(mBuffer.size()) +
+                         R"(,"byteLength":)" + std::to_string(bytes.size()) +
+                         (stride ? R"(,"byteStride":)" + std::to_string(stride) : "") + "}");
+        mBuffer += bytes;
+        return int(mViews.size()) - 1;
+    }
+    int accessor(int view, int componentType, int count, const std::string& type,
+                 const std::string& extra = "") {
+        mAccessors.push_back(R"({"bufferView":)" + std::to_string(view) + R"(,"componentType":)" +
+                             std::to_string(componentType) + R"(,"count":)" +
+                             std::to_string(count) + R"(,"type":")" + type + "\"" + extra + "}");
+        return int(mAccessors.size()) - 1;
+    }
+    // Positions as float VEC3 in their own view.
+    int positions(std::initializer_list<float> xyz) {
+        return accessor(view(bytesOf(xyz)), 5126, int(xyz.size() / 3), "VEC3");
+    }
+    int indices32(std::initializer_list<std::uint32_t> idx) {
+        return accessor(view(bytesOf(idx)), 5125, int(idx.size()), "SCALAR");
+    }
+    std::string json(const std::string& meshes, const std::string& nodes = R"([{"mesh":0}])",
+                     const std::string& scenes = R"("scene":0,"scenes":[{"nodes":[0]}],)",
+                     const std::string& extra = "") const {
+        std::string s = R"({"asset":{"version":"2.0"},)" + scenes + extra;
+        s += R"("buffers":[{"byteLength":)" + std::to_string(mBuffer.size()) +
+             R"(,"uri":"data:application/octet-stream;base64,)" + base64(mBuffer) + "\"}],";
+        s += R"("bufferViews":[)" + join(mViews) + "],";
+        s += R"("accessors":[)" + join(mAccessors) + "],";
+        s += R"("meshes":)" + meshes + R"(,"nodes":)" + nodes + "}";
+        return s;
+    }
+
+private:
+    static std::string join(const std::vector<std::string>& v) {
+        std::string s;
+        for (const auto& e : v)
+            s += (s.empty() ? "" : ",") + e;
+        return s;
+    }
+    std::string mBuffer;
+    std::vector<std::string> mViews, mAccessors;
+};
+
+const char* kOneTriangleMesh = R"([{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}])";
+
+class GltfTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        static std::atomic<int> counter{0};
+        mDir = fs::temp_directory_path() /
+               ("penumbra-gltf-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+                "-" + std::to_string(std::random_device{}()));
+        fs::create_directories(mDir);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(mDir, ec);
+    }
+    fs::path write(const std::string& name, const std::string& text) const {
+        std::ofstream(mDir / name, std::ios::binary) << text;
+        return mDir / name;
+    }
+    // Loads and expects an InputError naming the file and containing `needle`.
+    void expectError(const fs::path& path, const std::string& needle) const {
+        try {
+            geometry::loadGltf(path);
+            ADD_FAILURE() << path << ": expected InputError containing \"" << needle << "\"";
+        } catch (const geometry::InputError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find(path.filename().string()), std::string::npos) << msg;
+            EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+        }
+    }
+
+    fs::path mDir;
+};
+
+glm::vec3 normalOf(const geometry::MeshData& m, std::size_t t) {
+    const auto& tri = m.triangles[t];
+    return glm::cross(m.positions[tri.y] - m.positions[tri.x],
+                      m.positions[tri.z] - m.positions[tri.x]);
+}
+
+void expectVec(const glm::vec3& a, const glm::vec3& b) {
+    EXPECT_NEAR(a.x, b.x, 1e-5f);
+    EXPECT_NEAR(a.y, b.y, 1e-5f);
+    EXPECT_NEAR(a.z, b.z, 1e-5f);
+}
+
+TEST_F(GltfTest, LoadsOpenArenaLevel) {
+    const geometry::MeshData m = geometry::loadGltf(kShared / "levels" / "oa_dm1.glb");
+    EXPECT_EQ(m.triangles.size(), 7502u); // levels/README.md
+    EXPECT_EQ(m.triangleMaterial.size(), m.triangles.size());
+    EXPECT_TRUE(m.texcoords.empty()); // the levels carry positions and indices only
+    EXPECT_TRUE(m.textures.empty());
+    EXPECT_FALSE(m.materials.empty());
+    for (const auto& t : m.triangles) {
+        ASSERT_LT(std::max({t.x, t.y, t.z}), m.positions.size());
+    }
+    for (std::uint32_t mat : m.triangleMaterial)
+        ASSERT_LT(mat, m.materials.size());
+    const geometry::Aabb b = m.bounds();
+    ASSERT_FALSE(b.empty());
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(std::isfinite(b.min[i]) && std::isfinite(b.max[i]));
+        EXPECT_GT(b.max[i] - b.min[i], 1.0f); // an arena is metres across in every axis
+    }
+}
+
+TEST_F(GltfTest, LoadsFoliageMaterialAndTexture) {
+    const geometry::MeshData m = geometry::loadGltf(kShared / "foliage" / "oak_hungarian_1.glb");
+    EXPECT_EQ(m.triangles.size(), 394u); // foliage/README.md
+    ASSERT_EQ(m.materials.size(), 1u);
+    const geometry::Material& mat = m.materials[0];
+    EXPECT_EQ(mat.alphaMode, geometry::AlphaMode::Mask);
+    EXPECT_FLOAT_EQ(mat.alphaCutoff, 0.5f);
+    EXPECT_TRUE(mat.doubleSided);
+    ASSERT_EQ(mat.baseColorTexture, 0);
+    ASSERT_EQ(m.textures.size(), 1u);
+    const geometry::TextureImage& tex = m.textures[0];
+    EXPECT_EQ(tex.width, 512);
+    EXPECT_EQ(tex.height, 512);
+    ASSERT_EQ(tex.rgba8.size(), 512u * 512u * 4u);
+    // ~55% of the texels are transparent (README): the alpha channel must have survived.
+    std::size_t transparent = 0;
+    for (std::size_t i = 3; i < tex.rgba8.size(); i += 4)
+        transparent += tex.rgba8[i] < 128;
+    const double share = double(transparent) / (512.0 * 512.0);
+    EXPECT_GT(share, 0.3);
+    EXPECT_LT(share, 0.8);
+    ASSERT_EQ(m.texcoords.size(), m.positions.size());
+    EXPECT_EQ(m.triangleMaterial.size(), m.triangles.size());
+}
+
+TEST_F(GltfTest, MissingFile) {
+    expectError(mDir / "nope.glb", "not found");
+}
+
+TEST_F(GltfTest, GarbageBytes) {
+    expectError(write("garbage.gltf", "this is { not json"), "parse error");
+    std::string glb = "glTF";
+    for (int i = 0; i < 64; ++i)
+        glb.push_back(char(i * 37));
+    expectError(write("garbage.glb", glb), "parse error");
+}
+
+TEST_F(GltfTest, NoMeshes) {
+    expectError(write("empty.gltf", R"({"asset":{"version":"2.0"}})"), "no meshes");
+}
+
+TEST_F(GltfTest, NaNPosition) {
+    GltfWriter w;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    w.positions({0, 0, 0, 1, 0, 0, 0, nan, 0});
+    w.indices32({0, 1, 2});
+    expectError(write("nan.gltf", w.json(kOneTriangleMesh)), "NaN");
+}
+
+TEST_F(GltfTest, IndexOutOfRange) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 3});
+    expectError(write("range.gltf", w.json(kOneTriangleMesh)), "out of range");
+}
+
+TEST_F(GltfTest, PointsModeRejected) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    expectError(write("points.gltf",
+                      w.json(R"([{"primitives":[{"attributes":{"POSITION":0},"mode":0}]}])")),
+                "POINTS");
+}
+
+TEST_F(GltfTest, NonFloatPositionsRejected) {
+    GltfWriter w;
+    w.accessor(w.view(bytesOf<std::uint16_t>({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0})), 5123, 3,
+               "VEC3");
+    w.indices32({0, 1, 2});
+    expectError(write("ushort.gltf", w.json(kOneTriangleMesh)), "float");
+}
+
+TEST_F(GltfTest, NodeTranslationAndScale) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    const auto path =
+        write("trs.gltf",
+              w.json(kOneTriangleMesh, R"([{"mesh":0,"translation":[1,2,3],"scale":[2,2,2]}])"));
+    const geometry::MeshData m = geometry::loadGltf(path);
+    ASSERT_EQ(m.positions.size(), 3u);
+    expectVec(m.positions[0], {1, 2, 3});
+    expectVec(m.positions[1], {3, 2, 3}); // scaled first, then translated
+    expectVec(m.positions[2], {1, 4, 3});
+    EXPECT_GT(normalOf(m, 0).z, 0.0f);
+}
+
+TEST_F(GltfTest, NodeHierarchyRotationMatrixAndExtraTransform) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    // Parent: column-major matrix translating by (10, 0, 0). Child: 90° about +z
+    // (quaternion x,y,z,w = 0,0,sin45,cos45), which maps (1,0,0) to (0,1,0).
+    const std::string nodes =
+        R"([{"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 10,0,0,1],"children":[1]},
+            {"mesh":0,"rotation":[0,0,0.70710678,0.70710678]}])";
+    const auto path = write("tree.gltf", w.json(kOneTriangleMesh, nodes));
+    const geometry::MeshData m = geometry::loadGltf(path);
+    ASSERT_EQ(m.positions.size(), 3u);
+    expectVec(m.positions[1], {10, 1, 0});
+    expectVec(m.positions[2], {9, 0, 0});
+    // The loader's own transform applies on top of the scene (world = transform * scene).
+    glm::mat4 lift(1.0f);
+    lift[3] = glm::vec4(0, 5, 0, 1);
+    const geometry::MeshData lifted = geometry::loadGltf(path, lift);
+    expectVec(lifted.positions[1], {10, 6, 0});
+}
+
+TEST_F(GltfTest, MirroredNodeFlipsWinding) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0}); // counter-clockwise seen from +z
+    w.indices32({0, 1, 2});
+    const auto plain = geometry::loadGltf(write("plain.gltf", w.json(kOneTriangleMesh)));
+    const auto mirrored = geometry::loadGltf(
+        write("mirror.gltf", w.json(kOneTriangleMesh, R"([{"mesh":0,"scale":[-1,1,1]}])")));
+    EXPECT_GT(normalOf(plain, 0).z, 0.0f);
+    // Mirroring in x keeps the front on +z; without the flip the normal would point to -z.
+    EXPECT_GT(normalOf(mirrored, 0).z, 0.0f);
+    expectVec(mirrored.positions[1], {-1, 0, 0});
+}
+
+TEST_F(GltfTest, StripsAndFansConverted) {
+    GltfWriter w;
+    // A unit square in z = 0 as a strip 0-1-2-3 and as a fan 0-1-2-3 (different vertex order).
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    w.positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
+    const auto m = geometry::loadGltf(
+        write("strip.gltf", w.json(R"([{"primitives":[{"attributes":{"POSITION":0},"mode":5},
+                                                 {"attributes":{"POSITION":1},"mode":6}]}])")));
+    ASSERT_EQ(m.triangles.size(), 4u);
+    double area = 0.0;
+    for (std::size_t t = 0; t < 4; ++t) {
+        EXPECT_GT(normalOf(m, t).z, 0.0f) << "triangle " << t; // one consistent winding
+        area += 0.5 * glm::length(normalOf(m, t));
+    }
+    EXPECT_NEAR(area, 2.0, 1e-6);
+}
+
+TEST_F(GltfTest, IndexTypesStrideAndNonIndexed) {
+    GltfWriter w;
+    // Interleaved: position (12 bytes) + 4 padding bytes per vertex, byteStride 16.
+    std::string inter;
+    for (float v : {0.f, 0.f, 0.f, -1.f, 2.f, 0.f, 0.f, -1.f, 0.f, 2.f, 0.f, -1.f}) {
+        inter += bytesOf({v});
+    }
+    w.accessor(w.view(inter, 16), 5126, 3, "VEC3");
+    w.accessor(w.view(bytesOf<std::uint8_t>({0, 1, 2})), 5121, 3, "SCALAR");
+    w.accessor(w.view(bytesOf<std::uint16_t>({2, 0, 1})), 5123, 3, "SCALAR");
+    const auto m = geometry::loadGltf(
+        write("types.gltf", w.json(R"([{"primitives":[{"attributes":{"POSITION":0},"indices":1},
+                                                 {"attributes":{"POSITION":0},"indices":2},
+                                                 {"attributes":{"POSITION":0}}]}])")));
+    ASSERT_EQ(m.triangles.size(), 3u);
+    ASSERT_EQ(m.positions.size(), 9u); // one vertex range per primitive
+    expectVec(m.positions[1], {2, 0, 0});
+    expectVec(m.positions[2], {0, 2, 0});
+    EXPECT_EQ(m.triangles[1], glm::uvec3(5, 3, 4));
+    EXPECT_EQ(m.triangles[2], glm::uvec3(6, 7, 8));
+}
+
+TEST_F(GltfTest, SparseAccessorApplied) {
+    GltfWriter w;
+    const int base = w.view(bytesOf<float>({0, 0, 0, 1, 0, 0, 9, 9, 9}));
+    const int sIdx = w.view(bytesOf<std::uint16_t>({2}));
+    const int sVal = w.view(bytesOf<float>({0, 1, 0}));
+    w.accessor(base, 5126, 3, "VEC3",
+               R"(,"sparse":{"count":1,"indices":{"bufferView":)" + std::to_string(sIdx) +
+                   R"(,"componentType":5123},"values":{"bufferView":)" + std::to_string(sVal) +
+                   "}}");
+    w.indices32({0, 1, 2});
+    const auto m = geometry::loadGltf(write("sparse.gltf", w.json(kOneTriangleMesh)));
+    ASSERT_EQ(m.positions.size(), 3u);
+    expectVec(m.positions[2], {0, 1, 0});
+}
+
+TEST_F(GltfTest, TexcoordsFilledWhenOnlySomePrimitivesHaveThem) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    w.accessor(w.view(bytesOf<std::uint8_t>({0, 0, 255, 0, 0, 255})), 5121, 3, "VEC2",
+               R"(,"normalized":true)");
+    const auto m = geometry::loadGltf(
+        write("uv.gltf", w.json(R"([{"primitives":[{"attributes":{"POSITION":0},"indices":1},
+                            {"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1}]}])")));
+    ASSERT_EQ(m.texcoords.size(), 6u);
+    EXPECT_EQ(m.texcoords[1], glm::vec2(0.0f)); // first primitive had none
+    EXPECT_EQ(m.texcoords[4], glm::vec2(1.0f, 0.0f));
+    EXPECT_EQ(m.texcoords[5], glm::vec2(0.0f, 1.0f));
+}
+
+TEST_F(GltfTest, NoDefaultSceneUsesRootNodes) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    // Node 1 is a child of node 0 and must be visited once, through its parent.
+    const auto m = geometry::loadGltf(
+        write("roots.gltf",
+              w.json(kOneTriangleMesh,
+                     R"([{"mesh":0,"children":[1]},{"mesh":0,"translation":[0,0,1]}])", "")));
+    EXPECT_EQ(m.triangles.size(), 2u);
+    EXPECT_FLOAT_EQ(m.bounds().max.z, 1.0f);
+}
+
+TEST_F(GltfTest, MeshWithoutTrianglesInScene) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    // The mesh exists but no node of the scene draws it.
+    expectError(write("unused.gltf", w.json(kOneTriangleMesh, R"([{"name":"empty"}])")),
+                "no triangles");
+}
+
+} // namespace

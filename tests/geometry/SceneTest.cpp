@@ -1,1 +1,369 @@
-// placeholder: tests for this area are being written
+#include <geometry/Error.h>
+#include <geometry/Scene.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kShared = PENUMBRA_SHARED_DIR;
+
+// One triangle (0,0,0) (1,0,0) (0,1,0) as a .gltf with an embedded base64 buffer: 36 bytes of
+// float positions followed by 3 uint16 indices (+2 padding).
+std::string triangleGltf() {
+    std::string bytes;
+    for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) {
+        bytes.append(reinterpret_cast<const char*>(&f), 4);
+    }
+    for (std::uint16_t i : {0, 1, 2, 0})
+        bytes.append(reinterpret_cast<const char*>(&i), 2);
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string b64;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) { // 44 bytes: last group has 2
+        unsigned v = (unsigned char)bytes[i] << 16;
+        if (i + 1 < bytes.size()) v |= (unsigned char)bytes[i + 1] << 8;
+        if (i + 2 < bytes.size()) v |= (unsigned char)bytes[i + 2];
+        b64 += table[v >> 18];
+        b64 += table[(v >> 12) & 63];
+        b64 += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
+        b64 += i + 2 < bytes.size() ? table[v & 63] : '=';
+    }
+    return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+      "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+      "buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,)" +
+           b64 + R"("}],
+      "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},
+                     {"buffer":0,"byteOffset":36,"byteLength":6}],
+      "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},
+                   {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+}
+
+const char* kCamera = R"("camera": {"eye": [0, 4, 8], "target": [0, 0, 0]})";
+const char* kLight = R"("light": {"center": [0, 6, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]})";
+const char* kBox = R"({"type": "box", "center": [0, 1, 0], "size": [1, 0.2, 1]})";
+
+class SceneTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        static std::atomic<int> counter{0};
+        mDir = fs::temp_directory_path() /
+               ("penumbra-scene-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+                "-" + std::to_string(std::random_device{}()));
+        fs::create_directories(mDir / "models");
+        write("models/tri.gltf", triangleGltf());
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(mDir, ec);
+    }
+    fs::path write(const std::string& name, const std::string& text) const {
+        fs::create_directories((mDir / name).parent_path());
+        std::ofstream(mDir / name, std::ios::binary) << text;
+        return mDir / name;
+    }
+    // Scene JSON from the three top-level parts.
+    static std::string scene(const std::string& objects, const std::string& camera = kCamera,
+                             const std::string& light = kLight) {
+        return "{" + camera + ",\n" + light + ",\n\"objects\": [" + objects + "]}";
+    }
+    // Writes `json` to scene.json, loads it and expects an InputError whose message contains the
+    // file name and every one of `needles`.
+    void expectError(const std::string& json, std::initializer_list<std::string> needles) const {
+        const fs::path path = write("scene.json", json);
+        try {
+            geometry::loadScene(path);
+            ADD_FAILURE() << "expected InputError for:\n" << json;
+        } catch (const geometry::InputError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("scene.json"), std::string::npos) << msg;
+            for (const auto& n : needles)
+                EXPECT_NE(msg.find(n), std::string::npos) << msg;
+        }
+    }
+
+    fs::path mDir;
+};
+
+TEST_F(SceneTest, ValidSceneWithEveryObjectType) {
+    const std::string json = R"({
+      "camera": {"eye": [0, 4, 8], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 40},
+      "light":  {"center": [0, 6, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]},
+      "objects": [
+        {"type": "gltf", "file": "models/tri.gltf", "translate": [10, 0, 0],
+         "rotate_deg": [0, 0, 90], "scale": 2, "method": "wedges"},
+        {"type": "box", "center": [0, 1, 0], "size": [1, 0.2, 1], "name": "table"},
+        {"type": "quad", "center": [0, 2, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5],
+         "method": "none"},
+        {"type": "sphere", "center": [2, 1, 0], "radius": 0.5, "segments": 16,
+         "method": "occlusion"},
+        {"type": "gltf", "file": "models/tri.gltf", "scale": [1, 2, 3]}
+      ]})";
+    const fs::path path = write("scene.json", json);
+    const geometry::Scene s = geometry::loadScene(path);
+    EXPECT_EQ(s.source, path);
+    EXPECT_EQ(s.camera.eye, glm::vec3(0, 4, 8));
+    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 40.0f);
+    EXPECT_EQ(s.light.center, glm::vec3(0, 6, 0));
+    EXPECT_EQ(s.light.v, glm::vec3(0, 0, 0.5f));
+    ASSERT_EQ(s.objects.size(), 5u);
+
+    EXPECT_EQ(s.objects[0].method, geometry::ShadowMethod::Wedges);
+    EXPECT_EQ(s.objects[0].name, "tri.gltf");
+    // Scaled by 2, rotated 90° about z, translated: (1,0,0) -> (0,2,0) -> (10,2,0).
+    const auto& tri = s.objects[0].mesh.positions;
+    ASSERT_EQ(tri.size(), 3u);
+    EXPECT_NEAR(tri[1].x, 10.0f, 1e-5f);
+    EXPECT_NEAR(tri[1].y, 2.0f, 1e-5f);
+    EXPECT_NEAR(tri[2].x, 8.0f, 1e-5f); // (0,1,0) -> (0,2,0) -> (-2,0,0) -> (8,0,0)
+
+    EXPECT_EQ(s.objects[1].name, "table");
+    EXPECT_EQ(s.objects[1].method, geometry::ShadowMethod::Auto);
+    EXPECT_EQ(s.objects[1].mesh.triangles.size(), 12u);
+    EXPECT_EQ(s.objects[2].method, geometry::ShadowMethod::None);
+    EXPECT_EQ(s.objects[2].name, "objects[2] (quad)");
+    EXPECT_EQ(s.objects[2].mesh.triangles.size(), 2u);
+    EXPECT_EQ(s.objects[3].method, geometry::ShadowMethod::Occlusion);
+    EXPECT_EQ(s.objects[3].mesh.triangles.size(), 2u * 16u * 7u);
+    EXPECT_NEAR(s.objects[4].mesh.bounds().max.y, 2.0f, 1e-6f); // per-axis scale
+
+    EXPECT_EQ(s.triangleCount(), 1u + 12u + 2u + 224u + 1u);
+    const geometry::Aabb b = s.bounds();
+    EXPECT_NEAR(b.max.x, 10.0f, 1e-5f);
+    EXPECT_NEAR(b.min.x, -0.5f, 1e-5f);
+    EXPECT_NO_THROW(geometry::validateScene(s));
+}
+
+TEST_F(SceneTest, OptionalCameraKeysDefault) {
+    const geometry::Scene s = geometry::loadScene(write("scene.json", scene(kBox)));
+    EXPECT_EQ(s.camera.up, glm::vec3(0, 1, 0));
+    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 50.0f);
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_EQ(s.objects[0].method, geometry::ShadowMethod::Auto);
+}
+
+TEST_F(SceneTest, RelativeFileResolvesAgainstSceneDirectory) {
+    // Scene in a sub-directory referring to a sibling directory with "..".
+    const std::string json = scene(R"({"type": "gltf", "file": "../../models/tri.gltf"})");
+    const fs::path nestedOk = write("scenes/nested/scene.json", json);
+    EXPECT_EQ(geometry::loadScene(nestedOk).triangleCount(), 1u);
+    // parseScene with an explicit base directory.
+    const geometry::Scene p = geometry::parseScene(
+        scene(R"({"type": "gltf", "file": "models/tri.gltf"})"), mDir, "inline");
+    EXPECT_EQ(p.triangleCount(), 1u);
+    // And an absolute path works from anywhere.
+    const std::string abs = (mDir / "models" / "tri.gltf").string();
+    EXPECT_EQ(
+        geometry::parseScene(scene(R"({"type": "gltf", "file": ")" + abs + "\"}"), "/", "inline")
+            .triangleCount(),
+        1u);
+}
+
+TEST_F(SceneTest, JsonSyntaxErrorNamesFileAndPosition) {
+    expectError("{\"camera\": {\"eye\": [0, 4, 8],,}}", {"syntax error", "line 1", "byte"});
+    expectError("", {"syntax error"});
+}
+
+TEST_F(SceneTest, UnknownKeys) {
+    expectError(R"({"camera": {"eye": [0,4,8], "target": [0,0,0]}, )" + std::string(kLight) +
+                    R"(, "objects": [)" + kBox + R"(], "shadows": true})",
+                {"shadows", "unknown key"});
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "colour": [1,0,0]})"),
+                {"objects[0].colour", "unknown key"});
+    expectError(scene(kBox, R"("camera": {"eye": [0,4,8], "target": [0,0,0], "fov": 60})"),
+                {"camera.fov"});
+    expectError(scene(kBox, kCamera, R"("light": {"center": [0,6,0], "u": [1,0,0],
+                                                  "v": [0,0,1], "intensity": 2})"),
+                {"light.intensity"});
+    // A key valid for one type is unknown for another.
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "radius": 1})"),
+                {"objects[0].radius"});
+}
+
+TEST_F(SceneTest, WrongTypesAndLengths) {
+    expectError(scene(kBox, R"("camera": {"eye": "up there", "target": [0,0,0]})"),
+                {"camera.eye", "expected 3 numbers"});
+    expectError(
+        scene(std::string(kBox) + R"(, {"type": "box", "center": [0,1,0], "size": [1, 2]})"),
+        {"objects[1].size: expected 3 numbers"});
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1, true, 1]})"),
+                {"objects[0].size"});
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": "big"})"),
+                {"objects[0].radius", "expected a number"});
+    expectError(scene(R"({"type": 3, "center": [0,1,0]})"), {"objects[0].type", "string"});
+    expectError(scene(R"({"type": "cone"})"), {"objects[0].type", "cone"});
+    expectError(scene(R"(42)"), {"objects[0]", "expected an object"});
+    expectError(R"({"camera": [0,4,8], )" + std::string(kLight) + R"(, "objects": []})",
+                {"camera", "expected an object"});
+    expectError(std::string("{") + kCamera + "," + kLight + R"(, "objects": {}})",
+                {"objects", "expected an array"});
+    expectError("[1, 2, 3]", {"expected an object"});
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1, "segments": 2.5})"),
+                {"objects[0].segments"});
+    expectError(scene(R"({"type": "gltf", "file": "models/tri.gltf", "scale": "2"})"),
+                {"objects[0].scale"});
+}
+
+TEST_F(SceneTest, MissingRequiredKeys) {
+    expectError(std::string("{") + kLight + R"(, "objects": [)" + kBox + "]}",
+                {"camera", "missing"});
+    expectError(std::string("{") + kCamera + R"(, "objects": [)" + kBox + "]}",
+                {"light", "missing"});
+    expectError(std::string("{") + kCamera + "," + kLight + "}", {"objects", "missing"});
+    expectError(scene(kBox, kCamera, R"("light": {"center": [0,6,0], "v": [0,0,1]})"),
+                {"light.u", "missing"});
+    expectError(scene(kBox, R"("camera": {"eye": [0,4,8]})"), {"camera.target", "missing"});
+    expectError(scene(R"({"type": "box", "center": [0,1,0]})"), {"objects[0].size", "missing"});
+    expectError(scene(R"({"center": [0,1,0]})"), {"objects[0].type", "missing"});
+    expectError(scene(R"({"type": "gltf"})"), {"objects[0].file", "missing"});
+}
+
+TEST_F(SceneTest, MissingAndBrokenGltfFiles) {
+    expectError(scene(R"({"type": "gltf", "file": "models/nothere.glb"})"),
+                {"objects[0].file", "nothere.glb", "not found"});
+    write("models/broken.gltf", "{ definitely not gltf");
+    expectError(scene(R"({"type": "gltf", "file": "models/broken.gltf"})"),
+                {"objects[0].file", "broken.gltf", "parse error"});
+    // Missing scene file itself.
+    try {
+        geometry::loadScene(mDir / "absent.json");
+        ADD_FAILURE() << "expected InputError";
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("absent.json"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(SceneTest, ZeroAreaLight) {
+    expectError(scene(kBox, kCamera, R"("light": {"center": [0,6,0], "u": [1,0,0], "v": [2,0,0]})"),
+                {"light", "zero area"});
+    expectError(scene(kBox, kCamera, R"("light": {"center": [0,6,0], "u": [0,0,0], "v": [0,0,1]})"),
+                {"light.u"});
+    // Nearly parallel at a large scale is still zero area relative to |u||v|.
+    expectError(scene(kBox, kCamera,
+                      R"("light": {"center": [0,6,0], "u": [1000,0,0], "v": [1000,0,1e-7]})"),
+                {"light", "zero area"});
+}
+
+TEST_F(SceneTest, NonFiniteValues) {
+    expectError(scene(kBox, R"("camera": {"eye": [0,4,8], "target": [0,0,0], "fov_y_deg": "NaN"})"),
+                {"camera.fov_y_deg", "expected a number"});
+    // nlohmann parses 1e999 as infinity.
+    expectError(scene(R"({"type": "box", "center": [0,1e999,0], "size": [1,1,1]})"),
+                {"objects[0].center[1]", "finite"});
+    // Finite as a double but not as a float.
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1e300})"),
+                {"objects[0].radius", "finite"});
+}
+
+TEST_F(SceneTest, EmptyObjects) {
+    expectError(scene(""), {"objects", "at least one"});
+}
+
+TEST_F(SceneTest, BadMethodName) {
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "method": "magic"})"),
+                {"objects[0].method", "magic"});
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "method": 1})"),
+                {"objects[0].method"});
+}
+
+TEST_F(SceneTest, InvalidCameraAndSizes) {
+    expectError(scene(kBox, R"("camera": {"eye": [0,4,8], "target": [0,0,0], "fov_y_deg": 180})"),
+                {"camera.fov_y_deg"});
+    expectError(scene(kBox, R"("camera": {"eye": [0,4,8], "target": [0,0,0], "fov_y_deg": 0})"),
+                {"camera.fov_y_deg"});
+    expectError(scene(kBox, R"("camera": {"eye": [1,2,3], "target": [1,2,3]})"), {"camera.target"});
+    expectError(scene(kBox, R"("camera": {"eye": [0,4,0], "target": [0,0,0]})"),
+                {"camera.up", "parallel"});
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,0,1]})"),
+                {"objects[0].size"});
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": -1})"),
+                {"objects[0].radius"});
+    expectError(scene(R"({"type": "gltf", "file": "models/tri.gltf", "scale": 0})"),
+                {"objects[0].scale"});
+    expectError(scene(R"({"type": "gltf", "file": "models/tri.gltf", "scale": [1,-1,1]})"),
+                {"objects[0].scale"});
+    expectError(scene(R"({"type": "quad", "center": [0,1,0], "u": [1,0,0], "v": [1,0,0]})"),
+                {"objects[0]", "zero area"});
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1, "segments": 2})"),
+                {"objects[0].segments"});
+}
+
+TEST_F(SceneTest, DuplicateKey) {
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "size": [2,2,2]})"),
+                {"duplicate", "size"});
+}
+
+TEST_F(SceneTest, UnsupportedExtension) {
+    const fs::path p = write("scene.yaml", "camera: {}");
+    EXPECT_THROW(geometry::loadScene(p), geometry::InputError);
+}
+
+TEST_F(SceneTest, GltfGivenDirectlyGetsFramedCameraAndLight) {
+    const geometry::Scene s = geometry::loadScene(kShared / "levels" / "oa_dm1.glb");
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_EQ(s.objects[0].name, "oa_dm1.glb");
+    EXPECT_EQ(s.triangleCount(), 7502u);
+    const geometry::Aabb b = s.bounds();
+    const glm::vec3 c = b.center();
+
+    // Camera: looks at the centre from outside the bounds, above it.
+    EXPECT_NEAR(glm::length(s.camera.target - c), 0.0f, 1e-3f);
+    EXPECT_GT(s.camera.eye.y, b.max.y);
+    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 50.0f);
+    EXPECT_NO_THROW(geometry::validateScene(s));
+
+    // Light: a square facing down, above the top, inside the horizontal extent.
+    const geometry::RectLight& L = s.light;
+    EXPECT_NEAR(glm::length(L.u), glm::length(L.v), 1e-6f);
+    EXPECT_NEAR(glm::dot(L.u, L.v), 0.0f, 1e-6f);
+    EXPECT_LT(L.normal().y, -0.99f);
+    EXPECT_GT(L.center.y, b.max.y);
+    EXPECT_LT(L.center.y, b.max.y + 0.5f * b.extent().y + 1e-3f);
+    for (float s1 : {-1.0f, 1.0f}) {
+        for (float t1 : {-1.0f, 1.0f}) {
+            const glm::vec3 p = L.point(s1, t1);
+            EXPECT_GT(p.x, b.min.x);
+            EXPECT_LT(p.x, b.max.x);
+            EXPECT_GT(p.z, b.min.z);
+            EXPECT_LT(p.z, b.max.z);
+        }
+    }
+    const float diag = glm::length(b.extent());
+    EXPECT_NEAR(glm::length(L.u), 0.05f * diag, 0.02f * diag);
+}
+
+TEST_F(SceneTest, DefaultFramingOfSmallModel) {
+    // A glTF written to disk goes through the same path; the triangle lies in z = 0, so the
+    // horizontal extent is degenerate in z and the light keeps its nominal size.
+    const geometry::Scene s = geometry::loadScene(mDir / "models" / "tri.gltf");
+    EXPECT_EQ(s.triangleCount(), 1u);
+    EXPECT_GT(s.light.area(), 0.0f);
+    EXPECT_NO_THROW(geometry::validateScene(s));
+}
+
+TEST_F(SceneTest, ValidateSceneRejectsEditedScene) {
+    geometry::Scene s = geometry::loadScene(write("scene.json", scene(kBox)));
+    s.light.v = s.light.u;
+    EXPECT_THROW(geometry::validateScene(s), geometry::InputError);
+    s = geometry::loadScene(mDir / "scene.json");
+    s.camera.fovYDeg = std::nanf("");
+    EXPECT_THROW(geometry::validateScene(s), geometry::InputError);
+}
+
+TEST(SceneToString, MethodNames) {
+    EXPECT_STREQ(geometry::toString(geometry::ShadowMethod::Auto), "auto");
+    EXPECT_STREQ(geometry::toString(geometry::ShadowMethod::Wedges), "wedges");
+    EXPECT_STREQ(geometry::toString(geometry::ShadowMethod::Occlusion), "occlusion");
+    EXPECT_STREQ(geometry::toString(geometry::ShadowMethod::None), "none");
+}
+
+} // namespace

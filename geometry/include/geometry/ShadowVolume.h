@@ -43,6 +43,9 @@ void edgeMultiplicities(const Topology& topology, std::span<const std::int8_t> f
                         std::span<std::int32_t> multiplicity);
 
 // Appends the closed volume of all triangles of `topology` for a point light at `light`.
+// Each call appends, in this order: the T front caps (w = 1), the T back caps (w = 0), then |m_e|
+// side quads (2 triangles each) per edge with m_e != 0. Not thread-safe per `out`; scratch is
+// per thread, so concurrent calls on different outputs are fine.
 void appendHardShadowVolume(const Topology& topology, const glm::vec3& light,
                             ShadowVolumeGeometry& out);
 

@@ -34,7 +34,9 @@ struct EglContextDesc {
 };
 
 // Surfaceless EGL (EGL_MESA_platform_surfaceless, else EGL_EXT_platform_device), no config,
-// OpenGL core 4.5. Throws ContextError with the EGL error name on failure.
+// OpenGL core 4.5. Throws ContextError with the EGL error name on failure. The constructor makes
+// the context current; destroying the current context leaves none current on this thread. The
+// EGL display is shared and reference counted across EglContexts (terminated with the last).
 class EglContext final : public Context {
 public:
     explicit EglContext(const EglContextDesc& desc = {});

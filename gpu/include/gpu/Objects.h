@@ -43,7 +43,7 @@ private:
 };
 
 struct BufferDesc {
-    std::size_t size = 0;           // bytes; 0 with data = data.size_bytes()
+    std::size_t size = 0;           // bytes; 0 = no storage yet (uploadResize allocates)
     const void* data = nullptr;     // initial contents (may be null)
     GLbitfield flags = GL_DYNAMIC_STORAGE_BIT; // glNamedBufferStorage flags
     const char* label = nullptr;
@@ -92,9 +92,11 @@ public:
     int width() const { return mWidth; }
     int height() const { return mHeight; }
     GLenum format() const { return mFormat; }
-    // glGetTextureImage of level 0 into `out` (resized); bytes per pixel from format/type.
+    // glGetTextureImage of level 0 into `out` (resized); bytes per pixel from format/type, rows
+    // tightly packed. Rows come in GL order: the bottom row (window y = 0) first.
     void read(GLenum format, GLenum type, std::vector<std::byte>& out) const;
-    std::vector<float> readFloat(int channels) const; // GL_RED/RG/RGB/RGBA + GL_FLOAT
+    // GL_RED/RG/RGB/RGBA + GL_FLOAT, `channels` floats per pixel, bottom row first (as PFM).
+    std::vector<float> readFloat(int channels) const;
 
 private:
     struct Deleter {
@@ -138,7 +140,8 @@ public:
     VertexArray() = default;
     explicit VertexArray(const char* label);
     GLuint id() const { return mHandle.id(); }
-    // Attribute `index` reads `components` floats from `buffer` at binding `binding`.
+    // Attribute `index` reads `components` values of `type` from the buffer at `binding`: float
+    // types feed float inputs, integer types feed int/uint inputs unconverted (no normalising).
     void attribute(GLuint index, GLuint binding, int components, GLenum type = GL_FLOAT,
                    GLuint relativeOffset = 0);
     void vertexBuffer(GLuint binding, const Buffer& buffer, GLintptr offset, GLsizei stride);

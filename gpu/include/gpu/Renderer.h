@@ -1,0 +1,93 @@
+// The frame: G-buffer → visibility (per method) → shading, on the current GL context.
+//
+// Methods implemented here:
+// - hard:      one z-fail stencil shadow-volume pass from the light centre (DESIGN.md §4);
+// - reference: `samples` hard-shadow passes from stratified points on the light, averaged;
+// - raytrace:  the G-buffer positions read back and traced on the CPU with Embree.
+// Every pass opens a debug group and a GPU timer; FrameStats carries them by name.
+#pragma once
+
+#include <geometry/ErrorStats.h>
+#include <geometry/ImageIO.h>
+#include <geometry/Scene.h>
+#include <gpu/Debug.h>
+#include <gpu/Objects.h>
+#include <gpu/ShaderLoader.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace geometry {
+class Topology;
+class RayTracer;
+} // namespace geometry
+
+namespace gpu {
+
+enum class Method { Hard, Reference, Raytrace };
+
+// All method names of the render contract (DESIGN.md §3), implemented or not.
+const std::vector<std::string>& allMethodNames();
+// Parses an implemented method name; throws geometry::InputError naming the valid choices, or
+// saying that a known method is not implemented yet.
+Method parseMethod(const std::string& name);
+const char* toString(Method m);
+
+// One settings struct for the renderer, the command line and (later) the viewer UI.
+struct RenderSettings {
+    Method method = Method::Hard;
+    int width = 512;
+    int height = 512;
+    int samples = 1024;       // reference methods: light samples per pixel
+    std::uint32_t seed = 1;   // reference methods: sample pattern
+    float ambient = 0.15f;    // shading only; V never includes it
+    float exposure = 1.0f;    // shading only
+    // Called during long reference renders with (done, total) samples. May be empty.
+    std::function<void(int, int)> progress;
+};
+
+struct CpuTime {
+    std::string name;
+    double ms = 0.0;
+};
+
+struct FrameStats {
+    std::vector<PassTime> gpu; // per pass, GL timer queries
+    std::vector<CpuTime> cpu;  // per CPU stage
+    double frameMs = 0.0;      // wall clock of the whole frame, including GPU completion
+    std::size_t triangles = 0;
+    std::size_t silhouetteEdges = 0; // edges extruded for the light centre (|m| != 0)
+    std::size_t volumeTriangles = 0; // shadow-volume triangles for the light centre
+};
+
+class Renderer {
+public:
+    // Needs a current GL 4.5 context. Builds topology for every casting object (CPU) and uploads
+    // the scene once. Throws geometry::InputError for scenes the methods cannot represent.
+    Renderer(const geometry::Scene& scene, const ShaderLoader& shaders);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Renders one frame with `settings` (resizes targets when the size changed).
+    FrameStats renderFrame(const RenderSettings& settings);
+
+    // Results of the last frame, rows top to bottom.
+    geometry::FloatImage visibility() const; // 1 channel, NaN where no surface
+    geometry::FloatImage position() const;   // 3 channels, NaN where no surface
+    geometry::FloatImage normal() const;     // 3 channels (viewer-facing), NaN where no surface
+    std::vector<std::uint8_t> imageRgba8() const;
+
+    const geometry::Scene& scene() const { return mScene; }
+    std::size_t triangleCount() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+    const geometry::Scene& mScene;
+};
+
+} // namespace gpu

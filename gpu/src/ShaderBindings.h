@@ -1,0 +1,6 @@
+// C++ view of shaders/lib/Bindings.h (binding slots and std140 blocks shared with GLSL).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "../../shaders/lib/Bindings.h"

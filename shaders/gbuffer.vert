@@ -1,0 +1,21 @@
+// G-buffer: world position and flat geometric normal of the visible surface.
+#include "lib/Bindings.h"
+
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal; // face normal (vertices are expanded per triangle)
+layout(location = 2) in vec3 aAlbedo;
+
+out vec3 vWorld;
+flat out vec3 vNormal;
+flat out vec3 vAlbedo;
+
+// The shadow-volume front caps are drawn with the same matrix; invariance keeps their depth
+// as close as the compiler allows (the volume pass adds a small offset on top).
+invariant gl_Position;
+
+void main() {
+    vWorld = aPosition;
+    vNormal = aNormal;
+    vAlbedo = aAlbedo;
+    gl_Position = frame.viewProj * vec4(aPosition, 1.0);
+}

@@ -1,0 +1,2 @@
+// Stencil only: colour writes are off in this pass.
+void main() {}

@@ -1,0 +1,81 @@
+// Helpers for GL tests that render whole scenes: load a data/ scene, render one frame with the
+// Renderer, compare visibility maps, and write actual/expected/diff images on failure.
+#pragma once
+
+#include <geometry/ImageIO.h>
+#include <geometry/Scene.h>
+#include <gpu/Renderer.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace testutil {
+
+inline std::filesystem::path dataPath(const std::string& name) {
+    return std::filesystem::path(PENUMBRA_SOURCE_DIR) / "data" / name;
+}
+
+inline std::filesystem::path sharedPath(const std::string& name) {
+    return std::filesystem::path(PENUMBRA_SHARED_DIR) / name;
+}
+
+struct Rendered {
+    geometry::FloatImage visibility; // NaN where no surface
+    geometry::FloatImage position;
+    geometry::FloatImage normal;
+    gpu::FrameStats stats;
+};
+
+inline Rendered render(const geometry::Scene& scene, gpu::Method method, int size,
+                       int samples = 256) {
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    gpu::RenderSettings s;
+    s.method = method;
+    s.width = s.height = size;
+    s.samples = samples;
+    Rendered r;
+    r.stats = renderer.renderFrame(s);
+    r.visibility = renderer.visibility();
+    r.position = renderer.position();
+    r.normal = renderer.normal();
+    return r;
+}
+
+inline glm::vec3 pixelPosition(const geometry::FloatImage& p, std::size_t i) {
+    return {p.data[3 * i], p.data[3 * i + 1], p.data[3 * i + 2]};
+}
+
+// Writes <name>-actual.png, -expected.png and -diff.png (|difference| x 4, red) under
+// <build>/test-output/ so that a failing comparison can be looked at.
+inline void writeComparisonImages(const std::string& name, const geometry::FloatImage& actual,
+                                  const std::vector<float>& expected) {
+    const auto dir = std::filesystem::path(PENUMBRA_BIN_DIR) / ".." / "test-output";
+    std::filesystem::create_directories(dir);
+    const int w = actual.width, h = actual.height;
+    std::vector<std::uint8_t> a(w * h * 3), e(w * h * 3), d(w * h * 3);
+    auto grey = [](float v) {
+        return std::isfinite(v) ? static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f)
+                                : std::uint8_t{40};
+    };
+    for (int i = 0; i < w * h; ++i) {
+        const float va = actual.data[i], ve = expected[i];
+        for (int c = 0; c < 3; ++c) {
+            a[3 * i + c] = grey(va);
+            e[3 * i + c] = grey(ve);
+        }
+        const float diff = std::isfinite(va) && std::isfinite(ve) ? std::fabs(va - ve) : 0.0f;
+        d[3 * i] = static_cast<std::uint8_t>(std::clamp(diff * 4.0f, 0.0f, 1.0f) * 255.0f);
+        d[3 * i + 1] = d[3 * i + 2] = 0;
+    }
+    geometry::writePng(dir / (name + "-actual.png"), w, h, 3, a.data());
+    geometry::writePng(dir / (name + "-expected.png"), w, h, 3, e.data());
+    geometry::writePng(dir / (name + "-diff.png"), w, h, 3, d.data());
+}
+
+} // namespace testutil
