@@ -26,6 +26,8 @@
 #include <regex>
 #include <string>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -110,9 +112,10 @@ int run(const Options& opt) {
     settings.samples = opt.samples;
     settings.seed = opt.seed;
     if (!opt.quiet && method == gpu::Method::Reference)
-        settings.progress = [](int done, int total) {
-            std::fprintf(stderr, "\r  reference: %d/%d light samples", done, total);
-            if (done == total) std::fprintf(stderr, "\n");
+        settings.progress = [tty = isatty(fileno(stderr)) != 0](int done, int total) {
+            // One line per update when logged (CI), an updating line on a terminal.
+            std::fprintf(stderr, "%s  reference: %d/%d light samples%s", tty ? "\r" : "", done,
+                         total, tty && done < total ? "" : "\n");
         };
 
     std::vector<double> frameMs;
@@ -143,6 +146,15 @@ int run(const Options& opt) {
                             {"seed", opt.seed},
                             {"frames", opt.frames}};
     report["size"] = {width, height};
+    auto vec = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    // The view actually rendered (a .glb given directly gets an automatic one).
+    report["camera"] = {{"eye", vec(scene.camera.eye)},
+                        {"target", vec(scene.camera.target)},
+                        {"up", vec(scene.camera.up)},
+                        {"fov_y_deg", scene.camera.fovYDeg}};
+    report["light"] = {{"center", vec(scene.light.center)},
+                       {"u", vec(scene.light.u)},
+                       {"v", vec(scene.light.v)}};
     report["gl_renderer"] = info.renderer;
     report["gl_version"] = info.version;
     report["triangles"] = last.triangles;

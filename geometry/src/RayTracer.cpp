@@ -190,9 +190,18 @@ glm::vec3 samplePoint(const RectLight& light, const std::vector<glm::vec2>& base
 }
 
 // Counts the unoccluded shadow rays of one point, kPacket rays per rtcOccluded call.
+// Samples behind the point's own tangent plane (dot(n, y - p) <= 0) are blocked by the surface
+// the point lies on and get no ray: decided exactly here, they do not depend on the origin
+// offset, which would otherwise let rays that cross the surface just past a nearby edge
+// escape (a bias of the order of the offset, visible on narrow faces whose plane cuts the
+// light). The rasterised reference makes the same decision through the surface's own cap.
+bool facesSample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& y) {
+    return glm::dot(n, y - p) > 0.0f || !(glm::dot(n, n) > 0.0f);
+}
+
 int countUnoccluded(RTCScene scene, RTCIntersectContext& context, const RectLight& light,
-                    const glm::vec3& origin, const std::vector<glm::vec2>& base,
-                    const glm::vec2& shift, float eps) {
+                    const glm::vec3& point, const glm::vec3& normal, const glm::vec3& origin,
+                    const std::vector<glm::vec2>& base, const glm::vec2& shift, float eps) {
     const int samples = static_cast<int>(base.size());
     int unoccluded = 0;
     for (int k0 = 0; k0 < samples; k0 += kPacket) {
@@ -200,11 +209,12 @@ int countUnoccluded(RTCScene scene, RTCIntersectContext& context, const RectLigh
         alignas(64) int valid[kPacket];
         for (int j = 0; j < kPacket; ++j) {
             const int k = k0 + j;
-            valid[j] = k < samples ? -1 : 0;
-            // Unnormalised direction: t = 1 is the light sample itself. Inactive lanes (the
-            // last packet when samples is not a multiple of kPacket) get a harmless finite ray.
-            const glm::vec3 dir = k < samples ? samplePoint(light, base, shift, k) - origin
-                                              : glm::vec3(0.0f, 1.0f, 0.0f);
+            const glm::vec3 y = k < samples ? samplePoint(light, base, shift, k) : origin;
+            const bool active = k < samples && facesSample(point, normal, y);
+            valid[j] = active ? -1 : 0;
+            // Unnormalised direction: t = 1 is the light sample itself. Inactive lanes (past
+            // the last sample, or behind the surface) get a harmless finite ray.
+            const glm::vec3 dir = active ? y - origin : glm::vec3(0.0f, 1.0f, 0.0f);
             packet.org_x[j] = origin.x;
             packet.org_y[j] = origin.y;
             packet.org_z[j] = origin.z;
@@ -336,7 +346,8 @@ void RayTracer::visibility(const RectLight& light, std::span<const glm::vec3> po
             // random vector on the torus [-1,1)^2. Still one sample per (shifted) stratum, but
             // neighbouring points no longer share their error, so there is no banding.
             const glm::vec2 shift = rotationFor(settings.seed, i);
-            const int unoccluded = countUnoccluded(scene, context, light, origin, base, shift, eps);
+            const int unoccluded = countUnoccluded(scene, context, light, points[i], normals[i],
+                                                   origin, base, shift, eps);
             out[i] = static_cast<float>(unoccluded) * invSamples;
         }
     });
@@ -354,6 +365,10 @@ void RayTracer::hardVisibility(const glm::vec3& lightPoint, std::span<const glm:
         for (std::size_t i = begin; i < end; ++i) {
             if (!isFinite(points[i])) {
                 out[i] = std::numeric_limits<float>::quiet_NaN();
+                continue;
+            }
+            if (!facesSample(points[i], normals[i], lightPoint)) {
+                out[i] = 0.0f;
                 continue;
             }
             RTCRay ray = makeRay(offsetOrigin(points[i], normals[i], eps), lightPoint, eps);

@@ -15,6 +15,8 @@
 // benchmark numbers meaningless; "up" and the field of view have obvious conventional defaults.
 #include <geometry/Scene.h>
 
+#include <geometry/Framing.h>
+
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
 #include <geometry/Primitives.h>
@@ -436,6 +438,7 @@ Scene loadScene(const std::filesystem::path& path) {
         const Aabb b = scene.bounds();
         scene.camera = defaultCamera(b);
         scene.light = defaultLight(b);
+        frameInterior(scene); // a game level: look from inside, light under the ceiling
     } else if (ext == ".json") {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw InputError(path.string() + ": cannot open scene file");

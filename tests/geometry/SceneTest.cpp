@@ -1,4 +1,7 @@
 #include <geometry/Error.h>
+#include <geometry/Framing.h>
+#include <geometry/Primitives.h>
+#include <geometry/RayTracer.h>
 #include <geometry/Scene.h>
 
 #include <gtest/gtest.h>
@@ -307,38 +310,51 @@ TEST_F(SceneTest, UnsupportedExtension) {
     EXPECT_THROW(geometry::loadScene(p), geometry::InputError);
 }
 
-TEST_F(SceneTest, GltfGivenDirectlyGetsFramedCameraAndLight) {
+TEST_F(SceneTest, GltfLevelGivenDirectlyIsFramedFromInside) {
     const geometry::Scene s = geometry::loadScene(kShared / "levels" / "oa_dm1.glb");
     ASSERT_EQ(s.objects.size(), 1u);
     EXPECT_EQ(s.objects[0].name, "oa_dm1.glb");
     EXPECT_EQ(s.triangleCount(), 7502u);
-    const geometry::Aabb b = s.bounds();
-    const glm::vec3 c = b.center();
-
-    // Camera: looks at the centre from outside the bounds, above it.
-    EXPECT_NEAR(glm::length(s.camera.target - c), 0.0f, 1e-3f);
-    EXPECT_GT(s.camera.eye.y, b.max.y);
-    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 50.0f);
     EXPECT_NO_THROW(geometry::validateScene(s));
+    const geometry::Aabb b = s.bounds();
+    auto inside = [&](const glm::vec3& p) {
+        return glm::all(glm::greaterThan(p, b.min)) && glm::all(glm::lessThan(p, b.max));
+    };
+    // A roofed level seen from outside shows only its roof: the camera must be inside, with
+    // geometry in front of it, and the light under a ceiling (not above the level).
+    EXPECT_TRUE(inside(s.camera.eye));
+    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 70.0f);
+    const geometry::RayTracer tracer(s);
+    float t = 0.0f;
+    glm::vec3 n;
+    const glm::vec3 view = glm::normalize(s.camera.target - s.camera.eye);
+    ASSERT_TRUE(tracer.intersect(s.camera.eye, view, t, n));
+    EXPECT_GT(t, 0.5f); // not staring into a wall
 
-    // Light: a square facing down, above the top, inside the horizontal extent.
     const geometry::RectLight& L = s.light;
-    EXPECT_NEAR(glm::length(L.u), glm::length(L.v), 1e-6f);
-    EXPECT_NEAR(glm::dot(L.u, L.v), 0.0f, 1e-6f);
+    EXPECT_TRUE(inside(L.center));
     EXPECT_LT(L.normal().y, -0.99f);
-    EXPECT_GT(L.center.y, b.max.y);
-    EXPECT_LT(L.center.y, b.max.y + 0.5f * b.extent().y + 1e-3f);
-    for (float s1 : {-1.0f, 1.0f}) {
-        for (float t1 : {-1.0f, 1.0f}) {
-            const glm::vec3 p = L.point(s1, t1);
-            EXPECT_GT(p.x, b.min.x);
-            EXPECT_LT(p.x, b.max.x);
-            EXPECT_GT(p.z, b.min.z);
-            EXPECT_LT(p.z, b.max.z);
-        }
-    }
+    EXPECT_NEAR(glm::dot(L.u, L.v), 0.0f, 1e-6f);
+    ASSERT_TRUE(tracer.intersect(L.center, {0, 1, 0}, t, n)) << "the light hangs under a ceiling";
+    EXPECT_GT(t, 0.0f);
     const float diag = glm::length(b.extent());
-    EXPECT_NEAR(glm::length(L.u), 0.05f * diag, 0.02f * diag);
+    EXPECT_GT(glm::length(L.u), 0.004f * diag);
+    EXPECT_LT(glm::length(L.u), 0.031f * diag);
+}
+
+TEST_F(SceneTest, OpenModelGivenDirectlyIsFramedFromOutside) {
+    // A single box is not enclosing anything: the bounds are framed from outside, light above.
+    geometry::Scene s;
+    s.objects.push_back({"box", geometry::ShadowMethod::Auto,
+                         geometry::makeBox({0, 0.5f, 0}, {1, 1, 1})});
+    EXPECT_FALSE(geometry::frameInterior(s));
+    const geometry::Aabb b = s.bounds();
+    const geometry::Camera cam = geometry::defaultCamera(b);
+    EXPECT_NEAR(glm::length(cam.target - b.center()), 0.0f, 1e-5f);
+    EXPECT_GT(cam.eye.y, b.max.y);
+    const geometry::RectLight L = geometry::defaultLight(b);
+    EXPECT_GT(L.center.y, b.max.y);
+    EXPECT_LT(L.normal().y, -0.99f);
 }
 
 TEST_F(SceneTest, DefaultFramingOfSmallModel) {

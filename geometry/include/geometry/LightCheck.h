@@ -1,0 +1,31 @@
+// Rejects scenes whose rectangular light intersects or touches scene geometry: the visibility
+// integral over the light is meaningless when part of the light is inside or on an object.
+#pragma once
+
+#include <geometry/Scene.h>
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <optional>
+
+namespace geometry {
+
+struct LightContact {
+    std::size_t object;   // index into Scene::objects
+    std::size_t triangle; // index into that object's MeshData::triangles
+    glm::vec2 st;         // light coordinates (s, t) in [-1, 1]^2 of a point of contact
+};
+
+// First triangle (objects in order, then triangles in order) that comes within `tolerance` (an
+// absolute world distance) of the light rectangle, or nullopt. Every object counts, including
+// method None: it is still geometry the light would sit inside. Near the rectangle's edges the
+// test is slightly conservative (distance measured per axis, not Euclidean). A light with
+// (nearly) parallel u and v has no plane; validateScene rejects it, and here it yields nullopt.
+std::optional<LightContact> findLightContact(const Scene& scene, float tolerance);
+
+// Throws InputError naming the object, the triangle and where on the light the contact is, with a
+// tolerance of 1e-5 times the scene bounds diagonal.
+void validateLightClear(const Scene& scene);
+
+} // namespace geometry

@@ -1,0 +1,120 @@
+// Interior framing for game levels: a camera outside a roofed level sees only its roof, and a
+// light above the bounds leaves the whole interior in shadow. Levels are not closed meshes, so
+// "inside" is judged by rays: a point is in the open interior when rays in all 26 grid
+// directions hit geometry, almost all of them on the side the faces point to (level brushes
+// face into the playable space), and none very close.
+#include <geometry/Framing.h>
+
+#include <geometry/RayTracer.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace geometry {
+
+namespace {
+
+std::array<glm::vec3, 26> gridDirections() {
+    std::array<glm::vec3, 26> dirs{};
+    int n = 0;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y)
+            for (int z = -1; z <= 1; ++z)
+                if (x || y || z) dirs[n++] = glm::normalize(glm::vec3(x, y, z));
+    return dirs;
+}
+
+struct Candidate {
+    glm::vec3 point{0.0f};
+    float score = -1.0f;
+};
+
+} // namespace
+
+bool frameInterior(Scene& scene) {
+    const Aabb bounds = scene.bounds();
+    if (bounds.empty()) return false;
+    const glm::vec3 extent = bounds.extent();
+    const float diag = glm::length(extent);
+    if (!(diag > 0.0f)) return false;
+
+    const RayTracer tracer(scene);
+    const auto dirs = gridDirections();
+    constexpr int kGrid[3] = {9, 5, 9};
+    constexpr int kMinFrontHits = 23; // of 26: tolerate a few back faces seen through cracks
+    const float minClearance = 0.02f * diag;
+
+    Candidate best;
+    for (int i = 0; i < kGrid[0]; ++i)
+        for (int j = 0; j < kGrid[1]; ++j)
+            for (int k = 0; k < kGrid[2]; ++k) {
+                const glm::vec3 f((i + 0.5f) / kGrid[0], (j + 0.5f) / kGrid[1],
+                                  (k + 0.5f) / kGrid[2]);
+                const glm::vec3 p = bounds.min + f * extent;
+                int front = 0;
+                float sum = 0.0f, nearest = INFINITY;
+                bool enclosed = true;
+                for (const glm::vec3& d : dirs) {
+                    float t = 0.0f;
+                    glm::vec3 n;
+                    if (!tracer.intersect(p, d, t, n)) {
+                        enclosed = false;
+                        break;
+                    }
+                    front += glm::dot(n, d) < 0.0f;
+                    sum += t;
+                    nearest = std::min(nearest, t);
+                }
+                if (!enclosed || front < kMinFrontHits || nearest < minClearance) continue;
+                // Mean free distance, weighted by clearance so the camera stays off the walls.
+                const float score = (sum / dirs.size()) * std::min(nearest / (0.1f * diag), 1.0f);
+                if (score > best.score) best = {p, score};
+            }
+    if (best.score < 0.0f) return false;
+
+    // Look along the longest free, slightly downward direction.
+    glm::vec3 view(1.0f, 0.0f, 0.0f);
+    float viewLength = 0.0f;
+    for (int a = 0; a < 16; ++a) {
+        const float phi = 2.0f * 3.14159265f * a / 16.0f;
+        const glm::vec3 d = glm::normalize(glm::vec3(std::cos(phi), -0.25f, std::sin(phi)));
+        float t = 0.0f;
+        glm::vec3 n;
+        if (tracer.intersect(best.point, d, t, n) && t > viewLength) {
+            viewLength = t;
+            view = d;
+        }
+    }
+    if (viewLength <= 0.0f) return false;
+
+    Camera camera;
+    camera.eye = best.point;
+    camera.target = best.point + 0.5f * viewLength * view;
+    camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    camera.fovYDeg = 70.0f;
+
+    // Light: under the ceiling above the middle of the view, or above the camera if the ray up
+    // from there escapes (open sky).
+    const glm::vec3 up(0.0f, 1.0f, 0.0f);
+    glm::vec3 base = camera.target;
+    float t = 0.0f;
+    glm::vec3 n;
+    if (!tracer.intersect(base, up, t, n)) {
+        base = camera.eye;
+        if (!tracer.intersect(base, up, t, n)) return false;
+    }
+    RectLight light;
+    // 85% of the way up keeps the light clear of the ceiling; its size grows with the room but
+    // stays a small area light (a lamp, not a skylight).
+    light.center = base + 0.85f * t * up;
+    const float half = std::clamp(0.1f * t, 0.005f * diag, 0.03f * diag);
+    light.u = glm::vec3(half, 0.0f, 0.0f);
+    light.v = glm::vec3(0.0f, 0.0f, half);
+
+    scene.camera = camera;
+    scene.light = light;
+    return true;
+}
+
+} // namespace geometry

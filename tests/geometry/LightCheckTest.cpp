@@ -1,0 +1,220 @@
+#include <geometry/Error.h>
+#include <geometry/GltfLoader.h>
+#include <geometry/LightCheck.h>
+#include <geometry/Primitives.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace {
+
+using geometry::findLightContact;
+using geometry::MeshData;
+using geometry::Scene;
+using geometry::SceneObject;
+using geometry::ShadowMethod;
+
+// Lights are horizontal (normal along y) unless stated. kTol is close to what validateLightClear
+// uses for these scenes of a few metres (1e-5 x bounds diagonal).
+constexpr float kTol = 1e-5f;
+
+geometry::RectLight light(glm::vec3 center, glm::vec3 u = {1, 0, 0}, glm::vec3 v = {0, 0, 1}) {
+    geometry::RectLight l;
+    l.center = center;
+    l.u = u;
+    l.v = v;
+    return l;
+}
+
+MeshData triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    MeshData m;
+    m.positions = {a, b, c};
+    m.triangles = {{0u, 1u, 2u}};
+    return m;
+}
+
+Scene scene(const geometry::RectLight& l,
+            std::initializer_list<std::pair<std::string, MeshData>> objects,
+            ShadowMethod method = ShadowMethod::Auto) {
+    Scene s;
+    s.light = l;
+    for (const auto& [name, mesh] : objects)
+        s.objects.push_back(SceneObject{name, method, mesh});
+    return s;
+}
+
+TEST(LightCheck, LightWellAboveBoxIsClear) {
+    const Scene s = scene(light({0, 6, 0}), {{"box", geometry::makeBox({0, 0.5f, 0}, {1, 1, 1})}});
+    EXPECT_FALSE(findLightContact(s, kTol));
+    EXPECT_NO_THROW(geometry::validateLightClear(s));
+}
+
+TEST(LightCheck, LightCuttingThroughBoxNamesThatObject) {
+    // The first box is clear; the light, wider than the second box, slices through its sides.
+    const Scene s = scene(light({4, 1, 0}, {3, 0, 0}, {0, 0, 3}),
+                          {{"far", geometry::makeBox({-5, 1, 0}, {1, 1, 1})},
+                           {"crate", geometry::makeBox({4, 1, 0}, {2, 2, 2})}});
+    const auto c = findLightContact(s, kTol);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->object, 1u);
+    EXPECT_LT(c->triangle, 12u);
+    EXPECT_LE(std::abs(c->st.x), 1.0f);
+    EXPECT_LE(std::abs(c->st.y), 1.0f);
+}
+
+TEST(LightCheck, CoplanarOverlappingQuadTouches) {
+    // Quad spanning x in [0.5, 2.5] in the light plane: overlaps the light for s in [0.5, 1].
+    const Scene s = scene(light({0, 2, 0}),
+                          {{"panel", geometry::makeQuad({1.5f, 2, 0}, {1, 0, 0}, {0, 0, 1})}});
+    const auto c = findLightContact(s, kTol);
+    ASSERT_TRUE(c);
+    EXPECT_GE(c->st.x, 0.5f - 1e-4f);
+    EXPECT_LE(c->st.x, 1.0f);
+}
+
+TEST(LightCheck, CoplanarDisjointQuadIsClear) {
+    const Scene s = scene(light({0, 2, 0}),
+                          {{"panel", geometry::makeQuad({3.5f, 2, 0}, {1, 0, 0}, {0, 0, 1})}});
+    EXPECT_FALSE(findLightContact(s, kTol));
+}
+
+TEST(LightCheck, CrossingSegmentBesideTheSquareIsClear) {
+    // Crosses y = 0 along z = 1.2, x in [-2.5, 2.5]: beside the square, although the triangle's
+    // projection onto the light plane covers much of the square.
+    const Scene s =
+        scene(light({0, 0, 0}), {{"ramp", triangle({-5, -1, 0.2f}, {5, -1, 0.2f}, {0, 1, 2.2f})}});
+    EXPECT_FALSE(findLightContact(s, kTol));
+}
+
+TEST(LightCheck, CrossingSegmentThroughCornerTouches) {
+    // Crosses y = 0 along x + z = 1.8, cutting the corner (1, 1) of the square.
+    const Scene s = scene(light({0, 0, 0}),
+                          {{"blade", triangle({3, -1, -1.2f}, {-1.2f, -1, 3}, {0.9f, 1, 0.9f})}});
+    const auto c = findLightContact(s, kTol);
+    ASSERT_TRUE(c);
+    EXPECT_NEAR(c->st.x + c->st.y, 1.8f, 1e-3f);
+    EXPECT_GE(c->st.x, 0.8f - 1e-3f);
+    EXPECT_GE(c->st.y, 0.8f - 1e-3f);
+
+    // The same blade moved out to x + z = 2.2 passes the corner: bounding boxes still overlap.
+    const Scene miss =
+        scene(light({0, 0, 0}),
+              {{"blade", triangle({3.2f, -1, -1.0f}, {-1.0f, -1, 3.2f}, {1.1f, 1, 1.1f})}});
+    EXPECT_FALSE(findLightContact(miss, kTol));
+}
+
+TEST(LightCheck, TouchingWithinToleranceCounts) {
+    // The light lies 1e-7 above a 20 x 20 floor: far below 1e-5 x the bounds diagonal.
+    const Scene s = scene(light({0, 1e-7f, 0}),
+                          {{"floor", geometry::makeQuad({0, 0, 0}, {10, 0, 0}, {0, 0, 10})}});
+    EXPECT_TRUE(findLightContact(s, kTol));
+    EXPECT_THROW(geometry::validateLightClear(s), geometry::InputError);
+
+    // Exactly on the surface still touches with zero tolerance.
+    const Scene on =
+        scene(light({0, 0, 0}), {{"floor", geometry::makeQuad({0, 0, 0}, {10, 0, 0}, {0, 0, 10})}});
+    EXPECT_TRUE(findLightContact(on, 0.0f));
+
+    // A single vertex resting on the light, and one floating just above it.
+    const MeshData tip = triangle({0.5f, 0, 0.5f}, {0.5f, 1, 0}, {0, 1, 0.5f});
+    EXPECT_TRUE(findLightContact(scene(light({0, 0, 0}), {{"tip", tip}}), 0.0f));
+    const MeshData above = triangle({0.5f, 1e-3f, 0.5f}, {0.5f, 1, 0}, {0, 1, 0.5f});
+    EXPECT_FALSE(findLightContact(scene(light({0, 0, 0}), {{"tip", above}}), kTol));
+
+    // A light edge ending 1e-7 short of a wall touches; 1e-2 short does not.
+    const MeshData wall = geometry::makeQuad({1 + 1e-7f, 0, 0}, {0, 5, 0}, {0, 0, 5});
+    EXPECT_TRUE(findLightContact(scene(light({0, 0, 0}), {{"wall", wall}}), kTol));
+    const MeshData far = geometry::makeQuad({1.01f, 0, 0}, {0, 5, 0}, {0, 0, 5});
+    EXPECT_FALSE(findLightContact(scene(light({0, 0, 0}), {{"wall", far}}), kTol));
+}
+
+TEST(LightCheck, NonOrthogonalAxesUseTrueLightCoordinates) {
+    // A parallelogram: u = (1, 0, 0), v = (1, 0, 1). The point c + 0.9u + 0.9v = (1.8, 0, 0.9)
+    // is on the light, although dot(p - c, u) / |u|^2 = 1.8 would call it outside.
+    const geometry::RectLight l = light({0, 0, 0}, {1, 0, 0}, {1, 0, 1});
+    auto spike = [](glm::vec3 q) {
+        return triangle(q + glm::vec3(-0.01f, -1, 0), q + glm::vec3(0.01f, -1, 0),
+                        q + glm::vec3(0, 1, 0));
+    };
+    const auto c = findLightContact(scene(l, {{"spike", spike({1.8f, 0, 0.9f})}}), kTol);
+    ASSERT_TRUE(c);
+    EXPECT_NEAR(c->st.x, 0.9f, 0.02f);
+    EXPECT_NEAR(c->st.y, 0.9f, 0.02f);
+
+    // (0, 0, 1.5) is s = -1.5, t = 1.5: off the light, although the naive projections
+    // (0, 0.75) would put it inside.
+    EXPECT_FALSE(findLightContact(scene(l, {{"spike", spike({0, 0, 1.5f})}}), kTol));
+}
+
+TEST(LightCheck, LightInsideClosedRoomIsClear) {
+    const Scene s = scene(light({0, 8, 0}, {2, 0, 0}, {0, 0, 2}),
+                          {{"room", geometry::makeBox({0, 5, 0}, {20, 10, 20})}});
+    EXPECT_FALSE(findLightContact(s, kTol));
+    EXPECT_NO_THROW(geometry::validateLightClear(s));
+}
+
+TEST(LightCheck, MethodNoneObjectStillCounts) {
+    const Scene s = scene(light({0, 1, 0}), {{"ghost", geometry::makeBox({0, 1, 0}, {1, 1, 1})}},
+                          ShadowMethod::None);
+    const auto c = findLightContact(s, kTol);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->object, 0u);
+}
+
+TEST(LightCheck, MessageNamesObjectTriangleAndPlace) {
+    const Scene s = scene(light({4, 1, 0}, {3, 0, 0}, {0, 0, 3}),
+                          {{"far", geometry::makeBox({-5, 1, 0}, {1, 1, 1})},
+                           {"crate", geometry::makeBox({4, 1, 0}, {2, 2, 2})}});
+    try {
+        geometry::validateLightClear(s);
+        FAIL() << "expected InputError";
+    } catch (const geometry::InputError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("light intersects object 'crate' (triangle "), std::string::npos) << msg;
+        EXPECT_NE(msg.find("near light (s "), std::string::npos) << msg;
+        EXPECT_NE(msg.find("move or shrink the light"), std::string::npos) << msg;
+        EXPECT_EQ(msg.find("'far'"), std::string::npos) << msg;
+    }
+}
+
+TEST(LightCheck, LargeLevelTiming) {
+    const std::filesystem::path level =
+        std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm5.glb";
+    if (!std::filesystem::exists(level)) GTEST_SKIP() << "missing " << level;
+    Scene s;
+    s.objects.push_back(SceneObject{"oa_dm5.glb", ShadowMethod::Auto, geometry::loadGltf(level)});
+    const geometry::Aabb b = s.bounds();
+    const float half = 0.01f * glm::length(b.extent());
+
+    // Inside the bounds (may or may not hit something) and above them (clear: a full scan).
+    const std::pair<const char*, glm::vec3> placements[] = {
+        {"inside", b.center()}, {"above", glm::vec3(b.center().x, b.max.y + 1.0f, b.center().z)}};
+    for (const auto& [where, center] : placements) {
+        s.light = light(center, {half, 0, 0}, {0, 0, half});
+        const float tol = 1e-5f * glm::length(b.extent());
+        double best = 1e30;
+        std::optional<geometry::LightContact> c;
+        for (int rep = 0; rep < 5; ++rep) {
+            const auto t0 = std::chrono::steady_clock::now();
+            c = findLightContact(s, tol);
+            const auto t1 = std::chrono::steady_clock::now();
+            best = std::min(best, std::chrono::duration<double, std::milli>(t1 - t0).count());
+        }
+        std::printf("[ timing ] oa_dm5 (%zu triangles), light %s: %.3f ms, %s\n", s.triangleCount(),
+                    where, best, c ? "contact" : "clear");
+        if (std::string(where) == "above") {
+            EXPECT_FALSE(c);
+        }
+    }
+}
+
+} // namespace
