@@ -5,11 +5,13 @@
 // face into the playable space), and none very close.
 #include <geometry/Framing.h>
 
+#include <geometry/LightCheck.h>
 #include <geometry/RayTracer.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 namespace geometry {
 
@@ -94,26 +96,36 @@ bool frameInterior(Scene& scene) {
     camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
     camera.fovYDeg = 70.0f;
 
-    // Light: under the ceiling above the middle of the view, or above the camera if the ray up
-    // from there escapes (open sky).
+    // Light: under the ceiling above the middle of the view (or above the camera), lowered and
+    // shrunk until it touches nothing: a light inside geometry is invalid input.
     const glm::vec3 up(0.0f, 1.0f, 0.0f);
-    glm::vec3 base = camera.target;
-    float t = 0.0f;
-    glm::vec3 n;
-    if (!tracer.intersect(base, up, t, n)) {
-        base = camera.eye;
-        if (!tracer.intersect(base, up, t, n)) return false;
+    const float tolerance = 1e-5f * diag;
+    std::optional<RectLight> light;
+    for (const glm::vec3& base : {camera.target, camera.eye}) {
+        float t = 0.0f;
+        glm::vec3 n;
+        if (!tracer.intersect(base, up, t, n)) continue; // open sky above
+        for (float height : {0.85f, 0.7f, 0.5f}) {
+            // A small area light (a lamp, not a skylight) that grows with the room.
+            for (float half = std::clamp(0.1f * t, 0.005f * diag, 0.03f * diag);
+                 half > 0.002f * diag && !light; half *= 0.5f) {
+                Scene trial;
+                trial.light.center = base + height * t * up;
+                trial.light.u = glm::vec3(half, 0.0f, 0.0f);
+                trial.light.v = glm::vec3(0.0f, 0.0f, half);
+                std::swap(trial.objects, scene.objects); // borrow the geometry, no copy
+                const bool clear = !findLightContact(trial, tolerance);
+                std::swap(trial.objects, scene.objects);
+                if (clear) light = trial.light;
+            }
+            if (light) break;
+        }
+        if (light) break;
     }
-    RectLight light;
-    // 85% of the way up keeps the light clear of the ceiling; its size grows with the room but
-    // stays a small area light (a lamp, not a skylight).
-    light.center = base + 0.85f * t * up;
-    const float half = std::clamp(0.1f * t, 0.005f * diag, 0.03f * diag);
-    light.u = glm::vec3(half, 0.0f, 0.0f);
-    light.v = glm::vec3(0.0f, 0.0f, half);
+    if (!light) return false;
+    scene.light = *light;
 
     scene.camera = camera;
-    scene.light = light;
     return true;
 }
 

@@ -19,6 +19,7 @@
 
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
+#include <geometry/LightCheck.h>
 #include <geometry/Primitives.h>
 
 #include <nlohmann/json.hpp>
@@ -421,6 +422,8 @@ void validateScene(const Scene& scene) {
     checkCameraAndLight(scene.camera, scene.light, [&](const std::string& k, const std::string& w) {
         throw InputError(origin + ": " + k + ": " + w);
     });
+    // A light inside or touching geometry makes the visibility integral meaningless.
+    validateLightClear(scene);
 }
 
 Scene loadScene(const std::filesystem::path& path) {

@@ -109,6 +109,40 @@ TEST_F(RenderCli, ZeroAreaLight) {
                    "light");
 }
 
+TEST_F(RenderCli, LightIntersectingGeometry) {
+    // The light plane y = 1 cuts through the box (y 0.9 .. 1.1).
+    expectRejected(write("s.json", replaced(kValidScene, "\"center\": [0, 3, 0]",
+                                            "\"center\": [0.1, 1, 0]")),
+                   "light intersects object");
+}
+
+TEST_F(RenderCli, DegenerateAndNonManifoldMeshesRenderWithoutError) {
+    // A zero-area triangle and three triangles sharing one edge: legal input, rendered.
+    const std::string b64 = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/"
+                            "AAAAAAAAgL8AAAAAAAAAQAAAAAAAAAAA";
+    // positions: (0,0,0) (1,0,0) (0,1,0) (0,0,1) (0,-1,0) (2,0,0)
+    // triangles: 0 1 2 | 0 1 3 | 0 1 4 (fan on edge 0-1) | 0 1 5 (zero area: collinear)
+    const std::string idx = "AAABAAIAAAABAAMAAAABAAQAAAABAAUA";
+    const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0,
+      "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "translation": [0, 1, 0]}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+      "buffers": [{"byteLength": 72, "uri": "data:application/octet-stream;base64,)" + b64 + R"("},
+                  {"byteLength": 24, "uri": "data:application/octet-stream;base64,)" + idx + R"("}],
+      "bufferViews": [{"buffer": 0, "byteLength": 72}, {"buffer": 1, "byteLength": 24}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3",
+                     "min": [0, -1, 0], "max": [2, 1, 1]},
+                    {"bufferView": 1, "componentType": 5123, "count": 12, "type": "SCALAR"}]})";
+    write("fan.gltf", gltf);
+    const fs::path scene = write("s.json", replaced(kValidScene, "{\"type\": \"quad\"",
+                                                    "{\"type\": \"gltf\", \"file\": \"fan.gltf\"}, "
+                                                    "{\"type\": \"quad\""));
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + scene.string() + "' --method hard --size 64x64 --out '" +
+                            out.string() + "'");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(out / "visibility.pfm"));
+}
+
 TEST_F(RenderCli, GltfWithNoMeshes) {
     expectRejected(write("empty.gltf", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}]})"),
                    "empty.gltf");

@@ -36,8 +36,9 @@ Scene loadScene(const std::filesystem::path& path);
 Scene parseScene(const std::string& jsonText, const std::filesystem::path& baseDir,
                  const std::string& origin = "<scene>");
 
-// Checks that the light has finite values and non-zero area, and that the camera is usable.
-// Throws InputError. (Called by loadScene/parseScene; public for code that edits a scene.)
+// Checks that the light has finite values and non-zero area and touches no geometry
+// (geometry/LightCheck.h), and that the camera is usable. Throws InputError. Called by
+// loadScene/parseScene; public for code that edits a scene.
 void validateScene(const Scene& scene);
 
 // Camera and light framed on bounds: used when a glTF is given directly.
