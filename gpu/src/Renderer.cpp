@@ -250,19 +250,20 @@ private:
     Buffer mVertices;
 };
 
-// Fullscreen pass writing frame.params.y into V where the stencil count is zero (lit).
-class AccumulatePass {
+// One triangle over the viewport with a fragment shader, a fixed state and a target.
+class FullscreenPass {
 public:
-    explicit AccumulatePass(const ShaderLoader& shaders)
+    FullscreenPass(const ShaderLoader& shaders, const char* fragment, const char* label,
+                   const PipelineState& state)
         : mProgram(shaders.load({.stages = {{GL_VERTEX_SHADER, "fullscreen.vert"},
-                                            {GL_FRAGMENT_SHADER, "accumulate.frag"}},
-                                 .label = "accumulate"})),
-          mVao("fullscreen") {}
+                                            {GL_FRAGMENT_SHADER, fragment}},
+                                 .label = label})),
+          mVao(label), mState(state) {}
 
-    void execute(const Targets& t) {
-        applyState(kAccumulateState);
-        glBindFramebuffer(GL_FRAMEBUFFER, t.visibilityFbo.id());
-        glViewport(0, 0, t.width, t.height);
+    void execute(const Framebuffer& target, int width, int height) {
+        applyState(mState);
+        glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+        glViewport(0, 0, width, height);
         glUseProgram(mProgram.id());
         glBindVertexArray(mVao.id());
         glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -271,32 +272,35 @@ public:
 private:
     Program mProgram;
     VertexArray mVao;
+    PipelineState mState;
 };
 
+// Writes frame.params.y into V where the stencil count is zero (lit).
+class AccumulatePass {
+public:
+    explicit AccumulatePass(const ShaderLoader& shaders)
+        : mPass(shaders, "accumulate.frag", "accumulate", kAccumulateState) {}
+    void execute(const Targets& t) { mPass.execute(t.visibilityFbo, t.width, t.height); }
+
+private:
+    FullscreenPass mPass;
+};
+
+// The image from the G-buffer and V.
 class ShadePass {
 public:
     explicit ShadePass(const ShaderLoader& shaders)
-        : mProgram(shaders.load({.stages = {{GL_VERTEX_SHADER, "fullscreen.vert"},
-                                            {GL_FRAGMENT_SHADER, "shade.frag"}},
-                                 .label = "shade"})),
-          mVao("fullscreen") {}
-
+        : mPass(shaders, "shade.frag", "shade", kFullscreenState) {}
     void execute(const Targets& t) {
-        applyState(kFullscreenState);
-        glBindFramebuffer(GL_FRAMEBUFFER, t.imageFbo.id());
-        glViewport(0, 0, t.width, t.height);
         glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
         glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
         glBindTextureUnit(TEXUNIT_ALBEDO, t.albedo.id());
         glBindTextureUnit(TEXUNIT_VISIBILITY, t.visibility.id());
-        glUseProgram(mProgram.id());
-        glBindVertexArray(mVao.id());
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+        mPass.execute(t.imageFbo, t.width, t.height);
     }
 
 private:
-    Program mProgram;
-    VertexArray mVao;
+    FullscreenPass mPass;
 };
 
 } // namespace
@@ -318,6 +322,8 @@ struct Renderer::Impl {
     GpuTimers timers;
 
     geometry::ShadowVolumeGeometry volume;
+    geometry::ShadowVolumeGeometry part; // scratch: one caster's volume
+    std::vector<glm::vec4> rest;         // scratch: back caps and sides, after the front caps
     std::unique_ptr<geometry::RayTracer> rayTracer; // built on first raytrace frame
 
     Impl(const geometry::Scene& s, const ShaderLoader& shaders, std::vector<SceneVertex> vertices)
@@ -328,8 +334,7 @@ struct Renderer::Impl {
     std::size_t buildVolume(const glm::vec3& light) {
         // Two passes over the casters keep all front caps contiguous at the start.
         volume.clear();
-        geometry::ShadowVolumeGeometry part;
-        std::vector<glm::vec4> rest;
+        rest.clear();
         std::size_t frontCapVertices = 0;
         for (const auto& topology : casters) {
             part.clear();
