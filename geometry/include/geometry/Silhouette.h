@@ -1,0 +1,100 @@
+// Per-frame silhouettes from the light centre, grouped for per-silhouette visibility buffers
+// (Forest, Barthe & Paulin 2006), with their hard volumes and penumbra wedges.
+//
+// - Classification: every triangle faces the light centre or not. Closed 2-manifolds use the
+//   classic one-sided rule (back-facing triangles take no part: a closed mesh already blocks
+//   with its front); open and non-manifold meshes use the two-sided rule of DESIGN.md §4
+//   (back-facing triangles are flipped and take part), as in geometry/ShadowVolume.h.
+// - Groups: connected components of participating triangles joined across edges where their
+//   orientations cancel (multiplicity 0). The edges with non-zero multiplicity *within the group*
+//   are its silhouette edges; chained, they form closed, oriented loops. Each group carries its
+//   own closed z-fail volume (front cap, back cap, sides), its wedges (one per silhouette edge
+//   copy) and its bounds.
+// - Output is flat arrays with per-group ranges, ready to upload.
+// - Topology is built once per mesh (geometry/Topology.h); SilhouetteExtractor redoes only the
+//   classification, loops, volumes and wedges when the light moves, and returns the previous
+//   result untouched when it has not.
+#pragma once
+
+#include <geometry/Topology.h>
+#include <geometry/Wedge.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace geometry {
+
+// One directed silhouette edge of a loop. Seen from the light centre, the group's
+// light-oriented triangles lie to the left of v0 -> v1 (the edge as its triangle uses it).
+struct SilhouetteEdge {
+    std::uint32_t v0, v1; // welded vertex ids (Topology::positions)
+    std::uint32_t edge;   // Topology edge id
+};
+
+// A range of consecutive edges in SilhouetteFrame::edges with edges[i].v1 == edges[i+1].v0 and
+// the last edge's v1 == the first edge's v0 (loops are always closed).
+struct SilhouetteLoop {
+    std::uint32_t firstEdge = 0;
+    std::uint32_t edgeCount = 0;
+};
+
+struct SilhouetteGroup {
+    std::uint32_t firstTriangle = 0, triangleCount = 0;   // SilhouetteFrame::triangles
+    std::uint32_t firstLoop = 0, loopCount = 0;           // SilhouetteFrame::loops
+    std::uint32_t firstEdge = 0, edgeCount = 0;           // SilhouetteFrame::edges
+    std::uint32_t firstWedge = 0;                         // wedges.wedges, edgeCount of them,
+                                                          // in edge order
+    std::uint32_t firstVolumeVertex = 0, volumeVertexCount = 0; // SilhouetteFrame::volumeVertices
+    std::uint32_t frontCapVertexCount = 0; // the first ones of the range: the front caps
+    Aabb occluderBounds;  // the group's triangles
+    Aabb influenceBounds; // conservative bounds of (volume ∪ wedges) ∩ scene bounds: where the
+                          // group can change visibility (for scissor rectangles)
+};
+
+struct SilhouetteSettings {
+    bool oneSidedClosed = true; // classic rule for closed meshes (see above)
+    bool buildVolumes = true;
+    bool buildWedges = true;
+};
+
+struct SilhouetteFrame {
+    std::vector<std::uint32_t> triangles; // topology triangle ids, grouped
+    std::vector<SilhouetteEdge> edges;    // grouped, then by loop, in loop order
+    std::vector<SilhouetteLoop> loops;
+    std::vector<SilhouetteGroup> groups;
+    std::vector<glm::vec4> volumeVertices; // per group: front caps, back caps, sides (w = 0 far)
+    WedgeArrays wedges;                    // one per edge, same order as `edges`
+
+    void clear();
+};
+
+class SilhouetteExtractor {
+public:
+    explicit SilhouetteExtractor(const Topology& topology);
+    ~SilhouetteExtractor();
+    SilhouetteExtractor(SilhouetteExtractor&&) noexcept;
+    SilhouetteExtractor& operator=(SilhouetteExtractor&&) noexcept;
+
+    // Classification uses light.center; wedges use the whole rectangle; sceneBounds bounds the
+    // influence regions. Returns the previous frame's result (and sets reused()) when light,
+    // bounds and settings are unchanged.
+    const SilhouetteFrame& update(const RectLight& light, const Aabb& sceneBounds,
+                                  const SilhouetteSettings& settings = {});
+    bool reused() const { return mReused; }
+    const SilhouetteFrame& frame() const { return mFrame; }
+    const Topology& topology() const { return *mTopology; }
+
+private:
+    const Topology* mTopology;
+    SilhouetteFrame mFrame;
+    bool mReused = false;
+    bool mHasFrame = false;
+    RectLight mLight;
+    Aabb mBounds;
+    SilhouetteSettings mSettings;
+    struct Scratch;
+    std::unique_ptr<Scratch> mScratch;
+};
+
+} // namespace geometry

@@ -1,0 +1,74 @@
+// Penumbra wedges for a rectangular light (Assarsson & Akenine-Möller 2003), built exactly.
+//
+// The visibility of a point P can change because of silhouette edge E = [e0, e1] exactly when,
+// seen from P, E projects onto the light: when some segment P -> y (y on the light) crosses E.
+// That region is
+//     W(E) = { a + t (a - y) : a in E, y in L, t >= 0 } = E + cone{ e_i - c_j }
+// (c_j the light's four corners): a convex, unbounded polyhedron. Its facets are the front and
+// back planes through the edge tangent to the light, and at each end point the faces of the
+// vertex's own pyramid v + cone{v - c_j} that face away from the edge: the side planes. Two
+// wedges meeting at a loop vertex take their side planes from the same pyramid, so they share
+// them (no crack between adjacent wedges; they overlap exactly in the pyramid, where both edges
+// project onto the light).
+//
+// A wedge is GPU-ready: planes for the inside test, and its boundary as triangles with w = 0
+// vertices at infinity (like shadow volumes) for rasterisation.
+#pragma once
+
+#include <geometry/Types.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace geometry {
+
+inline constexpr int kMaxWedgePlanes = 12; // facets of E + cone: at most 6 + 6
+
+enum WedgeFlags : std::uint32_t {
+    kWedgeUnbounded = 1u << 0, // E touches the light: every point may be affected (no planes)
+    kWedgeDegenerate = 1u << 1, // zero-length edge: influences nothing, not drawn
+};
+
+// std430-compatible layout (vec4s first, then scalars; 16-byte multiple).
+struct Wedge {
+    glm::vec4 planes[kMaxWedgePlanes]; // xyz unit outward normal, w = -dot(n, point on plane):
+                                       // P is inside when dot(n, P) + w <= 0 for every plane
+    glm::vec4 e0;                      // xyz edge start (w = 1)
+    glm::vec4 e1;                      // xyz edge end (w = 1)
+    std::uint32_t planeCount = 0;
+    std::uint32_t flags = 0;
+    std::uint32_t firstVertex = 0; // boundary triangles in WedgeArrays::vertices
+    std::uint32_t vertexCount = 0;
+};
+static_assert(sizeof(Wedge) % 16 == 0, "Wedge must stay std430-friendly");
+
+// Flat arrays, uploaded once per frame without conversion.
+struct WedgeArrays {
+    std::vector<Wedge> wedges;
+    std::vector<glm::vec4> vertices; // boundary triangle lists, outward CCW; w = 0: a direction
+
+    void clear() {
+        wedges.clear();
+        vertices.clear();
+    }
+};
+
+// Appends the wedge of edge [e0, e1] for `light` to `out` and returns its index.
+std::uint32_t appendWedge(const glm::vec3& e0, const glm::vec3& e1, const RectLight& light,
+                          WedgeArrays& out);
+
+// Inside test with a tolerance (positive eps grows the wedge). Unbounded wedges contain every
+// point, degenerate ones none.
+bool wedgeContains(const Wedge& wedge, const glm::vec3& p, float eps = 0.0f);
+
+// CPU model of the per-fragment wedge computation (DESIGN.md §4): project the directed edge
+// e0 -> e1 from P onto the light's plane, and return the signed fraction of the light's area
+// lying between the projected edge and the light centre's side (the region R of light points y
+// whose segment from the centre crosses the projected edge). Summed over a silhouette loop,
+//     V(P) = V_hard(P) - sum over edges of edgeCoverage(P, edge)
+// where V_hard is the visibility of the light centre. Zero for P outside the wedge.
+// The sign convention follows the loop orientation of geometry/Silhouette.h.
+float edgeCoverage(const glm::vec3& p, const glm::vec3& e0, const glm::vec3& e1,
+                   const RectLight& light);
+
+} // namespace geometry
