@@ -159,6 +159,19 @@ int run(const Options& opt) {
     report["gl_version"] = info.version;
     report["triangles"] = last.triangles;
     report["silhouette_edges"] = last.silhouetteEdges;
+    nlohmann::json objects = nlohmann::json::array();
+    for (const auto& o : renderer.objects()) {
+        nlohmann::json j = {{"name", o.name}, {"triangles", o.triangles}, {"casts", o.casts}};
+        if (o.casts)
+            j.update({{"topology", geometry::toString(o.manifoldness)},
+                      {"welded_vertices", o.topology.vertices},
+                      {"edges", o.topology.edges},
+                      {"boundary_edges", o.topology.boundaryEdges},
+                      {"non_manifold_edges", o.topology.nonManifoldEdges},
+                      {"degenerate_triangles", o.topology.degenerateTriangles}});
+        objects.push_back(std::move(j));
+    }
+    report["objects"] = std::move(objects);
     report["silhouette_groups"] = 0; // per-silhouette grouping lands with the wedge methods
     report["wedges"] = 0;
     report["shadow_volume_triangles"] = last.volumeTriangles;

@@ -419,6 +419,22 @@ Renderer::~Renderer() = default;
 
 std::size_t Renderer::triangleCount() const { return mImpl->triangles; }
 
+std::vector<ObjectInfo> Renderer::objects() const {
+    std::vector<ObjectInfo> out;
+    std::size_t caster = 0;
+    for (const auto& object : mScene.objects) {
+        ObjectInfo info{object.name, object.mesh.triangles.size(),
+                        object.method != geometry::ShadowMethod::None};
+        if (info.casts) {
+            const geometry::Topology& t = mImpl->casters[caster++];
+            info.manifoldness = t.manifoldness();
+            info.topology = t.stats();
+        }
+        out.push_back(std::move(info));
+    }
+    return out;
+}
+
 FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     if (settings.width < 1 || settings.height < 1 || settings.width > 16384 ||
         settings.height > 16384)

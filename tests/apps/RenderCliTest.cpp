@@ -202,7 +202,7 @@ TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {
     std::ifstream(out / "report.json") >> report;
     for (const char* key : {"method", "parameters", "size", "gl_renderer", "gl_version",
                             "triangles", "silhouette_edges", "silhouette_groups", "wedges",
-                            "gpu_ms", "cpu_ms", "frame_ms"})
+                            "gpu_ms", "cpu_ms", "frame_ms", "objects", "camera", "light"})
         EXPECT_TRUE(report.contains(key)) << key;
     EXPECT_EQ(report["method"], "reference");
     EXPECT_EQ(report["size"], nlohmann::json::array({64, 48}));
@@ -210,6 +210,11 @@ TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {
     EXPECT_FALSE(report["gl_renderer"].get<std::string>().empty());
     EXPECT_TRUE(report["gpu_ms"].contains("shadow-volume"));
     EXPECT_GT(report["frame_ms"].get<double>(), 0.0);
+    // The quad is open (4 boundary edges), the box closed.
+    ASSERT_EQ(report["objects"].size(), 2u);
+    EXPECT_EQ(report["objects"][0]["topology"], "open");
+    EXPECT_EQ(report["objects"][0]["boundary_edges"], 4);
+    EXPECT_EQ(report["objects"][1]["topology"], "closed");
 }
 
 TEST_F(RenderCli, CompareReportsErrorAgainstAReference) {

@@ -10,6 +10,7 @@
 #include <geometry/ErrorStats.h>
 #include <geometry/ImageIO.h>
 #include <geometry/Scene.h>
+#include <geometry/Topology.h>
 #include <gpu/Debug.h>
 #include <gpu/Objects.h>
 #include <gpu/ShaderLoader.h>
@@ -21,7 +22,6 @@
 #include <vector>
 
 namespace geometry {
-class Topology;
 class RayTracer;
 } // namespace geometry
 
@@ -63,6 +63,15 @@ struct FrameStats {
     std::size_t volumeTriangles = 0; // shadow-volume triangles for the light centre
 };
 
+// What the renderer made of each scene object (welded topology of the shadow casters).
+struct ObjectInfo {
+    std::string name;
+    std::size_t triangles = 0;
+    bool casts = false; // method != none
+    geometry::Manifoldness manifoldness = geometry::Manifoldness::Closed; // casters only
+    geometry::TopologyStats topology;                                     // casters only
+};
+
 class Renderer {
 public:
     // Needs a current GL 4.5 context. Builds topology for every casting object (CPU) and uploads
@@ -83,6 +92,7 @@ public:
 
     const geometry::Scene& scene() const { return mScene; }
     std::size_t triangleCount() const;
+    std::vector<ObjectInfo> objects() const;
 
 private:
     struct Impl;
