@@ -6,10 +6,14 @@
 #include <geometry/Error.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 namespace geometry {
 namespace {
@@ -22,6 +26,27 @@ std::string str(const glm::vec3& v) {
     std::ostringstream s;
     s << "[" << v.x << ", " << v.y << ", " << v.z << "]";
     return s.str();
+}
+
+// SplitMix64's finaliser: a cheap bijective mixer whose output bits all depend on every input bit,
+// enough for decorrelated per-vertex noise (no statistical quality beyond that is needed).
+std::uint64_t mix64(std::uint64_t x) {
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return x;
+}
+
+// Uniform in [0, 1) from the seed and the exact bits of a position. Adding 0.0f turns -0 into +0,
+// so the two zeros (equal positions) hash alike.
+double positionNoise(std::uint32_t seed, const glm::vec3& p) {
+    std::uint64_t h = mix64(0x9e3779b97f4a7c15ull ^ seed);
+    for (int k = 0; k < 3; ++k) {
+        h = mix64(h ^ std::bit_cast<std::uint32_t>(p[k] + 0.0f));
+    }
+    return static_cast<double>(h >> 11) * 0x1.0p-53;
 }
 
 } // namespace
@@ -140,6 +165,157 @@ MeshData makeSphere(const glm::vec3& center, float radius, int segments) {
         mesh.triangles.emplace_back(ring(bands - 1, j), ring(bands - 1, j + 1), south);
     }
     return mesh;
+}
+
+MeshData makeIcosphere(const glm::vec3& center, float radius, int subdivisions) {
+    if (!isFinite(center) || !std::isfinite(radius)) {
+        throw InputError("icosphere: center and radius must be finite");
+    }
+    if (!(radius > 0.0f)) {
+        throw InputError("icosphere: radius must be > 0, got " + std::to_string(radius));
+    }
+    // 9 gives 5.2 M triangles; more would only exhaust memory.
+    if (subdivisions < 0 || subdivisions > 9) {
+        throw InputError("icosphere: subdivisions must be in [0, 9], got " +
+                         std::to_string(subdivisions));
+    }
+
+    // Regular icosahedron: the cyclic permutations of (0, ±1, ±phi). Unit directions are kept in
+    // double until the end so that deep subdivisions do not accumulate float rounding.
+    const double phi = std::numbers::phi;
+    std::vector<glm::dvec3> dirs = {
+        {-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0},
+        {0, -1, phi}, {0, 1, phi}, {0, -1, -phi}, {0, 1, -phi},
+        {phi, 0, -1}, {phi, 0, 1}, {-phi, 0, -1}, {-phi, 0, 1},
+    };
+    for (glm::dvec3& d : dirs) d = glm::normalize(d);
+    // Counter-clockwise seen from outside (checked by the tests through the signed volume).
+    std::vector<glm::uvec3> tris = {
+        {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+        {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+        {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1},
+    };
+
+    const std::size_t finalVertices = 10 * (std::size_t(1) << (2 * subdivisions)) + 2;
+    dirs.reserve(finalVertices);
+    std::unordered_map<std::uint64_t, std::uint32_t> midpoints;
+    for (int level = 0; level < subdivisions; ++level) {
+        // One midpoint per undirected edge, shared by its two triangles: that is what keeps the
+        // subdivided mesh welded and closed.
+        midpoints.clear();
+        midpoints.reserve(tris.size() * 3 / 2);
+        auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+            const std::uint64_t key =
+                (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
+            const auto [it, inserted] =
+                midpoints.try_emplace(key, static_cast<std::uint32_t>(dirs.size()));
+            if (inserted) dirs.push_back(glm::normalize(dirs[a] + dirs[b]));
+            return it->second;
+        };
+        std::vector<glm::uvec3> next;
+        next.reserve(tris.size() * 4);
+        for (const glm::uvec3& t : tris) {
+            const std::uint32_t ab = midpoint(t.x, t.y);
+            const std::uint32_t bc = midpoint(t.y, t.z);
+            const std::uint32_t ca = midpoint(t.z, t.x);
+            // The four children keep the parent's winding.
+            next.emplace_back(t.x, ab, ca);
+            next.emplace_back(t.y, bc, ab);
+            next.emplace_back(t.z, ca, bc);
+            next.emplace_back(ab, bc, ca);
+        }
+        tris = std::move(next);
+    }
+
+    MeshData mesh;
+    mesh.name = "icosphere";
+    mesh.positions.reserve(dirs.size());
+    const glm::dvec3 c(center);
+    for (const glm::dvec3& d : dirs) mesh.positions.emplace_back(c + d * double(radius));
+    mesh.triangles = std::move(tris);
+    return mesh;
+}
+
+MeshData makeTorus(const glm::vec3& center, float majorRadius, float minorRadius,
+                   int majorSegments, int minorSegments) {
+    if (!isFinite(center) || !std::isfinite(majorRadius) || !std::isfinite(minorRadius)) {
+        throw InputError("torus: center and radii must be finite");
+    }
+    // A horn or spindle torus (minor >= major) touches or passes through its axis: not a
+    // 2-manifold.
+    if (!(minorRadius > 0.0f && majorRadius > minorRadius)) {
+        throw InputError("torus: need majorRadius > minorRadius > 0, got " +
+                         std::to_string(majorRadius) + " and " + std::to_string(minorRadius));
+    }
+    if (majorSegments < 3 || minorSegments < 3) {
+        throw InputError("torus: segments must be >= 3, got " + std::to_string(majorSegments) +
+                         " x " + std::to_string(minorSegments));
+    }
+    if (majorSegments > 4096 || minorSegments > 4096) {
+        throw InputError("torus: segments must be <= 4096, got " + std::to_string(majorSegments) +
+                         " x " + std::to_string(minorSegments));
+    }
+
+    MeshData mesh;
+    mesh.name = "torus";
+    const double pi = std::numbers::pi;
+    const auto nMajor = static_cast<std::uint32_t>(majorSegments);
+    const auto nMinor = static_cast<std::uint32_t>(minorSegments);
+    mesh.positions.reserve(std::size_t(nMajor) * nMinor);
+    for (std::uint32_t i = 0; i < nMajor; ++i) {
+        const double phi = 2.0 * pi * i / nMajor;
+        for (std::uint32_t j = 0; j < nMinor; ++j) {
+            const double theta = 2.0 * pi * j / nMinor;
+            const double ring = majorRadius + minorRadius * std::cos(theta);
+            const glm::dvec3 p(ring * std::cos(phi), minorRadius * std::sin(theta),
+                               ring * std::sin(phi));
+            mesh.positions.push_back(center + glm::vec3(p));
+        }
+    }
+    // Both indices wrap, so the seams share vertices and the torus is closed.
+    auto at = [nMajor, nMinor](std::uint32_t i, std::uint32_t j) {
+        return (i % nMajor) * nMinor + (j % nMinor);
+    };
+    // d/dphi x d/dtheta points into the tube, so each quad is walked (i,j) (i,j+1) (i+1,j+1)
+    // (i+1,j): counter-clockwise seen from outside.
+    mesh.triangles.reserve(2 * std::size_t(nMajor) * nMinor);
+    for (std::uint32_t i = 0; i < nMajor; ++i) {
+        for (std::uint32_t j = 0; j < nMinor; ++j) {
+            const std::uint32_t p00 = at(i, j), p01 = at(i, j + 1);
+            const std::uint32_t p11 = at(i + 1, j + 1), p10 = at(i + 1, j);
+            mesh.triangles.emplace_back(p00, p01, p11);
+            mesh.triangles.emplace_back(p00, p11, p10);
+        }
+    }
+    return mesh;
+}
+
+void displaceRadially(MeshData& mesh, const glm::vec3& center, float amplitude,
+                      std::uint32_t seed) {
+    if (!isFinite(center) || !std::isfinite(amplitude)) {
+        throw InputError("displaceRadially: center and amplitude must be finite");
+    }
+    if (!(amplitude >= 0.0f)) {
+        throw InputError("displaceRadially: amplitude must be >= 0, got " +
+                         std::to_string(amplitude));
+    }
+    // Check everything first so that a bad call leaves the mesh untouched.
+    for (const glm::vec3& p : mesh.positions) {
+        if (!isFinite(p)) throw InputError("displaceRadially: mesh has a non-finite position");
+        // A vertex moved through the centre would flip its direction, and the triangles with it.
+        if (!(glm::length(glm::dvec3(p) - glm::dvec3(center)) > double(amplitude))) {
+            throw InputError("displaceRadially: vertex " + str(p) + " is within amplitude " +
+                             std::to_string(amplitude) + " of the center " + str(center));
+        }
+    }
+    const glm::dvec3 c(center);
+    for (glm::vec3& p : mesh.positions) {
+        const glm::dvec3 d = glm::dvec3(p) - c;
+        const double r = glm::length(d);
+        const double offset = double(amplitude) * (2.0 * positionNoise(seed, p) - 1.0);
+        p = glm::vec3(c + d * ((r + offset) / r));
+    }
 }
 
 } // namespace geometry

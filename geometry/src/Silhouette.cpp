@@ -1,1 +1,1025 @@
-// being written
+// Per-frame silhouette groups, loops, volumes and wedges (geometry/Silhouette.h).
+//
+// Why the work is organised around static clusters:
+// - Groups are connected components of participating triangles across edges with multiplicity
+//   0. Running a union-find over every edge of a 1M-triangle mesh each frame costs far more than
+//   the 5 ms budget, but almost every edge is an interior edge between two triangles with the
+//   same orientation. So the constructor cuts the mesh once into small connected clusters
+//   (breadth-first, across consistently oriented two-use edges only) and stores every
+//   per-triangle array in cluster order. Per frame, a cluster whose triangles all have the same
+//   orientation is internally one component with multiplicity 0 on all its internal edges: it
+//   becomes a single union-find node and its internal edges are never looked at. Only the edges
+//   between clusters, the edges that are not consistent two-use edges, and the internal edges of
+//   the few clusters the silhouette passes through are evaluated.
+// - Facing uses float planes (normalised, so one error bound holds for every triangle) and falls
+//   back to exactly the double expression of classifyFacing (ShadowVolume.cpp) when the float
+//   value is too close to zero to trust, so both always agree.
+// - A group's silhouette edges are the boundary of its oriented 2-chain, so in-degree equals
+//   out-degree at every vertex by construction; chaining only has to choose a pairing at
+//   vertices where several loops touch.
+#include <geometry/Silhouette.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <utility>
+
+namespace geometry {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t kSignBit = 0x80000000u; // set: the use runs v1 -> v0 (sign -1)
+constexpr std::uint32_t kIdMask = 0x7fffffffu;
+constexpr std::uint32_t kGeneralEdge = kNone; // EdgeRecord::b marker: 3+ uses, a = general index
+
+// Cluster size: large enough that few edges cross clusters, small enough that the clusters the
+// silhouette passes through (handled triangle by triangle) stay a small part of the mesh.
+constexpr std::uint32_t kClusterSize = 64;
+
+// Exact "is the corner in the volume" tests are only run for groups up to this size; larger
+// groups take the conservative answer of the bounding-box test (keeps the per-frame cost
+// independent of the mesh size).
+constexpr std::uint32_t kExactCornerTestLimit = 4096;
+
+// One edge evaluated every frame: up to two uses as local triangle id | kSignBit for sign -1.
+// A boundary edge's second use is the dummy triangle (orientation always 0).
+struct EdgeRecord {
+    std::uint32_t a, b;
+};
+
+// A consistently oriented two-use edge inside one cluster: a uses it v0 -> v1, b v1 -> v0.
+struct InternalEdge {
+    std::uint32_t a, b, edge;
+};
+
+// The consistent two-use edges between two clusters: while both clusters are uniform, they all
+// have the same multiplicity and need one union (or none) for all of them.
+struct ClusterLink {
+    std::uint32_t clusterA, clusterB, firstEdge, edgeCount;
+};
+
+// An edge with non-zero multiplicity this frame, before it is split among groups.
+struct Candidate {
+    std::uint32_t edge, a, b; // as EdgeRecord (b = kGeneralEdge: a indexes the general edges)
+};
+
+// One group's share of an edge: m_g copies (sign = direction).
+struct GroupEdge {
+    std::uint32_t group, edge;
+    std::int32_t m;
+};
+
+inline std::int32_t useSign(std::uint32_t use) { return (use & kSignBit) ? -1 : 1; }
+
+// Ray p + t d (t >= 0) clipped to the box: the parameter range, empty when t0 > t1.
+bool clipRay(const glm::dvec3& p, const glm::dvec3& d, const Aabb& box, double tMax, double& t0,
+             double& t1) {
+    t0 = 0.0;
+    t1 = tMax;
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] == 0.0) {
+            if (p[k] < box.min[k] || p[k] > box.max[k]) return false;
+            continue;
+        }
+        double a = (box.min[k] - p[k]) / d[k], b = (box.max[k] - p[k]) / d[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+void extendClipped(Aabb& bounds, const glm::dvec3& p, const glm::dvec3& d, double tMax,
+                   const Aabb& box) {
+    double t0, t1;
+    if (!clipRay(p, d, box, tMax, t0, t1)) return;
+    bounds.extend(glm::vec3(p + t0 * d));
+    bounds.extend(glm::vec3(p + t1 * d));
+}
+
+bool contains(const Aabb& b, const glm::vec3& p) {
+    return p.x >= b.min.x && p.y >= b.min.y && p.z >= b.min.z && p.x <= b.max.x &&
+           p.y <= b.max.y && p.z <= b.max.z;
+}
+
+bool coversBox(const Aabb& b, const Aabb& box) {
+    return b.min.x <= box.min.x && b.min.y <= box.min.y && b.min.z <= box.min.z &&
+           b.max.x >= box.max.x && b.max.y >= box.max.y && b.max.z >= box.max.z;
+}
+
+glm::vec3 boxCorner(const Aabb& box, int i) {
+    return {i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+            i & 4 ? box.max.z : box.min.z};
+}
+
+// Segment a -> b against a triangle (Möller-Trumbore in double), endpoints excluded.
+bool segmentHitsTriangle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& p0,
+                         const glm::dvec3& p1, const glm::dvec3& p2) {
+    const glm::dvec3 d = b - a, e1 = p1 - p0, e2 = p2 - p0;
+    const glm::dvec3 h = glm::cross(d, e2);
+    const double det = glm::dot(e1, h);
+    if (std::abs(det) < 1e-300) return false;
+    const double inv = 1.0 / det;
+    const glm::dvec3 s = a - p0;
+    const double u = glm::dot(s, h) * inv;
+    // A small tolerance on the conservative side: a corner on the volume's boundary counts.
+    constexpr double kTol = 1e-9;
+    if (u < -kTol || u > 1.0 + kTol) return false;
+    const glm::dvec3 q = glm::cross(s, e1);
+    const double v = glm::dot(d, q) * inv;
+    if (v < -kTol || u + v > 1.0 + kTol) return false;
+    const double t = glm::dot(e2, q) * inv;
+    return t > -kTol && t < 1.0 + kTol;
+}
+
+} // namespace
+
+void SilhouetteFrame::clear() {
+    triangles.clear();
+    edges.clear();
+    loops.clear();
+    groups.clear();
+    volumeVertices.clear();
+    wedges.clear();
+}
+
+struct SilhouetteExtractor::Scratch {
+    // --- Built once per mesh (all per-triangle arrays in local = cluster order) ---
+    std::uint32_t triangleCount = 0;
+    std::vector<float> nx, ny, nz, nd;          // unit normal and offset: facing = n.l + d >= 0
+    std::vector<glm::uvec3> localTriangles;     // welded vertex ids
+    std::vector<std::uint32_t> topologyId;      // local -> Topology triangle id
+    std::vector<std::uint32_t> clusterOf;       // local -> cluster
+    std::vector<std::uint32_t> clusterOffsets;  // clusters: [offsets[c], offsets[c+1])
+    std::vector<Aabb> clusterBounds;
+    std::vector<std::uint32_t> internalOffsets; // internal edges of cluster c
+    std::vector<InternalEdge> internalEdges;
+    std::vector<ClusterLink> links;             // consistent two-use edges between clusters,
+    std::vector<InternalEdge> linkEdges;        // grouped by cluster pair
+    std::vector<EdgeRecord> records;            // other edges, evaluated every frame
+    std::vector<std::uint32_t> recordEdge;      // their Topology edge ids
+    std::vector<std::uint32_t> generalOffsets;  // uses of 3+-use edges
+    std::vector<std::uint32_t> generalUses;     // local triangle | kSignBit
+    double positionRadius = 0.0;                // max |p|, for the float facing error bound
+
+    // --- Per frame, sized once ---
+    std::vector<std::int8_t> orient;         // +1, -1 (two-sided) or 0 (not participating);
+                                             // one extra dummy entry, always 0
+    std::vector<std::uint8_t> uniform;       // per cluster
+    std::vector<std::uint32_t> parent;       // union-find over local triangles
+    std::vector<std::uint32_t> rootGroup;    // group of a union-find root
+    std::vector<std::uint32_t> clusterGroup; // uniform clusters
+    std::vector<std::uint32_t> triangleGroup; // triangles of non-uniform clusters
+    std::vector<Candidate> candidates;
+    std::vector<GroupEdge> groupEdges;
+    std::vector<GroupEdge> sortedGroupEdges;
+    std::vector<std::uint32_t> groupTriangleCount, groupCopyCount, groupCursor;
+    std::vector<Aabb> groupBounds;
+    // Loop chaining, per vertex (reset after each group) and per edge copy.
+    std::vector<std::uint32_t> outHead, inHead, outDegree;
+    std::vector<std::uint32_t> outNext, inNext, successor;
+    std::vector<std::uint8_t> visited;
+    std::vector<SilhouetteEdge> copies;
+    std::vector<std::uint32_t> multiVertices, ins, outs;
+
+    void build(const Topology& topology);
+    void classify(const Topology& topology, const glm::vec3& light, bool oneSided);
+    void mergeGroups();
+
+    std::uint32_t find(std::uint32_t x) {
+        while (parent[x] != x) {
+            parent[x] = parent[parent[x]]; // path halving
+            x = parent[x];
+        }
+        return x;
+    }
+    void unite(std::uint32_t a, std::uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a == b) return;
+        // The smaller id becomes the root: deterministic, independent of the union order.
+        if (a < b) {
+            parent[b] = a;
+        } else {
+            parent[a] = b;
+        }
+    }
+    std::uint32_t node(std::uint32_t t) const {
+        const std::uint32_t c = clusterOf[t];
+        return uniform[c] ? clusterOffsets[c] : t;
+    }
+    std::uint32_t groupOf(std::uint32_t t) const {
+        const std::uint32_t c = clusterOf[t];
+        return uniform[c] ? clusterGroup[c] : triangleGroup[t];
+    }
+};
+
+// Builds the clusters and every array that depends on the mesh only.
+void SilhouetteExtractor::Scratch::build(const Topology& topology) {
+    Scratch& s = *this;
+    const auto positions = topology.positions();
+    const auto triangles = topology.triangles();
+    const auto edges = topology.edges();
+    const auto offsets = topology.edgeUseOffsets();
+    const auto uses = topology.edgeUses();
+    const auto triangleEdges = topology.triangleEdges();
+    const auto triangleCount = static_cast<std::uint32_t>(triangles.size());
+    if (triangles.size() >= kIdMask) throw std::length_error("SilhouetteExtractor: mesh too big");
+    s.triangleCount = triangleCount;
+
+    const auto consistentPair = [&](std::uint32_t e) {
+        return offsets[e + 1] - offsets[e] == 2 &&
+               uses[offsets[e]].sign != uses[offsets[e] + 1].sign;
+    };
+
+    // Breadth-first clusters across consistent two-use edges, seeded in triangle order.
+    std::vector<std::uint32_t> localOf(triangleCount, kNone);
+    s.topologyId.clear();
+    s.topologyId.reserve(triangleCount);
+    s.clusterOffsets.assign(1, 0);
+    for (std::uint32_t seed = 0; seed < triangleCount; ++seed) {
+        if (localOf[seed] != kNone) continue;
+        const auto first = static_cast<std::uint32_t>(s.topologyId.size());
+        localOf[seed] = first;
+        s.topologyId.push_back(seed);
+        for (std::uint32_t head = first;
+             head < s.topologyId.size() && s.topologyId.size() - first < kClusterSize; ++head) {
+            const std::uint32_t t = s.topologyId[head];
+            for (int k = 0; k < 3 && s.topologyId.size() - first < kClusterSize; ++k) {
+                const std::uint32_t e = triangleEdges[t][k];
+                if (!consistentPair(e)) continue;
+                const std::uint32_t u0 = uses[offsets[e]].triangle;
+                const std::uint32_t other = u0 == t ? uses[offsets[e] + 1].triangle : u0;
+                if (localOf[other] != kNone) continue;
+                localOf[other] = static_cast<std::uint32_t>(s.topologyId.size());
+                s.topologyId.push_back(other);
+            }
+        }
+        s.clusterOffsets.push_back(static_cast<std::uint32_t>(s.topologyId.size()));
+    }
+    const std::size_t clusterCount = s.clusterOffsets.size() - 1;
+
+    // Planes, corners and cluster bounds in local order.
+    s.nx.resize(triangleCount);
+    s.ny.resize(triangleCount);
+    s.nz.resize(triangleCount);
+    s.nd.resize(triangleCount);
+    s.localTriangles.resize(triangleCount);
+    s.clusterOf.resize(triangleCount + 1);
+    s.clusterBounds.assign(clusterCount, Aabb{});
+    s.positionRadius = 0.0;
+    for (const glm::vec3& p : positions)
+        s.positionRadius = std::max(s.positionRadius, glm::length(glm::dvec3(p)));
+    for (std::size_t c = 0; c < clusterCount; ++c) {
+        for (std::uint32_t l = s.clusterOffsets[c]; l < s.clusterOffsets[c + 1]; ++l) {
+            const glm::uvec3 tri = triangles[s.topologyId[l]];
+            s.localTriangles[l] = tri;
+            s.clusterOf[l] = static_cast<std::uint32_t>(c);
+            const glm::dvec3 a(positions[tri.x]), b(positions[tri.y]), cc(positions[tri.z]);
+            glm::dvec3 n = glm::cross(b - a, cc - a);
+            const double len = glm::length(n);
+            n = len > 0.0 ? n / len : glm::dvec3(0.0);
+            s.nx[l] = static_cast<float>(n.x);
+            s.ny[l] = static_cast<float>(n.y);
+            s.nz[l] = static_cast<float>(n.z);
+            s.nd[l] = static_cast<float>(-glm::dot(n, a));
+            s.clusterBounds[c].extend(positions[tri.x]);
+            s.clusterBounds[c].extend(positions[tri.y]);
+            s.clusterBounds[c].extend(positions[tri.z]);
+        }
+    }
+    s.clusterOf[triangleCount] = 0; // the dummy triangle; never looked up (orientation 0)
+
+    // Edges: internal to a cluster (skipped while the cluster is uniform), or evaluated.
+    std::vector<std::uint32_t> internalCount(clusterCount + 1, 0);
+    s.records.clear();
+    s.recordEdge.clear();
+    s.generalOffsets.assign(1, 0);
+    s.generalUses.clear();
+    const auto encode = [&](const EdgeUse& use) {
+        return localOf[use.triangle] | (use.sign < 0 ? kSignBit : 0u);
+    };
+    std::vector<std::pair<std::uint64_t, InternalEdge>> crossing;
+    for (std::uint32_t e = 0; e < edges.size(); ++e) {
+        const std::uint32_t first = offsets[e], count = offsets[e + 1] - first;
+        if (consistentPair(e)) {
+            const std::uint32_t l0 = localOf[uses[first].triangle];
+            const std::uint32_t l1 = localOf[uses[first + 1].triangle];
+            const std::uint32_t c0 = s.clusterOf[l0], c1 = s.clusterOf[l1];
+            if (c0 == c1) {
+                ++internalCount[c0 + 1];
+                continue;
+            }
+            const bool firstForward = uses[first].sign > 0;
+            const std::uint64_t key = (std::uint64_t{std::min(c0, c1)} << 32) | std::max(c0, c1);
+            const InternalEdge link{firstForward ? l0 : l1, firstForward ? l1 : l0, e};
+            crossing.push_back({key, link});
+            continue;
+        }
+        s.recordEdge.push_back(e);
+        if (count == 1) {
+            s.records.push_back({encode(uses[first]), triangleCount});
+        } else if (count == 2) {
+            s.records.push_back({encode(uses[first]), encode(uses[first + 1])});
+        } else {
+            s.records.push_back(
+                {static_cast<std::uint32_t>(s.generalOffsets.size() - 1), kGeneralEdge});
+            for (std::uint32_t u = first; u < first + count; ++u)
+                s.generalUses.push_back(encode(uses[u]));
+            s.generalOffsets.push_back(static_cast<std::uint32_t>(s.generalUses.size()));
+        }
+    }
+    std::sort(crossing.begin(), crossing.end(), [](const auto& x, const auto& y) {
+        return x.first != y.first ? x.first < y.first : x.second.edge < y.second.edge;
+    });
+    s.links.clear();
+    s.linkEdges.clear();
+    s.linkEdges.reserve(crossing.size());
+    for (std::size_t i = 0; i < crossing.size(); ++i) {
+        if (i == 0 || crossing[i].first != crossing[i - 1].first) {
+            s.links.push_back({static_cast<std::uint32_t>(crossing[i].first >> 32),
+                               static_cast<std::uint32_t>(crossing[i].first),
+                               static_cast<std::uint32_t>(i), 0});
+        }
+        ++s.links.back().edgeCount;
+        s.linkEdges.push_back(crossing[i].second);
+    }
+    for (std::size_t c = 0; c < clusterCount; ++c)
+        internalCount[c + 1] += internalCount[c];
+    s.internalOffsets = internalCount;
+    s.internalEdges.resize(internalCount[clusterCount]);
+    std::vector<std::uint32_t> fill(internalCount.begin(), internalCount.end() - 1);
+    for (std::uint32_t e = 0; e < edges.size(); ++e) {
+        const std::uint32_t first = offsets[e];
+        if (!consistentPair(e)) continue;
+        const std::uint32_t l0 = localOf[uses[first].triangle];
+        const std::uint32_t l1 = localOf[uses[first + 1].triangle];
+        if (s.clusterOf[l0] != s.clusterOf[l1]) continue;
+        const bool firstForward = uses[first].sign > 0;
+        s.internalEdges[fill[s.clusterOf[l0]]++] =
+            InternalEdge{firstForward ? l0 : l1, firstForward ? l1 : l0, e};
+    }
+
+    // Per-frame arrays, sized once.
+    s.orient.assign(triangleCount + 1, 0);
+    s.uniform.assign(clusterCount, 0);
+    s.parent.assign(triangleCount + 1, 0);
+    s.rootGroup.assign(triangleCount + 1, kNone);
+    s.clusterGroup.assign(clusterCount, kNone);
+    s.triangleGroup.assign(triangleCount + 1, kNone);
+    s.outHead.assign(positions.size(), kNone);
+    s.inHead.assign(positions.size(), kNone);
+    s.outDegree.assign(positions.size(), 0);
+}
+
+SilhouetteExtractor::SilhouetteExtractor(const Topology& topology)
+    : mTopology(&topology), mScratch(std::make_unique<Scratch>()) {
+    mScratch->build(topology);
+}
+
+SilhouetteExtractor::~SilhouetteExtractor() = default;
+SilhouetteExtractor::SilhouetteExtractor(SilhouetteExtractor&&) noexcept = default;
+SilhouetteExtractor& SilhouetteExtractor::operator=(SilhouetteExtractor&&) noexcept = default;
+
+namespace {
+
+bool sameLight(const RectLight& a, const RectLight& b) {
+    return a.center == b.center && a.u == b.u && a.v == b.v;
+}
+
+bool sameBounds(const Aabb& a, const Aabb& b) { return a.min == b.min && a.max == b.max; }
+
+bool sameSettings(const SilhouetteSettings& a, const SilhouetteSettings& b) {
+    return a.oneSidedClosed == b.oneSidedClosed && a.buildVolumes == b.buildVolumes &&
+           a.buildWedges == b.buildWedges;
+}
+
+} // namespace
+
+// Step 1: orientation of every triangle (local order), then per-cluster uniformity.
+void SilhouetteExtractor::Scratch::classify(const Topology& topology, const glm::vec3& light,
+                                            bool oneSided) {
+    Scratch& s = *this;
+    const std::uint32_t n = s.triangleCount;
+    const float lx = light.x, ly = light.y, lz = light.z;
+    // Float error of n.l + d with unit n rounded to float: a few ulps of |l| + |p|. 4e-6 leaves
+    // a wide margin; inside it the exact double test of classifyFacing decides.
+    const auto tau =
+        static_cast<float>(4e-6 * (glm::length(glm::dvec3(light)) + s.positionRadius));
+    const std::int8_t pos = 1, neg = oneSided ? 0 : -1, unsure = 2;
+    const float* nx = s.nx.data();
+    const float* ny = s.ny.data();
+    const float* nz = s.nz.data();
+    const float* nd = s.nd.data();
+    std::int8_t* orient = s.orient.data();
+    std::uint32_t unsureCount = 0;
+    // Branch-free so that it vectorises: facing is close to random seen from a moving light.
+    for (std::uint32_t t = 0; t < n; ++t) {
+        const float d = nx[t] * lx + ny[t] * ly + nz[t] * lz + nd[t];
+        const std::int8_t o = d >= tau ? pos : (d <= -tau ? neg : unsure);
+        orient[t] = o;
+        unsureCount += o == unsure;
+    }
+    if (unsureCount > 0) {
+        const auto positions = topology.positions();
+        const glm::dvec3 l(light);
+        for (std::uint32_t t = 0; t < n; ++t) {
+            if (orient[t] != unsure) continue;
+            // Exactly the expression of classifyFacing, so both agree bit for bit.
+            const glm::uvec3 tri = s.localTriangles[t];
+            const glm::dvec3 a(positions[tri.x]);
+            const glm::dvec3 nn = glm::cross(glm::dvec3(positions[tri.y]) - a,
+                                              glm::dvec3(positions[tri.z]) - a);
+            orient[t] = glm::dot(nn, l - a) >= 0.0 ? pos : neg;
+        }
+    }
+    orient[n] = 0;
+    const std::size_t clusterCount = s.clusterOffsets.size() - 1;
+    for (std::size_t c = 0; c < clusterCount; ++c) {
+        const std::uint32_t first = s.clusterOffsets[c], last = s.clusterOffsets[c + 1];
+        const std::int8_t o0 = orient[first];
+        std::uint8_t same = 1;
+        for (std::uint32_t t = first + 1; t < last; ++t)
+            same &= orient[t] == o0;
+        s.uniform[c] = same;
+    }
+}
+
+// Step 2: union-find across multiplicity-0 edges; edges with m != 0 become candidates.
+void SilhouetteExtractor::Scratch::mergeGroups() {
+    Scratch& s = *this;
+    const std::size_t clusterCount = s.clusterOffsets.size() - 1;
+    const std::int8_t* orient = s.orient.data();
+    for (std::size_t c = 0; c < clusterCount; ++c) {
+        const std::uint32_t first = s.clusterOffsets[c], last = s.clusterOffsets[c + 1];
+        if (s.uniform[c]) {
+            s.parent[first] = first;
+            s.rootGroup[first] = kNone;
+            continue;
+        }
+        for (std::uint32_t t = first; t < last; ++t) {
+            s.parent[t] = t;
+            s.rootGroup[t] = kNone;
+        }
+    }
+    s.candidates.clear();
+    for (std::size_t c = 0; c < clusterCount; ++c) {
+        if (s.uniform[c]) continue;
+        for (std::uint32_t i = s.internalOffsets[c]; i < s.internalOffsets[c + 1]; ++i) {
+            const InternalEdge& ie = s.internalEdges[i];
+            const std::int8_t oa = orient[ie.a], ob = orient[ie.b];
+            if (oa == ob) {
+                if (oa != 0) s.unite(ie.a, ie.b);
+            } else {
+                s.candidates.push_back({ie.edge, ie.a, ie.b | kSignBit});
+            }
+        }
+    }
+    for (const ClusterLink& link : s.links) {
+        const InternalEdge* linkEdges = s.linkEdges.data() + link.firstEdge;
+        if (s.uniform[link.clusterA] && s.uniform[link.clusterB]) {
+            const std::uint32_t nodeA = s.clusterOffsets[link.clusterA];
+            const std::uint32_t nodeB = s.clusterOffsets[link.clusterB];
+            if (orient[nodeA] == orient[nodeB]) {
+                if (orient[nodeA] != 0) s.unite(nodeA, nodeB);
+                continue;
+            }
+            for (std::uint32_t i = 0; i < link.edgeCount; ++i) {
+                s.candidates.push_back({linkEdges[i].edge, linkEdges[i].a,
+                                        linkEdges[i].b | kSignBit});
+            }
+            continue;
+        }
+        for (std::uint32_t i = 0; i < link.edgeCount; ++i) {
+            const InternalEdge& le = linkEdges[i];
+            const std::int8_t oa = orient[le.a], ob = orient[le.b];
+            if (oa == ob) {
+                if (oa != 0) s.unite(s.node(le.a), s.node(le.b));
+            } else {
+                s.candidates.push_back({le.edge, le.a, le.b | kSignBit});
+            }
+        }
+    }
+    const std::size_t recordCount = s.records.size();
+    for (std::size_t r = 0; r < recordCount; ++r) {
+        const EdgeRecord rec = s.records[r];
+        if (rec.b == kGeneralEdge) {
+            std::int32_t m = 0;
+            const std::uint32_t first = s.generalOffsets[rec.a], last = s.generalOffsets[rec.a + 1];
+            for (std::uint32_t u = first; u < last; ++u)
+                m += useSign(s.generalUses[u]) * orient[s.generalUses[u] & kIdMask];
+            if (m != 0) {
+                s.candidates.push_back({s.recordEdge[r], rec.a, kGeneralEdge});
+                continue;
+            }
+            // m = 0 on a non-manifold edge: all its participating triangles join one group.
+            std::uint32_t anchor = kNone;
+            for (std::uint32_t u = first; u < last; ++u) {
+                const std::uint32_t t = s.generalUses[u] & kIdMask;
+                if (orient[t] == 0) continue;
+                if (anchor == kNone) {
+                    anchor = s.node(t);
+                } else {
+                    s.unite(anchor, s.node(t));
+                }
+            }
+            continue;
+        }
+        const std::uint32_t ta = rec.a & kIdMask, tb = rec.b & kIdMask;
+        const std::int32_t m = useSign(rec.a) * orient[ta] + useSign(rec.b) * orient[tb];
+        if (m != 0) {
+            s.candidates.push_back({s.recordEdge[r], rec.a, rec.b});
+        } else if (orient[ta] != 0 && orient[tb] != 0) {
+            s.unite(s.node(ta), s.node(tb));
+        }
+    }
+}
+
+namespace {
+
+// Where the group can change visibility, clamped to the scene: the AABB of
+// (volume ∪ wedges) ∩ box. The extreme points of that set are vertices of its pieces: occluder
+// vertices (occluderBounds), rays from the silhouette vertices away from the light clipped to the
+// box, box corners inside a wedge or the volume, and the crossings of the wedge facets (or, without
+// wedges, of the volume's side quads) with the box edges. The side quads lie inside the wedges
+// (the light centre is a point of the light), so with wedges their crossings need no extra work.
+Aabb influenceBounds(const SilhouetteFrame& frame, const SilhouetteGroup& group,
+                     const Topology& topo, const RectLight& light, const Aabb& box, bool wedges) {
+    if (box.empty()) return Aabb{};
+    const auto positions = topo.positions();
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const glm::dvec3 lc(light.center);
+    const std::array<glm::dvec3, 5> lightPoints = {
+        lc, glm::dvec3(light.point(-1, -1)), glm::dvec3(light.point(1, -1)),
+        glm::dvec3(light.point(1, 1)), glm::dvec3(light.point(-1, 1))};
+    Aabb b = group.occluderBounds;
+
+    // Box edges: along axis k, at the (lo/hi) combinations of the two other axes.
+    const auto boxEdge = [&](int index, glm::dvec3& a, glm::dvec3& d) {
+        const int k = index / 4, i = (k + 1) % 3, j = (k + 2) % 3;
+        a[k] = box.min[k];
+        a[i] = index & 1 ? box.max[i] : box.min[i];
+        a[j] = index & 2 ? box.max[j] : box.min[j];
+        d = glm::dvec3(0.0);
+        d[k] = static_cast<double>(box.max[k]) - box.min[k];
+    };
+    const auto boxEdgeCovered = [&](int index) {
+        const int k = index / 4, i = (k + 1) % 3, j = (k + 2) % 3;
+        const float ci = index & 1 ? box.max[i] : box.min[i];
+        const float cj = index & 2 ? box.max[j] : box.min[j];
+        return ci >= b.min[i] && ci <= b.max[i] && cj >= b.min[j] && cj <= b.max[j] &&
+               b.min[k] <= box.min[k] && b.max[k] >= box.max[k];
+    };
+
+    for (std::uint32_t k = 0; k < group.edgeCount; ++k) {
+        if (coversBox(b, box)) break;
+        const SilhouetteEdge& se = frame.edges[group.firstEdge + k];
+        const glm::dvec3 e0(positions[se.v0]), e1(positions[se.v1]);
+        const Wedge* wedge = wedges ? &frame.wedges.wedges[group.firstWedge + k] : nullptr;
+        if (wedge && (wedge->flags & kWedgeUnbounded)) {
+            b.extend(box);
+            break;
+        }
+        for (const glm::dvec3& v : {e0, e1}) {
+            for (const glm::dvec3& c : lightPoints) {
+                if (v != c) extendClipped(b, v, v - c, kInf, box);
+            }
+        }
+        extendClipped(b, e0, e1 - e0, 1.0, box);
+        for (int be = 0; be < 12; ++be) {
+            if (boxEdgeCovered(be)) continue;
+            glm::dvec3 a, d;
+            boxEdge(be, a, d);
+            if (wedge) {
+                if (wedge->planeCount == 0) continue; // degenerate: nothing inside
+                // Clip a + t d, t in [0, 1], by the wedge's planes (n.x + w <= 0 inside).
+                double t0 = 0.0, t1 = 1.0;
+                for (std::uint32_t p = 0; p < wedge->planeCount && t0 <= t1; ++p) {
+                    const glm::dvec3 n(wedge->planes[p]);
+                    const double f0 = glm::dot(n, a) + wedge->planes[p].w;
+                    const double fd = glm::dot(n, d);
+                    if (fd == 0.0) {
+                        if (f0 > 0.0) t1 = -1.0;
+                    } else if (fd > 0.0) {
+                        t1 = std::min(t1, -f0 / fd);
+                    } else {
+                        t0 = std::max(t0, -f0 / fd);
+                    }
+                }
+                if (t0 <= t1) {
+                    b.extend(glm::vec3(a + t0 * d));
+                    b.extend(glm::vec3(a + t1 * d));
+                }
+                continue;
+            }
+            // No wedges: the side quad E + cone{e0 - l, e1 - l} (planar) against the box edge.
+            const glm::dvec3 r0 = e0 - lc, r1 = e1 - lc;
+            const glm::dvec3 n = glm::cross(r0, r1);
+            const double nn = glm::dot(n, n);
+            if (nn == 0.0) continue; // edge in line with the light: a flat, empty quad
+            const double fd = glm::dot(n, d), f0 = glm::dot(n, a - lc);
+            if (std::abs(fd) <= 1e-12 * std::sqrt(nn) * glm::length(d)) {
+                // Box edge in (or parallel to) the quad's plane: conservatively take it whole.
+                if (std::abs(f0) <= 1e-9 * std::sqrt(nn) * (glm::length(a - lc) + 1.0)) {
+                    b.extend(glm::vec3(a));
+                    b.extend(glm::vec3(a + d));
+                }
+                continue;
+            }
+            const double t = -f0 / fd;
+            if (t < 0.0 || t > 1.0) continue;
+            const glm::dvec3 x = a + t * d - lc;
+            // x = alpha r0 + beta r1 with alpha, beta >= 0 and alpha + beta >= 1 (beyond E).
+            const double alpha = glm::dot(glm::cross(x, r1), n) / nn;
+            const double beta = glm::dot(glm::cross(r0, x), n) / nn;
+            constexpr double kTol = 1e-9;
+            if (alpha >= -kTol && beta >= -kTol && alpha + beta >= 1.0 - kTol) {
+                b.extend(glm::vec3(x + lc));
+            }
+        }
+    }
+
+    // Box corners inside a wedge or inside the volume (the segment to the light centre crosses
+    // one of the group's triangles). Only corners outside the bounds so far can change them.
+    const auto groupTriangles = std::span<const std::uint32_t>(frame.triangles)
+                                    .subspan(group.firstTriangle, group.triangleCount);
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 corner = boxCorner(box, i);
+        if (contains(b, corner)) continue;
+        bool inside = false;
+        if (wedges) {
+            for (std::uint32_t k = 0; k < group.edgeCount && !inside; ++k)
+                inside = wedgeContains(frame.wedges.wedges[group.firstWedge + k], corner);
+        }
+        if (!inside) {
+            const glm::dvec3 p(corner);
+            double t0, t1;
+            if (clipRay(p, lc - p, group.occluderBounds, 1.0, t0, t1)) {
+                if (group.triangleCount > kExactCornerTestLimit) {
+                    inside = true; // conservative: the segment passes through the occluder box
+                } else {
+                    for (const std::uint32_t t : groupTriangles) {
+                        const glm::uvec3 tri = topo.triangles()[t];
+                        if (segmentHitsTriangle(p, lc, glm::dvec3(positions[tri.x]),
+                                                glm::dvec3(positions[tri.y]),
+                                                glm::dvec3(positions[tri.z]))) {
+                            inside = true;
+                            break;
+                        }
+                    }
+                }
+            }
+        }
+        if (inside) b.extend(corner);
+    }
+
+    // Float rounding of the clipped points: pad by a hair, then clamp to the scene.
+    const glm::vec3 pad = 1e-5f * (box.extent() + glm::vec3(1e-6f));
+    b.min = glm::max(b.min - pad, box.min);
+    b.max = glm::min(b.max + pad, box.max);
+    if (b.min.x > b.max.x || b.min.y > b.max.y || b.min.z > b.max.z) return Aabb{};
+    return b;
+}
+
+} // namespace
+
+const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
+                                                   const Aabb& sceneBounds,
+                                                   const SilhouetteSettings& settings) {
+    if (mHasFrame && sameLight(light, mLight) && sameBounds(sceneBounds, mBounds) &&
+        sameSettings(settings, mSettings)) {
+        mReused = true;
+        return mFrame;
+    }
+    mReused = false;
+    mHasFrame = true;
+    mLight = light;
+    mBounds = sceneBounds;
+    mSettings = settings;
+
+    Scratch& s = *mScratch;
+    const Topology& topo = *mTopology;
+    const auto positions = topo.positions();
+    const auto topoEdges = topo.edges();
+    const glm::vec3 lc = light.center;
+    const bool oneSided = settings.oneSidedClosed && topo.manifoldness() == Manifoldness::Closed;
+    SilhouetteFrame& frame = mFrame;
+    frame.edges.clear();
+    frame.loops.clear();
+    frame.groups.clear();
+    frame.wedges.clear();
+
+    s.classify(topo, lc, oneSided);
+    s.mergeGroups();
+
+    // Step 3: group ids in order of first triangle (local order), sizes and occluder bounds.
+    const std::size_t clusterCount = s.clusterOffsets.size() - 1;
+    const std::int8_t* orient = s.orient.data();
+    std::uint32_t groupCount = 0;
+    s.groupTriangleCount.clear();
+    s.groupBounds.clear();
+    const auto groupOfRoot = [&](std::uint32_t root) {
+        std::uint32_t& g = s.rootGroup[root];
+        if (g == kNone) {
+            g = groupCount++;
+            s.groupTriangleCount.push_back(0);
+            s.groupBounds.emplace_back();
+        }
+        return g;
+    };
+    for (std::size_t c = 0; c < clusterCount; ++c) {
+        const std::uint32_t first = s.clusterOffsets[c], last = s.clusterOffsets[c + 1];
+        if (s.uniform[c]) {
+            if (orient[first] == 0) {
+                s.clusterGroup[c] = kNone;
+                continue;
+            }
+            const std::uint32_t g = groupOfRoot(s.find(first));
+            s.clusterGroup[c] = g;
+            s.groupTriangleCount[g] += last - first;
+            s.groupBounds[g].extend(s.clusterBounds[c]);
+            continue;
+        }
+        for (std::uint32_t t = first; t < last; ++t) {
+            if (orient[t] == 0) {
+                s.triangleGroup[t] = kNone;
+                continue;
+            }
+            const std::uint32_t g = groupOfRoot(s.find(t));
+            s.triangleGroup[t] = g;
+            ++s.groupTriangleCount[g];
+            const glm::uvec3 tri = s.localTriangles[t];
+            s.groupBounds[g].extend(positions[tri.x]);
+            s.groupBounds[g].extend(positions[tri.y]);
+            s.groupBounds[g].extend(positions[tri.z]);
+        }
+    }
+
+    // Step 4: split the candidate edges among groups (m_g = sum over the group's uses).
+    s.groupEdges.clear();
+    s.groupCopyCount.assign(groupCount, 0);
+    const auto addShare = [&](std::uint32_t g, std::uint32_t edge, std::int32_t m) {
+        if (m == 0) return;
+        s.groupEdges.push_back({g, edge, m});
+        s.groupCopyCount[g] += static_cast<std::uint32_t>(std::abs(m));
+    };
+    for (const Candidate& cand : s.candidates) {
+        if (cand.b == kGeneralEdge) {
+            // Few uses: accumulate per group with a tiny linear search.
+            std::array<std::pair<std::uint32_t, std::int32_t>, 16> shares{};
+            std::size_t shareCount = 0;
+            const std::uint32_t first = s.generalOffsets[cand.a];
+            const std::uint32_t last = s.generalOffsets[cand.a + 1];
+            for (std::uint32_t u = first; u < last; ++u) {
+                const std::uint32_t t = s.generalUses[u] & kIdMask;
+                if (orient[t] == 0) continue;
+                const std::uint32_t g = s.groupOf(t);
+                const std::int32_t contribution = useSign(s.generalUses[u]) * orient[t];
+                std::size_t i = 0;
+                while (i < shareCount && shares[i].first != g)
+                    ++i;
+                if (i == shareCount) {
+                    if (shareCount == shares.size()) {
+                        // More groups on one edge than the buffer holds: flush what we have.
+                        for (std::size_t k = 0; k < shareCount; ++k)
+                            addShare(shares[k].first, cand.edge, shares[k].second);
+                        shareCount = 0;
+                        i = 0;
+                    }
+                    shares[shareCount++] = {g, 0};
+                }
+                shares[i].second += contribution;
+            }
+            for (std::size_t k = 0; k < shareCount; ++k)
+                addShare(shares[k].first, cand.edge, shares[k].second);
+            continue;
+        }
+        const std::uint32_t ta = cand.a & kIdMask, tb = cand.b & kIdMask;
+        const std::int32_t ca = useSign(cand.a) * orient[ta], cb = useSign(cand.b) * orient[tb];
+        const std::uint32_t ga = ca != 0 ? s.groupOf(ta) : kNone;
+        const std::uint32_t gb = cb != 0 ? s.groupOf(tb) : kNone;
+        if (ga == gb) {
+            addShare(ga, cand.edge, ca + cb);
+        } else {
+            if (ga != kNone) addShare(ga, cand.edge, ca);
+            if (gb != kNone) addShare(gb, cand.edge, cb);
+        }
+    }
+    // Counting sort by group, keeping the candidate order within a group (deterministic).
+    s.groupCursor.assign(groupCount + 1, 0);
+    for (const GroupEdge& ge : s.groupEdges)
+        ++s.groupCursor[ge.group + 1];
+    for (std::uint32_t g = 0; g < groupCount; ++g)
+        s.groupCursor[g + 1] += s.groupCursor[g];
+    s.sortedGroupEdges.resize(s.groupEdges.size());
+    for (const GroupEdge& ge : s.groupEdges)
+        s.sortedGroupEdges[s.groupCursor[ge.group]++] = ge;
+    // groupCursor[g] is now the end of group g; its start is groupCursor[g - 1] (or 0).
+
+    // Step 5: ranges.
+    std::uint32_t triangleTotal = 0, edgeTotal = 0;
+    std::size_t volumeTotal = 0;
+    frame.groups.resize(groupCount);
+    for (std::uint32_t g = 0; g < groupCount; ++g) {
+        SilhouetteGroup& group = frame.groups[g];
+        group = SilhouetteGroup{};
+        group.firstTriangle = triangleTotal;
+        group.triangleCount = s.groupTriangleCount[g];
+        group.firstEdge = edgeTotal;
+        group.edgeCount = s.groupCopyCount[g];
+        group.firstWedge = edgeTotal;
+        group.occluderBounds = s.groupBounds[g];
+        if (settings.buildVolumes) {
+            group.firstVolumeVertex = static_cast<std::uint32_t>(volumeTotal);
+            group.frontCapVertexCount = 3 * group.triangleCount;
+            group.volumeVertexCount = 6 * group.triangleCount + 6 * group.edgeCount;
+            volumeTotal += group.volumeVertexCount;
+        }
+        triangleTotal += group.triangleCount;
+        edgeTotal += group.edgeCount;
+    }
+    // resize, not clear + resize: a warm vector only value-initialises what it grows by.
+    frame.triangles.resize(triangleTotal);
+    frame.volumeVertices.resize(volumeTotal);
+
+    // Step 6: triangles of each group and, in the same pass, its front and back caps.
+    s.groupCursor.resize(groupCount + 1);
+    for (std::uint32_t g = 0; g < groupCount; ++g)
+        s.groupCursor[g] = 0;
+    std::uint32_t* triOut = frame.triangles.data();
+    glm::vec4* volOut = frame.volumeVertices.data();
+    const bool caps = settings.buildVolumes;
+    const auto emitTriangle = [&](std::uint32_t t, const SilhouetteGroup& group,
+                                  std::uint32_t k) {
+        triOut[group.firstTriangle + k] = s.topologyId[t];
+        if (!caps) return;
+        const glm::uvec3 tri = s.localTriangles[t];
+        const bool flip = orient[t] < 0;
+        const glm::vec3 a = positions[tri.x];
+        const glm::vec3 b = positions[flip ? tri.z : tri.y];
+        const glm::vec3 c = positions[flip ? tri.y : tri.z];
+        glm::vec4* front = volOut + group.firstVolumeVertex + 3 * k;
+        front[0] = glm::vec4(a, 1.0f);
+        front[1] = glm::vec4(b, 1.0f);
+        front[2] = glm::vec4(c, 1.0f);
+        // Back cap: reversed at infinity (counter-clockwise seen from beyond it).
+        glm::vec4* back = volOut + group.firstVolumeVertex + group.frontCapVertexCount + 3 * k;
+        back[0] = glm::vec4(a - lc, 0.0f);
+        back[1] = glm::vec4(c - lc, 0.0f);
+        back[2] = glm::vec4(b - lc, 0.0f);
+    };
+    for (std::size_t c = 0; c < clusterCount; ++c) {
+        const std::uint32_t first = s.clusterOffsets[c], last = s.clusterOffsets[c + 1];
+        if (s.uniform[c]) {
+            const std::uint32_t g = s.clusterGroup[c];
+            if (g == kNone) continue;
+            const SilhouetteGroup& group = frame.groups[g];
+            std::uint32_t k = s.groupCursor[g];
+            for (std::uint32_t t = first; t < last; ++t)
+                emitTriangle(t, group, k++);
+            s.groupCursor[g] = k;
+            continue;
+        }
+        for (std::uint32_t t = first; t < last; ++t) {
+            const std::uint32_t g = s.triangleGroup[t];
+            if (g == kNone) continue;
+            emitTriangle(t, frame.groups[g], s.groupCursor[g]++);
+        }
+    }
+
+    // Step 7: per group, loops (then sides and wedges in loop order) and influence bounds.
+    frame.edges.resize(edgeTotal);
+    std::uint32_t shareBegin = 0;
+    for (std::uint32_t g = 0; g < groupCount; ++g) {
+        SilhouetteGroup& group = frame.groups[g];
+        // Expand the copies: m > 0 runs v0 -> v1 (as the light-oriented triangles use it).
+        s.copies.clear();
+        std::uint32_t i = shareBegin;
+        for (; i < s.sortedGroupEdges.size() && s.sortedGroupEdges[i].group == g; ++i) {
+            const GroupEdge& ge = s.sortedGroupEdges[i];
+            const Edge e = topoEdges[ge.edge];
+            const SilhouetteEdge directed = ge.m > 0 ? SilhouetteEdge{e.v0, e.v1, ge.edge}
+                                                     : SilhouetteEdge{e.v1, e.v0, ge.edge};
+            for (std::int32_t k = std::abs(ge.m); k > 0; --k)
+                s.copies.push_back(directed);
+        }
+        shareBegin = i;
+        const auto copyCount = static_cast<std::uint32_t>(s.copies.size());
+        group.firstLoop = static_cast<std::uint32_t>(frame.loops.size());
+
+        // Chain: per vertex lists of outgoing and incoming copies.
+        s.outNext.resize(copyCount);
+        s.inNext.resize(copyCount);
+        s.successor.assign(copyCount, kNone);
+        s.visited.assign(copyCount, 0);
+        s.multiVertices.clear();
+        for (std::uint32_t k = copyCount; k-- > 0;) { // reverse: lists end up in copy order
+            const SilhouetteEdge& ce = s.copies[k];
+            s.outNext[k] = s.outHead[ce.v0];
+            s.outHead[ce.v0] = k;
+            s.inNext[k] = s.inHead[ce.v1];
+            s.inHead[ce.v1] = k;
+            if (++s.outDegree[ce.v0] == 2) s.multiVertices.push_back(ce.v0);
+        }
+        for (std::uint32_t k = 0; k < copyCount; ++k) {
+            const std::uint32_t w = s.copies[k].v1;
+            if (s.outDegree[w] == 1) s.successor[k] = s.outHead[w];
+        }
+        for (const std::uint32_t w : s.multiVertices) {
+            // Several loops meet at w: pair each incoming copy with the outgoing copy that turns
+            // most sharply left seen from the light, so that each loop keeps to its own region.
+            s.ins.clear();
+            s.outs.clear();
+            for (std::uint32_t k = s.inHead[w]; k != kNone; k = s.inNext[k])
+                s.ins.push_back(k);
+            for (std::uint32_t k = s.outHead[w]; k != kNone; k = s.outNext[k])
+                s.outs.push_back(k);
+            if (s.ins.size() != s.outs.size()) {
+                throw std::logic_error("SilhouetteExtractor: unbalanced silhouette vertex");
+            }
+            const glm::dvec3 pw(positions[w]);
+            glm::dvec3 view = pw - glm::dvec3(lc);
+            const double viewLength = glm::length(view);
+            view = viewLength > 0.0 ? view / viewLength : glm::dvec3(0.0, 0.0, 1.0);
+            const auto project = [&](const glm::dvec3& x) { return x - glm::dot(x, view) * view; };
+            for (const std::uint32_t in : s.ins) {
+                const glm::dvec3 a = project(pw - glm::dvec3(positions[s.copies[in].v0]));
+                double best = -std::numeric_limits<double>::infinity();
+                std::size_t bestIndex = 0;
+                for (std::size_t o = 0; o < s.outs.size(); ++o) {
+                    if (s.outs[o] == kNone) continue;
+                    const glm::dvec3 b =
+                        project(glm::dvec3(positions[s.copies[s.outs[o]].v1]) - pw);
+                    // Counter-clockwise seen from the light = around -view.
+                    const double turn = std::atan2(-glm::dot(glm::cross(a, b), view),
+                                                   glm::dot(a, b));
+                    if (turn > best) {
+                        best = turn;
+                        bestIndex = o;
+                    }
+                }
+                s.successor[in] = s.outs[bestIndex];
+                s.outs[bestIndex] = kNone;
+            }
+        }
+        // Reset the per-vertex lists for the next group (touching only what was used).
+        for (const SilhouetteEdge& ce : s.copies) {
+            s.outHead[ce.v0] = kNone;
+            s.inHead[ce.v1] = kNone;
+            s.outDegree[ce.v0] = 0;
+        }
+        for (std::uint32_t k = 0; k < copyCount; ++k) {
+            if (s.successor[k] == kNone) {
+                throw std::logic_error("SilhouetteExtractor: silhouette edge without successor");
+            }
+        }
+        // Trace the loops, starting each at its first copy in copy order.
+        std::uint32_t written = group.firstEdge;
+        for (std::uint32_t start = 0; start < copyCount; ++start) {
+            if (s.visited[start]) continue;
+            SilhouetteLoop loop;
+            loop.firstEdge = written;
+            for (std::uint32_t k = start; !s.visited[k]; k = s.successor[k]) {
+                s.visited[k] = 1;
+                frame.edges[written++] = s.copies[k];
+            }
+            loop.edgeCount = written - loop.firstEdge;
+            frame.loops.push_back(loop);
+        }
+        group.loopCount = static_cast<std::uint32_t>(frame.loops.size()) - group.firstLoop;
+
+        // Sides: (q, p, p∞), (q, p∞, q∞) for directed edge p -> q, as appendHardShadowVolume.
+        if (settings.buildVolumes) {
+            glm::vec4* side = volOut + group.firstVolumeVertex + 2 * group.frontCapVertexCount;
+            for (std::uint32_t k = group.firstEdge; k < group.firstEdge + group.edgeCount; ++k) {
+                const glm::vec3 p = positions[frame.edges[k].v0], q = positions[frame.edges[k].v1];
+                const glm::vec4 pf(p, 1.0f), qf(q, 1.0f), pi(p - lc, 0.0f), qi(q - lc, 0.0f);
+                side[0] = qf;
+                side[1] = pf;
+                side[2] = pi;
+                side[3] = qf;
+                side[4] = pi;
+                side[5] = qi;
+                side += 6;
+            }
+        }
+        if (settings.buildWedges) {
+            group.firstWedge = static_cast<std::uint32_t>(frame.wedges.wedges.size());
+            for (std::uint32_t k = group.firstEdge; k < group.firstEdge + group.edgeCount; ++k) {
+                appendWedge(positions[frame.edges[k].v0], positions[frame.edges[k].v1], light,
+                            frame.wedges);
+            }
+        }
+        group.influenceBounds =
+            influenceBounds(frame, group, topo, light, sceneBounds, settings.buildWedges);
+    }
+    return frame;
+}
+
+} // namespace geometry

@@ -1,1 +1,475 @@
-// being written
+// Penumbra wedges (Assarsson & Akenine-Möller 2003) built as the exact influence region of an
+// edge, and the CPU model of the per-fragment edge coverage (DESIGN.md §4).
+//
+// Construction (see geometry/Wedge.h): W(E) = E + K with K = cone{e_i - c_j}. K is the cone over
+// the parallelepiped P = E - L (half-generators d/2, u, v around the mid point), so
+// - K is pointed exactly when 0 is not in P, i.e. when E does not touch L (else: unbounded);
+// - every facet of K is the cone over an edge of P seen from 0, and P's edges join generators
+//   that differ by one of d, 2u, 2v: pairs (e0 - c_j, e0 - c_j+1), (e1 - c_j, e1 - c_j+1) (the
+//   side planes of each end's pyramid) and (e0 - c_j, e1 - c_j) (planes holding d: front/back);
+// - a facet of W = E + K with normal n is face_E(n) + face_K(n): facets of K anchored at the end
+//   point maximising dot(n, .), plus the planes holding d tangent to K (front and back).
+// So the facets follow from the cyclic order of K's extreme rays (a convex hull of at most 8
+// directions): no search over the 36 candidate pairs of the brute force (WedgeTest compares the
+// two). Every plane is then tilted until all eight generators are strictly inside, so rounding
+// in the construction can only loosen the wedge, never break containment. The one configuration
+// without a cyclic order is an edge lying in the light's plane (beside the light): K is flat,
+// and the planes are found by a small candidate search instead.
+#include <geometry/Wedge.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace geometry {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+// Tolerances, all relative (unit vectors or scaled by the local size):
+constexpr double kParallelSin = 1e-6; // flat case: |a x b| below this gives no candidate plane
+constexpr double kOnPlane = 1e-9;     // |dot(n, unit dir)| below this: the direction is on the
+                                      // plane (anchor ties; flat-case candidate validation)
+constexpr double kSameDir = 1e-6;     // unit generators closer than this are one ray of K (and
+                                      // one mesh vertex: they must differ after float rounding;
+                                      // the tilt still checks every generator)
+constexpr double kSameNormal = 1e-7;  // flat case: normals closer than this are one plane
+// Float safety. After rounding to float, a plane's normal is off by ~1e-7 and evaluating
+// dot(n, p) + w in float errs by ~3e-7 (|p| + |w|). Two measures keep every exact point of W
+// inside the float planes:
+// - tilt: the normal is rotated towards -q, inside the polar cone K° (q the point of E - L
+//   closest to the origin), until every generator g has dot(n, g) <= -kMargin |g|, so points
+//   far along the shadow rays gain a margin growing like kMargin |p - anchor| (more than the
+//   4e-7 |p - anchor| of rounding, so rays stay inside out to infinity);
+// - push: the plane moves outward by kPush (|anchor| + |e1 - e0|), which covers the rounding of
+//   w and of the finite part (the edge itself, which gets no margin from the tilt).
+constexpr double kMargin = 4e-6;
+constexpr double kPush = 4e-6;
+constexpr double kUnbounded = 2.0 * kMargin; // below this best margin: treated as touching
+
+struct LightFrame {
+    dvec3 c, u, v, n;             // n: unit normal, cross(u, v) direction
+    dvec3 uStar, vStar;           // dual basis: dot(uStar, u) = 1, dot(uStar, v) = 0, ⟂ n
+    std::array<dvec3, 4> corners; // cyclic: neighbours share a light edge
+};
+
+LightFrame makeFrame(const RectLight& light) {
+    LightFrame f;
+    f.c = dvec3(light.center);
+    f.u = dvec3(light.u);
+    f.v = dvec3(light.v);
+    const dvec3 n = glm::cross(f.u, f.v);
+    f.n = n / glm::length(n);
+    // Dual basis so that s = dot(uStar, y - c), t = dot(vStar, y - c) also for parallelograms.
+    const dvec3 a = glm::cross(f.v, n);
+    const dvec3 b = glm::cross(n, f.u);
+    f.uStar = a / glm::dot(f.u, a);
+    f.vStar = b / glm::dot(f.v, b);
+    f.corners = {f.c - f.u - f.v, f.c + f.u - f.v, f.c + f.u + f.v, f.c - f.u + f.v};
+    return f;
+}
+
+// Restricts [lo, hi] to the λ where the affine f0 + λ (f1 - f0) is <= 0; false when empty.
+bool clipLe0(double f0, double f1, double& lo, double& hi) {
+    if (f0 <= 0.0 && f1 <= 0.0) return lo <= hi;
+    if (f0 > 0.0 && f1 > 0.0) return false;
+    const double l = f0 / (f0 - f1);
+    if (f0 > 0.0) lo = std::max(lo, l);
+    else hi = std::min(hi, l);
+    return lo <= hi;
+}
+
+// Closest points of a segment p0 + s (p1 - p0) and a segment q0 + t (q1 - q0), s, t in [0, 1],
+// both of non-zero length: minimise the convex quadratic |x(s) - y(t)|^2, first unconstrained in
+// s for the optimal t(s), then clamping t and re-solving s (the minimiser of a convex quadratic
+// over a box lies on the clamped line of the free variable).
+void closestOnSegments(const dvec3& p0, const dvec3& p1, const dvec3& q0, const dvec3& q1,
+                       double& s, double& t) {
+    const dvec3 dp = p1 - p0, dq = q1 - q0, r = p0 - q0;
+    const double a = glm::dot(dp, dp), e = glm::dot(dq, dq), b = glm::dot(dp, dq);
+    const double c = glm::dot(dp, r), fq = glm::dot(dq, r);
+    const double denom = a * e - b * b; // >= 0; 0 for parallel segments
+    s = denom > 1e-14 * a * e ? std::clamp((b * fq - c * e) / denom, 0.0, 1.0) : 0.0;
+    t = (b * s + fq) / e;
+    if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+    } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+}
+
+// The point of P = E - L closest to the origin, q = a - y for the closest pair a in E, y in L.
+// K = cone(P) is pointed iff q != 0, and dot(q, x) >= |q|^2 for every x in P, so -q is the
+// interior direction of the polar cone K° with the largest guaranteed margin. The closest pair
+// has y inside L with a an end point (the end projects into L), or y on a light edge, or E
+// meets L (q = 0).
+dvec3 closestOffset(const dvec3& e0, const dvec3& e1, const LightFrame& f) {
+    dvec3 best(0.0);
+    double bestLen = std::numeric_limits<double>::infinity();
+    auto offer = [&](const dvec3& q) {
+        const double l = glm::dot(q, q);
+        if (l < bestLen) {
+            bestLen = l;
+            best = q;
+        }
+    };
+    for (const dvec3& e : {e0, e1}) {
+        const dvec3 r = e - f.c;
+        if (std::abs(glm::dot(f.uStar, r)) <= 1.0 && std::abs(glm::dot(f.vStar, r)) <= 1.0)
+            offer(glm::dot(f.n, r) * f.n);
+    }
+    // E crossing the light's plane inside the light.
+    const double h0 = glm::dot(f.n, e0 - f.c), h1 = glm::dot(f.n, e1 - f.c);
+    if ((h0 <= 0.0) != (h1 <= 0.0) || h0 == 0.0 || h1 == 0.0) {
+        if (h0 != h1) {
+            const dvec3 x = e0 + (h0 / (h0 - h1)) * (e1 - e0) - f.c;
+            if (std::abs(glm::dot(f.uStar, x)) <= 1.0 && std::abs(glm::dot(f.vStar, x)) <= 1.0)
+                return dvec3(0.0);
+        }
+    }
+    for (int j = 0; j < 4; ++j) {
+        const dvec3& c0 = f.corners[j];
+        const dvec3& c1 = f.corners[(j + 1) % 4];
+        double s, t;
+        closestOnSegments(e0, e1, c0, c1, s, t);
+        offer((e0 + s * (e1 - e0)) - (c0 + t * (c1 - c0)));
+    }
+    return best;
+}
+
+dvec3 anyPerpendicular(const dvec3& n) {
+    const dvec3 a = std::abs(n.x) < 0.6 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+    return glm::normalize(glm::cross(n, a));
+}
+
+double cross2(const dvec2& a, const dvec2& b) { return a.x * b.y - a.y * b.x; }
+
+// Extreme rays of the pointed cone spanned by vecs[0..n) (each with dot(v, axis) > 0), ordered
+// counter-clockwise seen from the tip of `axis`; rays inside the cone or on the line between two
+// neighbours are dropped. Gnomonic projection onto the plane ⟂ axis maps the cone's rays to
+// points and its faces to a convex polygon (great circles become lines), then Andrew's monotone
+// chain. Returns the count written to `order`.
+int coneHullOrder(const dvec3* vecs, int n, const dvec3& axis, int* order) {
+    const dvec3 a = glm::normalize(axis);
+    const dvec3 b1 = anyPerpendicular(a);
+    const dvec3 b2 = glm::cross(a, b1); // b1 x b2 = a: CCW in (b1, b2) is CCW seen from a
+    std::array<dvec2, 16> pts;
+    std::array<int, 16> idx;
+    double extent = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double h = glm::dot(vecs[i], a);
+        pts[i] = dvec2(glm::dot(vecs[i], b1), glm::dot(vecs[i], b2)) / h;
+        extent = std::max(extent, std::abs(pts[i].x) + std::abs(pts[i].y));
+        idx[i] = i;
+    }
+    // Insertion sort by (x, y): n <= 8, cheaper than std::sort here.
+    for (int i = 1; i < n; ++i) {
+        const int v = idx[i];
+        int j = i;
+        for (; j > 0; --j) {
+            const dvec2& o = pts[idx[j - 1]];
+            if (o.x < pts[v].x || (o.x == pts[v].x && o.y <= pts[v].y)) break;
+            idx[j] = idx[j - 1];
+        }
+        idx[j] = v;
+    }
+    // Collinearity tolerance relative to the projected extent.
+    const double eps = 1e-12 * (extent * extent + 1e-300);
+    std::array<int, 32> hull;
+    int k = 0;
+    auto turn = [&](int o, int p, int q) {
+        return cross2(pts[p] - pts[o], pts[q] - pts[o]);
+    };
+    for (int s = 0; s < n; ++s) {
+        const int i = idx[s];
+        while (k >= 2 && turn(hull[k - 2], hull[k - 1], i) <= eps) --k;
+        hull[k++] = i;
+    }
+    const int lower = k + 1;
+    for (int s = n - 2; s >= 0; --s) {
+        const int i = idx[s];
+        while (k >= lower && turn(hull[k - 2], hull[k - 1], i) <= eps) --k;
+        hull[k++] = i;
+    }
+    const int count = k - 1; // the last point repeats the first
+    if (count < 3) return 0;  // no area: callers emit nothing
+    for (int i = 0; i < count; ++i) order[i] = hull[i];
+    return count;
+}
+
+struct Plane {
+    dvec3 n;    // exact (untilted) unit outward normal, for the mesh
+    int anchor; // 0: e0, 1: e1
+};
+
+} // namespace
+
+std::uint32_t appendWedge(const glm::vec3& e0f, const glm::vec3& e1f, const RectLight& light,
+                          WedgeArrays& out) {
+    Wedge wedge;
+    for (glm::vec4& p : wedge.planes) p = glm::vec4(0.0f);
+    wedge.e0 = glm::vec4(e0f, 1.0f);
+    wedge.e1 = glm::vec4(e1f, 1.0f);
+    wedge.firstVertex = static_cast<std::uint32_t>(out.vertices.size());
+    const auto index = static_cast<std::uint32_t>(out.wedges.size());
+    auto finish = [&](std::uint32_t flags) {
+        wedge.flags = flags;
+        wedge.vertexCount = static_cast<std::uint32_t>(out.vertices.size()) - wedge.firstVertex;
+        out.wedges.push_back(wedge);
+        return index;
+    };
+
+    const bool finite = std::isfinite(e0f.x) && std::isfinite(e0f.y) && std::isfinite(e0f.z) &&
+                        std::isfinite(e1f.x) && std::isfinite(e1f.y) && std::isfinite(e1f.z);
+    // Zero length (in float, as the GPU sees it): the edge changes no visibility. Non-finite
+    // input is not geometry; it gets the same treatment rather than NaN planes.
+    if (!finite || e0f == e1f) return finish(kWedgeDegenerate);
+
+    const LightFrame f = makeFrame(light);
+    const std::array<dvec3, 2> ends = {dvec3(e0f), dvec3(e1f)};
+    const dvec3 d = ends[1] - ends[0];
+    const double dLen = glm::length(d);
+    const dvec3 dHat = d / dLen;
+
+    // Generators g_j = e0 - c_j (0..3) and h_j = e1 - c_j (4..7), as unit vectors.
+    std::array<dvec3, 8> gen;
+    for (int j = 0; j < 4; ++j) {
+        gen[j] = ends[0] - f.corners[j];
+        gen[4 + j] = ends[1] - f.corners[j];
+    }
+    // Unbounded: E touches L (q = 0: some shadow ray has no direction, K is all of space), or
+    // comes so close that K is within kUnbounded of a half-space and no float plane could hold
+    // the shadow rays out to infinity with the margin kMargin (see the tilt below).
+    const dvec3 q = closestOffset(ends[0], ends[1], f);
+    const double qLen = glm::length(q);
+    if (!(qLen > 0.0)) return finish(kWedgeUnbounded);
+    const dvec3 kHat = -q / qLen; // dot(kHat, g) <= -|q| / |g| for every generator
+    double kappa = 1.0;
+    for (dvec3& g : gen) {
+        g = glm::normalize(g);
+        kappa = std::min(kappa, -glm::dot(kHat, g));
+    }
+    if (kappa < kUnbounded) return finish(kWedgeUnbounded);
+
+    // Extreme rays r_0 .. r_m-1 of K (distinct generator directions on K's boundary),
+    // counter-clockwise seen from far along q.
+    std::array<dvec3, 8> dirs;
+    int dirCount = 0;
+    for (const dvec3& g : gen) {
+        bool same = false;
+        for (int i = 0; i < dirCount && !same; ++i) {
+            const dvec3 diff = dirs[i] - g;
+            same = glm::dot(diff, diff) < kSameDir * kSameDir;
+        }
+        if (!same) dirs[dirCount++] = g;
+    }
+    std::array<int, 16> rays;
+    const int m = coneHullOrder(dirs.data(), dirCount, -kHat, rays.data());
+    auto ray = [&](int i) -> const dvec3& { return dirs[rays[(i + m) % m]]; };
+
+    // Facets of W = E + K (Minkowski sum of a segment and a cone):
+    // - per K facet (r_i, r_i+1), outward normal n_i = r_i+1 x r_i, anchored at the end point
+    //   extreme along n_i (e1 when dot(n_i, d) > 0, else e0): the side planes;
+    // - per ray r_i where that end point switches: the plane through E and r_i, tangent to L:
+    //   the front and back planes. Its normal is the combination of n_i-1 and n_i orthogonal
+    //   to d (both are orthogonal to r_i), which lies in K° and needs no cross product of the
+    //   possibly near-parallel d and r_i.
+    // In exact arithmetic dot(n_i, d) changes sign at most twice around the cycle (a great
+    // circle meets the convex polygon of the normals twice): at most 6 + 2 facets.
+    std::array<Plane, 24> kept;
+    int keptCount = 0;
+    std::array<int, 16> anchor;
+    if (m >= 3) {
+        std::array<dvec3, 16> normals;
+        std::array<double, 16> along;
+        int start = -1;
+        for (int i = 0; i < m; ++i) {
+            normals[i] = glm::normalize(glm::cross(ray(i + 1), ray(i)));
+            along[i] = glm::dot(normals[i], dHat);
+            if (start < 0 && std::abs(along[i]) > kOnPlane) start = i;
+        }
+        // A facet with dot(n_i, d) ~ 0 holds both end points, so either anchor is exact; it
+        // takes its predecessor's, which keeps the e0 and e1 runs contiguous (two switches at
+        // most) even when rounding scatters the signs, e.g. for an edge aimed at a corner.
+        int current = start >= 0 && along[start] > 0.0 ? 1 : 0;
+        for (int k = 0; k < m; ++k) {
+            const int i = (std::max(start, 0) + k) % m;
+            if (std::abs(along[i]) > kOnPlane) current = along[i] > 0.0 ? 1 : 0;
+            anchor[i] = current;
+        }
+        for (int i = 0; i < m; ++i) {
+            const int before = (i + m - 1) % m;
+            if (anchor[before] != anchor[i]) {
+                const dvec3 n = std::abs(glm::dot(normals[i], d)) * normals[before] +
+                                std::abs(glm::dot(normals[before], d)) * normals[i];
+                kept[keptCount++] = {glm::normalize(n), 0};
+            }
+            kept[keptCount++] = {normals[i], anchor[i]};
+        }
+    } else {
+        // K is flat: the edge lies in the light's plane (beside the light), and so does W.
+        // Search the planes instead: candidates through pairs of directions and, in the plane,
+        // through the light normal and one direction; keep those with every generator on the
+        // inner side (both orientations of the light's plane itself).
+        auto consider = [&](dvec3 n) {
+            const double len = glm::length(n);
+            if (len < kParallelSin) return;
+            n /= len;
+            double lo = 0.0, hi = 0.0;
+            for (const dvec3& g : gen) {
+                lo = std::min(lo, glm::dot(n, g));
+                hi = std::max(hi, glm::dot(n, g));
+            }
+            for (const dvec3& c : {n, -n}) {
+                if (glm::dot(c, n) > 0.0 ? hi > kOnPlane : lo < -kOnPlane) continue;
+                bool duplicate = false;
+                for (int k = 0; k < keptCount && !duplicate; ++k) {
+                    const dvec3 diff = glm::abs(kept[k].n - c);
+                    duplicate = std::max({diff.x, diff.y, diff.z}) < kSameNormal;
+                }
+                if (!duplicate && keptCount < static_cast<int>(kept.size()))
+                    kept[keptCount++] = {c, glm::dot(c, d) > 0.0 ? 1 : 0};
+            }
+        };
+        for (int i = 0; i < dirCount; ++i) {
+            consider(glm::cross(dHat, dirs[i]));
+            consider(glm::cross(f.n, dirs[i]));
+            for (int j = i + 1; j < dirCount; ++j) consider(glm::cross(dirs[i], dirs[j]));
+        }
+        consider(glm::cross(f.n, dHat));
+    }
+    if (keptCount == 0) return finish(kWedgeUnbounded); // no supporting plane: be conservative
+
+    const int planeCount = std::min(keptCount, kMaxWedgePlanes);
+    const std::array<double, 2> push = {kPush * (glm::length(ends[0]) + dLen),
+                                        kPush * (glm::length(ends[1]) + dLen)};
+    for (int i = 0; i < planeCount; ++i) {
+        const dvec3& n = kept[i].n;
+        double tau = 0.0;
+        for (const dvec3& g : gen) {
+            const double s = glm::dot(n, g);
+            if (s <= -kMargin) continue;
+            const double kg = glm::dot(kHat, g);
+            tau = std::max(tau, (kMargin + s) / -kg); // -kg >= kappa > 0
+        }
+        // With this tau every generator has dot(n', g) <= -kMargin whatever n was, so the
+        // plane holds W even if n carried rounding noise; it only gets looser.
+        const dvec3 nt = glm::normalize(n + tau * kHat);
+        const int e = glm::dot(nt, d) > 0.0 ? 1 : 0; // re-anchored: the tilt may change it
+        const double w = -glm::dot(nt, ends[e]) - push[e];
+        wedge.planes[i] = glm::vec4(glm::vec3(nt), static_cast<float>(w));
+    }
+    wedge.planeCount = static_cast<std::uint32_t>(planeCount);
+
+    // Boundary mesh from the same combinatorial structure, so it is closed by construction (no
+    // per-facet tolerance decisions that neighbours could disagree on): the cap at infinity
+    // (K's cross-section, like a shadow volume's far cap, facing along q), each K facet as the
+    // triangle (anchor, r_i+1, r_i), and each front/back facet as the triangle (E, r_i).
+    // A flat K has no volume and gets no mesh.
+    if (m >= 3) {
+        std::array<glm::vec4, 16> dirVerts;
+        for (int i = 0; i < m; ++i) dirVerts[i] = glm::vec4(glm::vec3(ray(i)), 0.0f);
+        auto dir = [&](int i) -> const glm::vec4& { return dirVerts[(i + m) % m]; };
+        const int strips = keptCount - m;
+        const std::size_t first = out.vertices.size();
+        out.vertices.resize(first + 3 * static_cast<std::size_t>(2 * m - 2 + strips));
+        glm::vec4* v = out.vertices.data() + first;
+        const std::array<glm::vec4, 2> endVerts = {wedge.e0, wedge.e1};
+        auto emit = [&](const glm::vec4& a, const glm::vec4& b, const glm::vec4& c) {
+            v[0] = a;
+            v[1] = b;
+            v[2] = c;
+            v += 3;
+        };
+        for (int i = 1; i + 1 < m; ++i) emit(dir(0), dir(i), dir(i + 1)); // cap
+        for (int i = 0; i < m; ++i) {
+            emit(endVerts[anchor[i]], dir(i + 1), dir(i)); // K facet at its end point
+            const int before = anchor[(i + m - 1) % m];
+            if (before != anchor[i]) emit(endVerts[anchor[i]], dir(i), endVerts[before]); // strip
+        }
+    }
+    return finish(0u);
+}
+
+bool wedgeContains(const Wedge& wedge, const glm::vec3& p, float eps) {
+    if (wedge.flags & kWedgeDegenerate) return false;
+    if (wedge.flags & kWedgeUnbounded) return true;
+    for (std::uint32_t i = 0; i < wedge.planeCount; ++i) {
+        const glm::vec4& pl = wedge.planes[i];
+        if (glm::dot(glm::vec3(pl), p) + pl.w > eps) return false;
+    }
+    return true;
+}
+
+// Coverage of one directed edge (DESIGN.md §4; Assarsson & Akenine-Möller 2003, §3-4).
+//
+// Clipping rule: only the part of E strictly between P's level and the light's plane can block a
+// segment P -> y (y on the light); with ζ(x) = height(x) / height(P) (heights along the light
+// normal) that is 0 < ζ < 1. The edge is clipped to 0 <= ζ <= 1 and projected from P
+// homogeneously: x maps to (s, t, w) = (dot(u*, Y), dot(v*, Y), 1 - ζ) with
+// Y = x - ζ P - (1 - ζ) c, which is affine in x (so the clipped segment maps to a segment or,
+// where it reaches P's level (w = 0), to a ray). R = { μ q : q on the projected segment, μ >= 1 }
+// in light coordinates (centre at the origin) is the intersection of three half-planes: between
+// the rays to q0 and q1, and beyond the line q0 q1. R ∩ [-1, 1]^2 is clipped exactly.
+//
+// Sign: with the loop orientation of Silhouette.h (occluder to the left of v0 -> v1 seen from
+// the light centre) the occluder lies to the right of the projected edge seen from P, so moving
+// from the centre to y across the projected edge from its left to its right enters the occluder
+// (+1). Seen from P the (s, t) frame is counter-clockwise when P lies on the side cross(u, v)
+// points to, and mirrored otherwise; the centre is left of q0 -> q1 iff cross(q0, q1) > 0. So
+//     coverage = sign(height(P)) sign(cross(q0, q1)) |R ∩ L| / |L|
+// and summing over a loop, Σ = (1/|L|) ∫_L (occ(y) - occ(centre)) dy, i.e. V = V_hard - Σ.
+float edgeCoverage(const glm::vec3& pf, const glm::vec3& e0f, const glm::vec3& e1f,
+                   const RectLight& light) {
+    const LightFrame f = makeFrame(light);
+    const dvec3 p(pf), e0(e0f), e1(e1f);
+    const double hp = glm::dot(f.n, p - f.c);
+    if (!(std::abs(hp) > 0.0)) return 0.0f; // on the light's plane (or NaN): nothing between
+    const double z0 = glm::dot(f.n, e0 - f.c) / hp, z1 = glm::dot(f.n, e1 - f.c) / hp;
+    double lo = 0.0, hi = 1.0;
+    if (!clipLe0(-z0, -z1, lo, hi) || !clipLe0(z0 - 1.0, z1 - 1.0, lo, hi)) return 0.0f;
+    auto project = [&](double l) {
+        const dvec3 x = e0 + l * (e1 - e0);
+        const double z = z0 + l * (z1 - z0);
+        const double w = std::max(0.0, 1.0 - z); // rounding must not flip a point at infinity
+        const dvec3 y = x - z * p - (1.0 - z) * f.c;
+        return dvec3(glm::dot(f.uStar, y), glm::dot(f.vStar, y), w);
+    };
+    const dvec3 q0 = project(lo), q1 = project(hi);
+    const double cr = q0.x * q1.y - q0.y * q1.x;
+    if (cr == 0.0) return 0.0f; // projected edge through the centre (or empty): measure zero
+    const double sg = cr > 0.0 ? 1.0 : -1.0;
+    const dvec3 line = glm::cross(q0, q1); // homogeneous line through q0, q1; line.z == cr
+    // Half-planes a x + b y + c >= 0 bounding R.
+    const std::array<dvec3, 3> halves = {
+        dvec3(-sg * q0.y, sg * q0.x, 0.0),                   // left of the ray to q0
+        dvec3(sg * q1.y, -sg * q1.x, 0.0),                   // right of the ray to q1
+        dvec3(-sg * line.x, -sg * line.y, -sg * line.z)};    // beyond q0 q1 from the centre
+    std::array<dvec2, 8> poly = {dvec2(-1, -1), dvec2(1, -1), dvec2(1, 1), dvec2(-1, 1)};
+    int count = 4;
+    for (const dvec3& h : halves) {
+        std::array<dvec2, 8> next;
+        int nextCount = 0;
+        for (int i = 0; i < count; ++i) {
+            const dvec2& a = poly[i];
+            const dvec2& b = poly[(i + 1) % count];
+            const double fa = h.x * a.x + h.y * a.y + h.z;
+            const double fb = h.x * b.x + h.y * b.y + h.z;
+            if (fa >= 0.0) next[nextCount++] = a;
+            if ((fa >= 0.0) != (fb >= 0.0)) next[nextCount++] = a + (fa / (fa - fb)) * (b - a);
+        }
+        poly = next;
+        count = nextCount;
+        if (count < 3) return 0.0f;
+    }
+    double area2 = 0.0;
+    for (int i = 0; i < count; ++i) area2 += cross2(poly[i], poly[(i + 1) % count]);
+    const double fraction = 0.5 * std::abs(area2) / 4.0; // the light is [-1, 1]^2 in (s, t)
+    return static_cast<float>((hp > 0.0 ? sg : -sg) * fraction);
+}
+
+} // namespace geometry

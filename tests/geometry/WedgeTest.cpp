@@ -1,1 +1,723 @@
-// being written
+// Penumbra wedges (geometry/Wedge.h): containment of every shadow ray through the edge, tightness
+// against an independent brute force, the closed boundary mesh, the flags, and the per-edge
+// coverage formula V = V_hard - Σ edgeCoverage against closed forms and dense light sampling.
+#include <geometry/Analytic.h>
+#include <geometry/Wedge.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using geometry::RectLight;
+using geometry::Wedge;
+using geometry::WedgeArrays;
+using glm::dvec3;
+using glm::vec3;
+
+struct Rng {
+    std::mt19937_64 engine;
+    explicit Rng(std::uint64_t seed) : engine(seed) {}
+    double uniform(double lo, double hi) {
+        return std::uniform_real_distribution<double>(lo, hi)(engine);
+    }
+    dvec3 direction() {
+        for (;;) {
+            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+            const double l = glm::length(v);
+            if (l > 0.1 && l <= 1.0) return v / l;
+        }
+    }
+};
+
+// A random light: any orientation, sizes over two decades, and often a parallelogram.
+RectLight randomLight(Rng& rng) {
+    RectLight light;
+    light.center = vec3(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5));
+    const dvec3 a = rng.direction();
+    dvec3 b = glm::normalize(glm::cross(a, rng.direction()));
+    if (rng.uniform(0, 1) < 0.5) b = glm::normalize(b + rng.uniform(-0.8, 0.8) * a); // skewed
+    light.u = vec3(a * rng.uniform(0.05, 2.0));
+    light.v = vec3(b * rng.uniform(0.05, 2.0));
+    return light;
+}
+
+struct Frame {
+    dvec3 c, u, v, n;
+};
+Frame frameOf(const RectLight& l) {
+    const dvec3 u(l.u), v(l.v);
+    return {dvec3(l.center), u, v, glm::normalize(glm::cross(u, v))};
+}
+// A point in light coordinates: s, t along u, v, h along the unit normal.
+vec3 lightPoint(const Frame& f, double s, double t, double h) {
+    return vec3(f.c + s * f.u + t * f.v + h * f.n);
+}
+
+enum class EdgeKind {
+    Generic,
+    TowardLight,     // nearly parallel to the light direction, one end much closer
+    CrossesPlane,    // crosses the light's plane outside the light
+    Short,           // length ~1e-4 of the scene
+    CloseToLight,    // occluder just below the light, over it
+    NearlyInPlane,   // within 1e-5 of the light's plane, outside the light
+    TowardCorner,    // the edge's line passes through a light corner
+    ParallelToSide,  // parallel to u
+    Touching,        // reaches into the light: unbounded
+    Count
+};
+
+struct TestEdge {
+    vec3 e0, e1;
+    EdgeKind kind;
+};
+
+TestEdge randomEdge(Rng& rng, const RectLight& light, EdgeKind kind) {
+    const Frame f = frameOf(light);
+    const double side = rng.uniform(0, 1) < 0.5 ? -1.0 : 1.0;
+    const double size = glm::length(f.u) + glm::length(f.v);
+    auto below = [&](double hMin, double hMax) {
+        return lightPoint(f, rng.uniform(-4, 4), rng.uniform(-4, 4),
+                          side * rng.uniform(hMin, hMax) * size);
+    };
+    switch (kind) {
+    case EdgeKind::Generic:
+        return {below(0.05, 5), below(0.05, 5), kind};
+    case EdgeKind::TowardLight: {
+        const vec3 e0 = below(2, 6);
+        const dvec3 towards = f.c + rng.uniform(-1, 1) * f.u + rng.uniform(-1, 1) * f.v;
+        const dvec3 dir = glm::normalize(towards - dvec3(e0)) + 1e-3 * rng.direction();
+        return {e0, vec3(dvec3(e0) + rng.uniform(0.5, 0.99) * glm::length(towards -
+                                     dvec3(e0)) * glm::normalize(dir)), kind};
+    }
+    case EdgeKind::CrossesPlane: {
+        // Crossing point outside the light (|s| or |t| > 1), ends on both sides.
+        double s = rng.uniform(1.05, 4), t = rng.uniform(-4, 4);
+        if (rng.uniform(0, 1) < 0.5) std::swap(s, t);
+        if (rng.uniform(0, 1) < 0.5) s = -s;
+        const dvec3 x = f.c + s * f.u + t * f.v;
+        const dvec3 dir = rng.direction();
+        if (std::abs(glm::dot(dir, f.n)) < 0.05) return {below(0.1, 3), below(0.1, 3), kind};
+        const double a = rng.uniform(0.01, 2) * size, b = rng.uniform(0.01, 2) * size;
+        return {vec3(x - a * dir), vec3(x + b * dir), kind};
+    }
+    case EdgeKind::Short: {
+        const vec3 e0 = below(0.05, 5);
+        return {e0, vec3(dvec3(e0) + 1e-4 * size * rng.direction()), kind};
+    }
+    case EdgeKind::CloseToLight:
+        return {lightPoint(f, rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5),
+                           side * rng.uniform(1e-4, 1e-2) * size),
+                lightPoint(f, rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5),
+                           side * rng.uniform(1e-4, 1e-2) * size),
+                kind};
+    case EdgeKind::NearlyInPlane: {
+        const double s = rng.uniform(1.2, 3);
+        return {lightPoint(f, s, rng.uniform(-3, 3), side * 1e-5 * size),
+                lightPoint(f, s + rng.uniform(0.1, 2), rng.uniform(-3, 3),
+                           side * rng.uniform(-1e-5, 1e-5) * size),
+                kind};
+    }
+    case EdgeKind::TowardCorner: {
+        const dvec3 corner = f.c + (rng.uniform(0, 1) < 0.5 ? 1.0 : -1.0) * f.u +
+                             (rng.uniform(0, 1) < 0.5 ? 1.0 : -1.0) * f.v;
+        const dvec3 e0 = dvec3(below(0.5, 4));
+        return {vec3(e0), vec3(corner + rng.uniform(0.1, 0.9) * (e0 - corner)), kind};
+    }
+    case EdgeKind::ParallelToSide: {
+        const vec3 e0 = below(0.05, 4);
+        return {e0, vec3(dvec3(e0) + rng.uniform(-3, 3) * f.u), kind};
+    }
+    case EdgeKind::Touching: {
+        const dvec3 y = f.c + rng.uniform(-1, 1) * f.u + rng.uniform(-1, 1) * f.v;
+        const dvec3 dir = rng.direction() * size;
+        const double a = rng.uniform(0, 1) < 0.3 ? 0.0 : rng.uniform(0.01, 2);
+        return {vec3(y - a * dir), vec3(y + rng.uniform(0.01, 2) * dir), kind};
+    }
+    default:
+        break;
+    }
+    return {below(0.05, 5), below(0.05, 5), EdgeKind::Generic};
+}
+
+// Independent brute force (doubles, no tilt, no push): all 36 pairs of {d, e_i - c_j},
+// kept when every direction is on the inner side. Signed margin > 0 means outside.
+struct BrutePlanes {
+    std::vector<dvec3> normals;
+    std::vector<double> offsets; // plane: dot(n, x) - offset <= 0
+    double margin(const dvec3& p) const {
+        double m = -1e300;
+        for (std::size_t i = 0; i < normals.size(); ++i)
+            m = std::max(m, glm::dot(normals[i], p) - offsets[i]);
+        return m;
+    }
+};
+
+BrutePlanes brutePlanes(const vec3& e0f, const vec3& e1f, const RectLight& light) {
+    const Frame f = frameOf(light);
+    const dvec3 e0(e0f), e1(e1f);
+    std::vector<dvec3> dirs = {glm::normalize(e1 - e0)};
+    for (double s : {-1.0, 1.0})
+        for (double t : {-1.0, 1.0})
+            for (const dvec3& e : {e0, e1})
+                dirs.push_back(glm::normalize(e - (f.c + s * f.u + t * f.v)));
+    BrutePlanes out;
+    for (std::size_t i = 0; i < dirs.size(); ++i) {
+        for (std::size_t j = i + 1; j < dirs.size(); ++j) {
+            dvec3 n = glm::cross(dirs[i], dirs[j]);
+            if (glm::length(n) < 1e-6) continue;
+            n = glm::normalize(n);
+            double lo = 1, hi = -1;
+            for (std::size_t k = 1; k < dirs.size(); ++k) {
+                lo = std::min(lo, glm::dot(n, dirs[k]));
+                hi = std::max(hi, glm::dot(n, dirs[k]));
+            }
+            if (hi > 1e-9) n = -n;
+            if (hi > 1e-9 && lo < -1e-9) continue;
+            out.normals.push_back(n);
+            out.offsets.push_back(std::max(glm::dot(n, e0), glm::dot(n, e1)));
+        }
+    }
+    return out;
+}
+
+// Does some shadow ray through the edge reach p? Samples points a on the edge and follows the
+// line p -> a on to the light's plane: y must lie on the light, beyond a.
+bool sampledRayReaches(const dvec3& p, const vec3& e0f, const vec3& e1f, const RectLight& light,
+                       int samples) {
+    const Frame f = frameOf(light);
+    const dvec3 e0(e0f), e1(e1f);
+    const dvec3 us = glm::cross(f.v, f.n) / glm::dot(f.u, glm::cross(f.v, f.n));
+    const dvec3 vs = glm::cross(f.n, f.u) / glm::dot(f.v, glm::cross(f.n, f.u));
+    const double hp = glm::dot(f.n, p - f.c);
+    for (int i = 0; i <= samples; ++i) {
+        const dvec3 a = e0 + (static_cast<double>(i) / samples) * (e1 - e0);
+        const double ha = glm::dot(f.n, a - f.c);
+        if (hp == ha) continue;
+        const double sigma = hp / (hp - ha); // y = p + sigma (a - p)
+        if (sigma < 1.0) continue;
+        const dvec3 y = p + sigma * (a - p);
+        if (std::abs(glm::dot(us, y - f.c)) <= 1.0 && std::abs(glm::dot(vs, y - f.c)) <= 1.0)
+            return true;
+    }
+    return false;
+}
+
+// Segment p -> q against triangle (a, b, c), double precision, open segment.
+bool segmentHitsTriangle(const dvec3& p, const dvec3& q, const dvec3& a, const dvec3& b,
+                         const dvec3& c) {
+    const dvec3 dir = q - p;
+    const dvec3 ab = b - a, ac = c - a;
+    const dvec3 pv = glm::cross(dir, ac);
+    const double det = glm::dot(ab, pv);
+    if (std::abs(det) < 1e-300) return false;
+    const dvec3 tv = p - a;
+    const double u = glm::dot(tv, pv) / det;
+    if (u < 0.0 || u > 1.0) return false;
+    const dvec3 qv = glm::cross(tv, ab);
+    const double v = glm::dot(dir, qv) / det;
+    if (v < 0.0 || u + v > 1.0) return false;
+    const double t = glm::dot(ac, qv) / det;
+    return t > 0.0 && t < 1.0;
+}
+
+using Triangle = std::array<vec3, 3>;
+struct DirectedEdge {
+    vec3 v0, v1;
+};
+
+// Silhouette loop edges from the light centre, oriented as in Silhouette.h (occluder to the left
+// of v0 -> v1 seen from the centre): keep the triangles facing the centre (two-sided ones are
+// flipped first), and the directed edges whose reverse is not also used.
+std::vector<DirectedEdge> silhouetteEdges(const std::vector<Triangle>& tris, const vec3& centre,
+                                          bool twoSided) {
+    std::vector<DirectedEdge> edges;
+    for (Triangle t : tris) {
+        const dvec3 a(t[0]), b(t[1]), c(t[2]);
+        const double facing = glm::dot(glm::cross(b - a, c - a), dvec3(centre) - a);
+        if (facing < 0.0) {
+            if (!twoSided) continue;
+            std::swap(t[1], t[2]);
+        }
+        for (int i = 0; i < 3; ++i) edges.push_back({t[i], t[(i + 1) % 3]});
+    }
+    std::vector<DirectedEdge> loop;
+    for (const DirectedEdge& e : edges) {
+        bool cancelled = false;
+        for (const DirectedEdge& o : edges) cancelled |= (o.v0 == e.v1 && o.v1 == e.v0);
+        if (!cancelled) loop.push_back(e);
+    }
+    return loop;
+}
+
+double formulaVisibility(const std::vector<DirectedEdge>& loop, const std::vector<Triangle>& tris,
+                         const RectLight& light, const vec3& p) {
+    bool centreBlocked = false;
+    for (const Triangle& t : tris)
+        centreBlocked |= segmentHitsTriangle(dvec3(p), dvec3(light.center), dvec3(t[0]),
+                                             dvec3(t[1]), dvec3(t[2]));
+    double v = centreBlocked ? 0.0 : 1.0;
+    for (const DirectedEdge& e : loop) v -= geometry::edgeCoverage(p, e.v0, e.v1, light);
+    return v;
+}
+
+// Midpoint rule over an n x n grid of light points with exact segment-triangle tests.
+double gridVisibility(const std::vector<Triangle>& tris, const RectLight& light, const vec3& p,
+                      int n) {
+    int visible = 0;
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            const double s = -1.0 + (2.0 * i + 1.0) / n, t = -1.0 + (2.0 * j + 1.0) / n;
+            const dvec3 y = dvec3(light.center) + s * dvec3(light.u) + t * dvec3(light.v);
+            bool blocked = false;
+            for (const Triangle& tr : tris) {
+                if (segmentHitsTriangle(dvec3(p), y, dvec3(tr[0]), dvec3(tr[1]), dvec3(tr[2]))) {
+                    blocked = true;
+                    break;
+                }
+            }
+            visible += blocked ? 0 : 1;
+        }
+    }
+    return static_cast<double>(visible) / (static_cast<double>(n) * n);
+}
+
+std::vector<Triangle> quadTriangles(const vec3& c, const vec3& a, const vec3& b) {
+    const vec3 p00 = c - a - b, p10 = c + a - b, p11 = c + a + b, p01 = c - a + b;
+    return {{p00, p10, p11}, {p00, p11, p01}};
+}
+
+// Axis-aligned box, outward-facing (counter-clockwise from outside) triangles.
+std::vector<Triangle> boxTriangles(const vec3& lo, const vec3& hi) {
+    auto corner = [&](int i) {
+        return vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+    };
+    const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    std::vector<Triangle> tris;
+    for (const auto& q : faces) {
+        tris.push_back({corner(q[0]), corner(q[1]), corner(q[2])});
+        tris.push_back({corner(q[0]), corner(q[2]), corner(q[3])});
+    }
+    return tris;
+}
+
+std::string describe(const TestEdge& e, const RectLight& l) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "e0 (%.9g, %.9g, %.9g) e1 (%.9g, %.9g, %.9g) light c (%.9g, %.9g, %.9g) "
+                  "u (%.9g, %.9g, %.9g) v (%.9g, %.9g, %.9g)",
+                  e.e0.x, e.e0.y, e.e0.z, e.e1.x, e.e1.y, e.e1.z, l.center.x, l.center.y,
+                  l.center.z, l.u.x, l.u.y, l.u.z, l.v.x, l.v.y, l.v.z);
+    return buf;
+}
+
+const Wedge& build(WedgeArrays& arrays, const vec3& e0, const vec3& e1, const RectLight& light) {
+    const std::uint32_t i = geometry::appendWedge(e0, e1, light, arrays);
+    return arrays.wedges[i];
+}
+
+} // namespace
+
+TEST(WedgeTest, LayoutIsGpuReady) {
+    EXPECT_EQ(sizeof(Wedge) % 16, 0u);
+    EXPECT_EQ(offsetof(Wedge, planeCount), sizeof(glm::vec4) * (geometry::kMaxWedgePlanes + 2));
+}
+
+TEST(WedgeTest, DegenerateAndUnboundedFlags) {
+    RectLight light; // centre (0, 6, 0), half sizes 0.5
+    WedgeArrays arrays;
+    const Wedge zero = build(arrays, vec3(1, 2, 3), vec3(1, 2, 3), light);
+    EXPECT_EQ(zero.flags, geometry::kWedgeDegenerate);
+    EXPECT_EQ(zero.planeCount, 0u);
+    EXPECT_EQ(zero.vertexCount, 0u);
+    EXPECT_FALSE(geometry::wedgeContains(zero, vec3(1, 2, 3), 1.0f));
+
+    // Crossing the light, ending on it, touching its border and its corner: unbounded.
+    const std::array<std::array<vec3, 2>, 5> touching = {{
+        {vec3(0.1f, 5.0f, 0.2f), vec3(-0.1f, 7.0f, 0.0f)},
+        {vec3(0.1f, 6.0f, 0.2f), vec3(2.0f, 3.0f, 1.0f)},
+        {vec3(0.5f, 6.0f, 0.0f), vec3(2.0f, 3.0f, 1.0f)},
+        {vec3(0.5f, 6.0f, 0.5f), vec3(2.0f, 3.0f, 1.0f)},
+        {vec3(-2.0f, 6.0f, 0.3f), vec3(2.0f, 6.0f, 0.3f)}, // in the plane, across the light
+    }};
+    for (const auto& e : touching) {
+        const Wedge w = build(arrays, e[0], e[1], light);
+        EXPECT_EQ(w.flags, geometry::kWedgeUnbounded);
+        EXPECT_EQ(w.planeCount, 0u);
+        EXPECT_EQ(w.vertexCount, 0u);
+        EXPECT_TRUE(geometry::wedgeContains(w, vec3(100, -50, 7)));
+    }
+    // Crossing the light's plane beside the light, lying in it beside the light: bounded.
+    const Wedge beside = build(arrays, vec3(2, 5, 0), vec3(2, 7, 0), light);
+    EXPECT_EQ(beside.flags, 0u);
+    EXPECT_GE(beside.planeCount, 3u);
+    const Wedge inPlane = build(arrays, vec3(2, 6, -1), vec3(3, 6, 1), light);
+    EXPECT_EQ(inPlane.flags, 0u);
+    EXPECT_GE(inPlane.planeCount, 3u);
+    // The flat wedge holds its in-plane shadow rays and nothing well above or below.
+    EXPECT_TRUE(geometry::wedgeContains(inPlane, vec3(4, 6, 0), 0.0f));
+    EXPECT_FALSE(geometry::wedgeContains(inPlane, vec3(4, 6.01f, 0), 0.0f));
+    EXPECT_FALSE(geometry::wedgeContains(inPlane, vec3(4, 5.99f, 0), 0.0f));
+}
+
+// For random edges and lights, including every robust case, every point of every shadow ray
+// through the edge (a + t (a - y), a on the edge, y on the light) lies in the float wedge, at
+// t from 0 to 1e5 and where the ray meets a random receiver plane.
+TEST(WedgeTest, ContainsEveryShadowRay) {
+    Rng rng(20030611);
+    WedgeArrays arrays;
+    const std::array<double, 8> ts = {0.0, 1e-6, 1e-3, 0.1, 1.0, 10.0, 1e3, 1e5};
+    int checked = 0, unbounded = 0;
+    std::array<int, static_cast<int>(EdgeKind::Count)> perKind{};
+    for (int c = 0; c < 4500; ++c) {
+        const RectLight light = randomLight(rng);
+        const auto kind = static_cast<EdgeKind>(c % static_cast<int>(EdgeKind::Count));
+        const TestEdge edge = randomEdge(rng, light, kind);
+        arrays.clear();
+        const Wedge& w = build(arrays, edge.e0, edge.e1, light);
+        ASSERT_LE(w.planeCount, static_cast<std::uint32_t>(geometry::kMaxWedgePlanes));
+        ASSERT_EQ(w.flags & geometry::kWedgeDegenerate, 0u);
+        if (kind == EdgeKind::Touching) {
+            EXPECT_EQ(w.flags, geometry::kWedgeUnbounded);
+        }
+        if (w.flags & geometry::kWedgeUnbounded) {
+            ++unbounded;
+            continue;
+        }
+        ++perKind[static_cast<int>(kind)];
+        const Frame f = frameOf(light);
+        const dvec3 e0(edge.e0), e1(edge.e1);
+        const dvec3 receiverN = rng.direction();
+        const dvec3 receiverP = dvec3(edge.e0) + 3.0 * rng.direction();
+        for (int li = 0; li < 13; ++li) {
+            // Corners, edge midpoints-ish and interior points of the light.
+            double s, t;
+            if (li < 4) {
+                s = li & 1 ? 1.0 : -1.0;
+                t = li & 2 ? 1.0 : -1.0;
+            } else if (li < 8) {
+                s = li < 6 ? (li & 1 ? 1.0 : -1.0) : rng.uniform(-1, 1);
+                t = li < 6 ? rng.uniform(-1, 1) : (li & 1 ? 1.0 : -1.0);
+            } else {
+                s = rng.uniform(-1, 1);
+                t = rng.uniform(-1, 1);
+            }
+            const dvec3 y = f.c + s * f.u + t * f.v;
+            for (int ai = 0; ai < 5; ++ai) {
+                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
+                const dvec3 a = e0 + lambda * (e1 - e0);
+                const dvec3 dir = a - y;
+                for (double tt : ts) {
+                    const vec3 hit(a + tt * dir);
+                    ASSERT_TRUE(geometry::wedgeContains(w, hit, 0.0f))
+                        << "kind " << static_cast<int>(kind) << " case " << c << " t " << tt
+                        << " lambda " << lambda << " s " << s << " t " << t << "\n"
+                        << describe(edge, light);
+                    ++checked;
+                }
+                const double den = glm::dot(receiverN, dir);
+                if (den != 0.0) {
+                    const double sigma = glm::dot(receiverN, receiverP - a) / den;
+                    if (sigma > 0.0 && sigma < 1e6) {
+                        ASSERT_TRUE(geometry::wedgeContains(w, vec3(a + sigma * dir), 0.0f))
+                            << "receiver, kind " << static_cast<int>(kind) << " case " << c;
+                        ++checked;
+                    }
+                }
+            }
+        }
+    }
+    for (std::size_t k = 0; k + 1 < perKind.size(); ++k)
+        EXPECT_GT(perKind[k], 100) << "edge kind " << k << " mostly unbounded";
+    std::printf("[ wedge    ] %d shadow-ray points checked, %d unbounded wedges\n", checked,
+                unbounded);
+}
+
+// Random points clearly outside the exact region (independent 36-pair brute force) are outside
+// the wedge, get zero coverage and no sampled shadow ray; points clearly inside are inside and
+// get a non-zero coverage. Points just outside each facet are outside.
+TEST(WedgeTest, TightAndAgreesWithBruteForce) {
+    Rng rng(42);
+    WedgeArrays arrays;
+    int outside = 0, inside = 0;
+    for (int c = 0; c < 1500; ++c) {
+        const RectLight light = randomLight(rng);
+        const auto kind = static_cast<EdgeKind>(c % (static_cast<int>(EdgeKind::Count) - 1));
+        if (kind == EdgeKind::NearlyInPlane) continue; // measure-zero region: nothing to sample
+        const TestEdge edge = randomEdge(rng, light, kind);
+        arrays.clear();
+        const Wedge& w = build(arrays, edge.e0, edge.e1, light);
+        if (w.flags != 0u) continue;
+        const BrutePlanes brute = brutePlanes(edge.e0, edge.e1, light);
+        ASSERT_FALSE(brute.normals.empty());
+        const Frame f = frameOf(light);
+        const dvec3 mid = 0.5 * (dvec3(edge.e0) + dvec3(edge.e1));
+        const double size = glm::length(mid - f.c) + glm::length(f.u) + glm::length(f.v);
+        for (int i = 0; i < 60; ++i) {
+            const dvec3 p = mid + rng.uniform(0, 3) * size * rng.direction();
+            const double m = brute.margin(p);
+            if (m > 1e-3 * size) {
+                ++outside;
+                ASSERT_FALSE(geometry::wedgeContains(w, vec3(p), 0.0f)) << "case " << c;
+                EXPECT_LE(std::abs(geometry::edgeCoverage(vec3(p), edge.e0, edge.e1, light)),
+                          1e-7f);
+                EXPECT_FALSE(sampledRayReaches(p, edge.e0, edge.e1, light, 400)) << "case " << c;
+            } else if (m < -1e-3 * size) {
+                ++inside;
+                ASSERT_TRUE(geometry::wedgeContains(w, vec3(p), 0.0f)) << "case " << c;
+                EXPECT_NE(geometry::edgeCoverage(vec3(p), edge.e0, edge.e1, light), 0.0f);
+            }
+        }
+        // Just outside each facet, next to the edge: outside.
+        for (std::uint32_t i = 0; i < w.planeCount; ++i) {
+            const dvec3 n(vec3(w.planes[i]));
+            for (const vec3& e : {edge.e0, edge.e1}) {
+                const dvec3 onPlane = dvec3(e) - (glm::dot(n, dvec3(e)) + w.planes[i].w) * n;
+                EXPECT_FALSE(geometry::wedgeContains(w, vec3(onPlane + 1e-3 * size * n), 0.0f));
+            }
+        }
+    }
+    EXPECT_GT(outside, 10000);
+    EXPECT_GT(inside, 5000);
+    std::printf("[ wedge    ] %d outside and %d inside points agree with the brute force\n",
+                outside, inside);
+}
+
+// The boundary triangles form a closed, consistently oriented surface in projective space:
+// every directed edge appears once with its reverse, and the winding number of the (truncated)
+// surface around random points equals wedgeContains.
+TEST(WedgeTest, BoundaryMeshIsClosed) {
+    Rng rng(7);
+    WedgeArrays arrays;
+    int tested = 0;
+    for (int c = 0; c < 1000; ++c) {
+        const RectLight light = randomLight(rng);
+        const auto kind = static_cast<EdgeKind>(c % (static_cast<int>(EdgeKind::Count) - 1));
+        if (kind == EdgeKind::NearlyInPlane) continue; // (almost) no volume: nothing to test
+        const TestEdge edge = randomEdge(rng, light, kind);
+        arrays.clear();
+        const Wedge& w = build(arrays, edge.e0, edge.e1, light);
+        if (w.flags != 0u) continue;
+        ASSERT_EQ(w.vertexCount % 3, 0u);
+        ASSERT_GE(w.vertexCount, 12u);
+        const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
+        std::map<std::array<float, 8>, int> directed;
+        for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec4& a = v[t + k];
+                const glm::vec4& b = v[t + (k + 1) % 3];
+                ++directed[{a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w}];
+            }
+        }
+        for (const auto& [key, count] : directed) {
+            ASSERT_EQ(count, 1) << "case " << c << "\n" << describe(edge, light);
+            const std::array<float, 8> reverse = {key[4], key[5], key[6], key[7],
+                                                  key[0], key[1], key[2], key[3]};
+            ASSERT_EQ(directed.count(reverse), 1u) << "case " << c << " kind "
+                                                   << static_cast<int>(kind);
+        }
+        // Winding number: directions become mid + K dir, all from one point, so the truncated
+        // surface stays closed (its cap is the far cap).
+        const dvec3 mid = 0.5 * (dvec3(edge.e0) + dvec3(edge.e1));
+        const Frame f = frameOf(light);
+        const double size = glm::length(mid - f.c) + glm::length(f.u) + glm::length(f.v);
+        auto lift = [&](const glm::vec4& q) {
+            return q.w == 0.0f ? mid + 1e6 * size * dvec3(vec3(q)) : dvec3(vec3(q));
+        };
+        const BrutePlanes brute = brutePlanes(edge.e0, edge.e1, light);
+        for (int i = 0; i < 20; ++i) {
+            const dvec3 p = mid + rng.uniform(0, 3) * size * rng.direction();
+            if (std::abs(brute.margin(p)) < 1e-3 * size) continue;
+            const dvec3 dir = rng.direction();
+            int winding = 0;
+            for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
+                const dvec3 a = lift(v[t]), b = lift(v[t + 1]), cc = lift(v[t + 2]);
+                if (segmentHitsTriangle(p, p + 1e9 * size * dir, a, b, cc))
+                    winding += glm::dot(glm::cross(b - a, cc - a), dir) > 0.0 ? 1 : -1;
+            }
+            ASSERT_EQ(winding, geometry::wedgeContains(w, vec3(p)) ? 1 : 0) << "case " << c;
+            ++tested;
+        }
+    }
+    EXPECT_GT(tested, 5000);
+}
+
+// (1) A square occluder parallel to a square light: Σ formula equals the closed form, also with
+// the light's frame mirrored (v -> -v), for receivers in and around the penumbra.
+TEST(WedgeTest, CoverageMatchesParallelRectangles) {
+    Rng rng(11);
+    double worst = 0.0;
+    for (int c = 0; c < 40; ++c) {
+        RectLight light;
+        light.center = vec3(rng.uniform(-1, 1), rng.uniform(5, 7), rng.uniform(-1, 1));
+        light.u = vec3(rng.uniform(0.1, 1.0), 0, 0);
+        light.v = vec3(0, 0, rng.uniform(0.1, 1.0));
+        geometry::HorizontalRect rect{};
+        rect.x0 = static_cast<float>(rng.uniform(-2, 0));
+        rect.x1 = rect.x0 + static_cast<float>(rng.uniform(0.2, 2));
+        rect.z0 = static_cast<float>(rng.uniform(-2, 0));
+        rect.z1 = rect.z0 + static_cast<float>(rng.uniform(0.2, 2));
+        rect.y = static_cast<float>(rng.uniform(1.5, 4.5));
+        const vec3 centre(0.5f * (rect.x0 + rect.x1), rect.y, 0.5f * (rect.z0 + rect.z1));
+        const std::vector<Triangle> tris =
+            quadTriangles(centre, vec3(0.5f * (rect.x1 - rect.x0), 0, 0),
+                          vec3(0, 0, 0.5f * (rect.z1 - rect.z0)));
+        const std::vector<DirectedEdge> loop = silhouetteEdges(tris, light.center, true);
+        ASSERT_EQ(loop.size(), 4u);
+        RectLight mirrored = light;
+        mirrored.v = -light.v;
+        for (int i = 0; i < 200; ++i) {
+            const vec3 p(rng.uniform(-5, 5), rng.uniform(0, rect.y - 0.05), rng.uniform(-5, 5));
+            const double exact = geometry::visibilityParallelRects(light, {&rect, 1}, p);
+            const double v = formulaVisibility(loop, tris, light, p);
+            const double vm = formulaVisibility(loop, tris, mirrored, p);
+            ASSERT_NEAR(v, exact, 1e-5) << "case " << c << " p " << p.x << " " << p.y << " "
+                                        << p.z;
+            ASSERT_NEAR(vm, exact, 1e-5);
+            worst = std::max(worst, std::abs(v - exact));
+        }
+    }
+    std::printf("[ wedge    ] parallel rectangles: max |V - exact| = %.3g\n", worst);
+}
+
+// (2) A tilted quad and a closed box against a 256 x 256 midpoint grid of light points with exact
+// segment-triangle tests. Grid error bound: a straight boundary line crossing the light gives
+// per column of width h = 2/256 an error of at most h/2 in length, so at most 256 h^2 / 2 = h in
+// area, h/4 as a fraction of the light's area 4. The occluded region's boundary inside the light
+// is the projection of the loop, so |error| <= edges * h / 4 (0.0078 for a quad, 0.0117 for a
+// hexagonal box outline); observed errors are far smaller.
+TEST(WedgeTest, CoverageMatchesGridForTiltedQuadAndBox) {
+    Rng rng(5);
+    const int grid = 256;
+    const double h = 2.0 / grid;
+    double worstQuad = 0.0, worstBox = 0.0;
+    int penumbra = 0;
+    for (int c = 0; c < 16; ++c) {
+        RectLight light;
+        light.center = vec3(0, 6, 0);
+        light.u = vec3(rng.uniform(0.3, 1.0), 0, rng.uniform(-0.2, 0.2));
+        light.v = vec3(rng.uniform(-0.3, 0.3), rng.uniform(-0.1, 0.1), rng.uniform(0.3, 1.0));
+        const bool box = c % 2 == 1;
+        // The formula with the silhouette from the centre is exact when every occluder face
+        // faces all of the light alike (no face plane cuts the light); draw until that holds.
+        std::vector<Triangle> tris;
+        for (bool cuts = true; cuts;) {
+            if (box) {
+                const vec3 lo(rng.uniform(-3, 2), rng.uniform(1, 2), rng.uniform(-3, 2));
+                tris = boxTriangles(lo, lo + vec3(rng.uniform(0.4, 3), rng.uniform(0.3, 1.5),
+                                                  rng.uniform(0.4, 3)));
+            } else {
+                const dvec3 axis =
+                    glm::normalize(dvec3(rng.uniform(-1, 1), 1.5, rng.uniform(-1, 1)));
+                const dvec3 a = glm::normalize(glm::cross(axis, dvec3(1, 0, 0.3)));
+                const dvec3 b = glm::cross(axis, a);
+                tris = quadTriangles(
+                    vec3(rng.uniform(-1, 1), rng.uniform(2, 3.5), rng.uniform(-1, 1)),
+                    vec3(a * rng.uniform(0.3, 1.0)), vec3(b * rng.uniform(0.3, 1.0)));
+            }
+            cuts = false;
+            for (const Triangle& t : tris) {
+                const dvec3 n = glm::cross(dvec3(t[1] - t[0]), dvec3(t[2] - t[0]));
+                int above = 0;
+                for (int k = 0; k < 4; ++k) {
+                    const vec3 y = light.point(k & 1 ? 1.0f : -1.0f, k & 2 ? 1.0f : -1.0f);
+                    above += glm::dot(n, dvec3(y - t[0])) > 0.0 ? 1 : 0;
+                }
+                cuts |= above != 0 && above != 4;
+            }
+        }
+        const std::vector<DirectedEdge> loop = silhouetteEdges(tris, light.center, !box);
+        const double bound = static_cast<double>(loop.size()) * h / 4.0;
+        for (int i = 0; i < 25; ++i) {
+            // Receivers on the ground and, for the box, beside it (part of it beyond the
+            // receiver's level: the clipping rule).
+            const double y = box && i % 3 == 0 ? rng.uniform(1.0, 2.5) : rng.uniform(0.0, 0.9);
+            vec3 p(rng.uniform(-4, 4), y, rng.uniform(-4, 4));
+            int crossings = 0; // parity of a ray against the closed box: inside or not
+            for (const Triangle& t : tris)
+                crossings += segmentHitsTriangle(dvec3(p), dvec3(p) + dvec3(1e3, 1.2345, 0.3),
+                                                 dvec3(t[0]), dvec3(t[1]), dvec3(t[2]));
+            if (box && crossings % 2 == 1) continue; // inside the box
+            const double v = formulaVisibility(loop, tris, light, p);
+            const double ref = gridVisibility(tris, light, p, grid);
+            if (ref > 0.0 && ref < 1.0) ++penumbra;
+            ASSERT_NEAR(v, ref, bound) << (box ? "box" : "quad") << " case " << c << " p "
+                                       << p.x << " " << p.y << " " << p.z;
+            (box ? worstBox : worstQuad) = std::max(box ? worstBox : worstQuad, std::abs(v - ref));
+        }
+    }
+    EXPECT_GT(penumbra, 15);
+    std::printf("[ wedge    ] vs 256^2 grid: max error quad %.2g, box %.2g (bounds 0.0078 for 4 "
+                "edges, 0.0117 for 6); %d penumbra points\n",
+                worstQuad, worstBox, penumbra);
+}
+
+// The clipping rule: an edge entirely beyond the receiver's level, or beyond the light's plane,
+// changes nothing; an edge crossing the receiver's level counts only its part between the
+// receiver and the light (here compared with the pre-clipped edge).
+TEST(WedgeTest, CoverageClipsToTheSlabBetweenPointAndLight) {
+    RectLight light; // centre (0, 6, 0), half sizes 0.5
+    const vec3 p(0.3f, 1.0f, 0.1f);
+    EXPECT_EQ(geometry::edgeCoverage(p, vec3(-1, 0.5f, 0.2f), vec3(1, 0.2f, 0.2f), light), 0.0f);
+    EXPECT_EQ(geometry::edgeCoverage(p, vec3(-1, 7.0f, 0.2f), vec3(1, 8.0f, 0.2f), light), 0.0f);
+    EXPECT_EQ(geometry::edgeCoverage(p, vec3(-1, 1.0f, 0.2f), vec3(1, 1.0f, 0.2f), light), 0.0f);
+    EXPECT_EQ(geometry::edgeCoverage(vec3(0, 6, 3), vec3(-1, 4, 0.2f), vec3(1, 4, 0.2f), light),
+              0.0f);
+    // Edge from below p's level up to 3: same as the part from p's level (y = 1) up.
+    const vec3 a(0.1f, -1.0f, 0.6f), b(0.35f, 3.0f, 0.0f);
+    const vec3 m = a + (b - a) * (2.0f / 4.0f); // y = 1
+    const float full = geometry::edgeCoverage(p, a, b, light);
+    const float clipped = geometry::edgeCoverage(p, m + (b - m) * 1e-6f, b, light);
+    EXPECT_NE(full, 0.0f);
+    EXPECT_NEAR(full, clipped, 1e-4f);
+    // An edge crossing the light's plane: only the part below it counts.
+    const vec3 c(0.2f, 4.0f, -0.8f), d(0.2f, 8.0f, 0.8f);
+    EXPECT_NEAR(geometry::edgeCoverage(p, c, d, light),
+                geometry::edgeCoverage(p, c, c + (d - c) * 0.5f, light), 1e-6f);
+    // Reversing the edge flips the sign.
+    EXPECT_FLOAT_EQ(geometry::edgeCoverage(p, b, a, light), -full);
+}
+
+// Timing (printed, not asserted): appendWedge and edgeCoverage over 100k random edges.
+TEST(WedgeTest, PrintTimings) {
+    Rng rng(99);
+    const int n = 100000;
+    std::vector<RectLight> lights(16);
+    for (RectLight& l : lights) l = randomLight(rng);
+    std::vector<TestEdge> edges;
+    std::vector<vec3> points;
+    edges.reserve(n);
+    for (int i = 0; i < n; ++i) {
+        edges.push_back(randomEdge(rng, lights[i % 16], EdgeKind::Generic));
+        points.push_back(vec3(0.5 * (dvec3(edges.back().e0) + dvec3(edges.back().e1)) +
+                              rng.uniform(0, 3) * rng.direction()));
+    }
+    // Steady state as in a frame loop: arrays reused (capacity kept), so time no page faults.
+    WedgeArrays arrays;
+    for (int i = 0; i < n; ++i)
+        geometry::appendWedge(edges[i].e0, edges[i].e1, lights[i % 16], arrays);
+    arrays.clear();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < n; ++i)
+        geometry::appendWedge(edges[i].e0, edges[i].e1, lights[i % 16], arrays);
+    const auto t1 = std::chrono::steady_clock::now();
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i)
+        sum += geometry::edgeCoverage(points[i], edges[i].e0, edges[i].e1, lights[i % 16]);
+    const auto t2 = std::chrono::steady_clock::now();
+    const double nsWedge = std::chrono::duration<double, std::nano>(t1 - t0).count() / n;
+    const double nsCov = std::chrono::duration<double, std::nano>(t2 - t1).count() / n;
+    std::printf("[ wedge    ] appendWedge %.0f ns/edge (%.1f vertices/wedge), edgeCoverage %.0f "
+                "ns/call (checksum %.3f)\n",
+                nsWedge, static_cast<double>(arrays.vertices.size()) / n, nsCov, sum);
+}
