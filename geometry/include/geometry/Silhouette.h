@@ -47,6 +47,7 @@ struct SilhouetteGroup {
                                                           // in edge order
     std::uint32_t firstVolumeVertex = 0, volumeVertexCount = 0; // SilhouetteFrame::volumeVertices
     std::uint32_t frontCapVertexCount = 0; // the first ones of the range: the front caps
+                                           // (0 unless SilhouetteSettings::capVertices)
     Aabb occluderBounds;  // the group's triangles
     Aabb influenceBounds; // conservative bounds of (volume ∪ wedges) ∩ scene bounds: where the
                           // group can change visibility (for scissor rectangles)
@@ -55,11 +56,22 @@ struct SilhouetteGroup {
 struct SilhouetteSettings {
     bool oneSidedClosed = true; // classic rule for closed meshes (see above)
     bool buildVolumes = true;
+    // Caps as vertices in volumeVertices (front caps, back caps, then sides), or, when false,
+    // by reference only: the group's `triangles` entries (with kTriangleFlipped) are its caps,
+    // which the GPU draws from the mesh's own static vertex data (front cap: the triangle,
+    // wound as light-oriented; back cap: the same reversed, extruded to infinity in the vertex
+    // shader), and volumeVertices holds the sides alone. Re-emitting every cap triangle costs
+    // ~96 bytes per triangle per frame; the reference costs 4.
+    bool capVertices = false;
     bool buildWedges = true;
 };
 
+// Set on a SilhouetteFrame::triangles entry whose triangle is flipped to face the light
+// (two-sided rule): its light-oriented winding is (a, c, b).
+inline constexpr std::uint32_t kTriangleFlipped = 1u << 31;
+
 struct SilhouetteFrame {
-    std::vector<std::uint32_t> triangles; // topology triangle ids, grouped
+    std::vector<std::uint32_t> triangles; // topology triangle ids | kTriangleFlipped, grouped
     std::vector<SilhouetteEdge> edges;    // grouped, then by loop, in loop order
     std::vector<SilhouetteLoop> loops;
     std::vector<SilhouetteGroup> groups;
