@@ -172,7 +172,7 @@ int run(const Options& opt) {
         objects.push_back(std::move(j));
     }
     report["objects"] = std::move(objects);
-    report["silhouette_groups"] = 0; // per-silhouette grouping lands with the wedge methods
+    report["silhouette_groups"] = last.silhouetteGroups; // per-silhouette grouping lands with the wedge methods
     report["wedges"] = 0;
     report["shadow_volume_triangles"] = last.volumeTriangles;
     nlohmann::json gpuJson = nlohmann::json::object(), cpuJson = nlohmann::json::object();

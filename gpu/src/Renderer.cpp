@@ -9,6 +9,7 @@
 #include <geometry/RayTracer.h>
 #include <geometry/Sampling.h>
 #include <geometry/ShadowVolume.h>
+#include <geometry/Silhouette.h>
 #include <geometry/Topology.h>
 #include <gpu/State.h>
 
@@ -321,6 +322,11 @@ struct Renderer::Impl {
     ShadePass shadePass;
     GpuTimers timers;
 
+    // Per-frame silhouettes from the light centre (topology once, groups/loops/volumes per
+    // light; reused while the light does not move). Built after `casters` is final.
+    std::vector<geometry::SilhouetteExtractor> extractors;
+    geometry::Aabb sceneBounds;
+
     geometry::ShadowVolumeGeometry volume;
     geometry::ShadowVolumeGeometry part; // scratch: one caster's volume
     std::vector<glm::vec4> rest;         // scratch: back caps and sides, after the front caps
@@ -348,6 +354,33 @@ struct Renderer::Impl {
             volume.capTriangles += part.capTriangles;
             volume.sideTriangles += part.sideTriangles;
             volume.silhouetteEdges += part.silhouetteEdges;
+        }
+        volume.vertices.insert(volume.vertices.end(), rest.begin(), rest.end());
+        return frontCapVertices;
+    }
+
+    // The light-centre volume from the silhouette groups (the hard method); front caps first.
+    // Returns the number of front-cap vertices and fills group/edge counts into `stats`.
+    std::size_t buildCentreVolume(FrameStats& stats) {
+        volume.clear();
+        rest.clear();
+        std::size_t frontCapVertices = 0;
+        geometry::SilhouetteSettings settings;
+        settings.buildWedges = false; // hard shadows need the volumes only
+        settings.capVertices = true;  // this pass draws caps from vertices (no vertex pulling)
+        for (auto& extractor : extractors) {
+            const geometry::SilhouetteFrame& f = extractor.update(scene.light, sceneBounds,
+                                                                  settings);
+            stats.silhouetteGroups += f.groups.size();
+            stats.silhouetteEdges += f.edges.size();
+            for (const auto& g : f.groups) {
+                const auto first = f.volumeVertices.begin() + g.firstVolumeVertex;
+                volume.vertices.insert(volume.vertices.end(), first,
+                                       first + g.frontCapVertexCount);
+                rest.insert(rest.end(), first + g.frontCapVertexCount,
+                            first + g.volumeVertexCount);
+                frontCapVertices += g.frontCapVertexCount;
+            }
         }
         volume.vertices.insert(volume.vertices.end(), rest.begin(), rest.end());
         return frontCapVertices;
@@ -408,8 +441,11 @@ Renderer::Renderer(const geometry::Scene& scene, const ShaderLoader& shaders) : 
         mImpl->triangles += object.mesh.triangles.size();
         if (object.method != geometry::ShadowMethod::None) mImpl->casters.emplace_back(object.mesh);
     }
+    mImpl->extractors.reserve(mImpl->casters.size());
+    for (const auto& topology : mImpl->casters) mImpl->extractors.emplace_back(topology);
     // Near plane: small against the scene so that a camera inside a level sees nearby walls.
     const geometry::Aabb b = scene.bounds();
+    mImpl->sceneBounds = b;
     const float diagonal = b.empty() ? 1.0f : glm::length(b.extent());
     mImpl->zNear = std::max(1e-4f * diagonal, 1e-4f);
     checkGl("renderer setup");
@@ -462,11 +498,10 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const float zero = 0.0f;
     glClearTexImage(m.targets.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
 
-    // Light-centre volume: the hard method draws it, every method reports its size.
+    // Light-centre silhouettes and volume: the hard method draws it, every method reports it.
     auto t0 = Clock::now();
-    std::size_t frontCaps = m.buildVolume(m.scene.light.center);
-    addCpuTime(stats.cpu, "shadow-volume-build", msSince(t0));
-    stats.silhouetteEdges = m.volume.silhouetteEdges;
+    std::size_t frontCaps = m.buildCentreVolume(stats);
+    addCpuTime(stats.cpu, "silhouettes", msSince(t0));
     stats.volumeTriangles = m.volume.vertices.size() / 3;
 
     switch (settings.method) {

@@ -59,7 +59,8 @@ struct FrameStats {
     std::vector<CpuTime> cpu;  // per CPU stage
     double frameMs = 0.0;      // wall clock of the whole frame, including GPU completion
     std::size_t triangles = 0;
-    std::size_t silhouetteEdges = 0; // edges extruded for the light centre (|m| != 0)
+    std::size_t silhouetteEdges = 0;  // directed silhouette edges from the light centre
+    std::size_t silhouetteGroups = 0; // groups (geometry/Silhouette.h) from the light centre
     std::size_t volumeTriangles = 0; // shadow-volume triangles for the light centre
 };
 
