@@ -95,14 +95,6 @@ bool clipRay(const glm::dvec3& p, const glm::dvec3& d, const Aabb& box, double t
     return true;
 }
 
-void extendClipped(Aabb& bounds, const glm::dvec3& p, const glm::dvec3& d, double tMax,
-                   const Aabb& box) {
-    double t0, t1;
-    if (!clipRay(p, d, box, tMax, t0, t1)) return;
-    bounds.extend(glm::vec3(p + t0 * d));
-    bounds.extend(glm::vec3(p + t1 * d));
-}
-
 bool contains(const Aabb& b, const glm::vec3& p) {
     return p.x >= b.min.x && p.y >= b.min.y && p.z >= b.min.z && p.x <= b.max.x &&
            p.y <= b.max.y && p.z <= b.max.z;
@@ -187,6 +179,7 @@ struct SilhouetteExtractor::Scratch {
     std::vector<std::uint8_t> visited;
     std::vector<SilhouetteEdge> copies;
     std::vector<std::uint32_t> multiVertices, ins, outs;
+    std::vector<std::uint8_t> straddles; // influence bounds: per edge of the group
 
     void build(const Topology& topology);
     void classify(const Topology& topology, const glm::vec3& light, bool oneSided);
@@ -397,7 +390,7 @@ bool sameBounds(const Aabb& a, const Aabb& b) { return a.min == b.min && a.max =
 
 bool sameSettings(const SilhouetteSettings& a, const SilhouetteSettings& b) {
     return a.oneSidedClosed == b.oneSidedClosed && a.buildVolumes == b.buildVolumes &&
-           a.buildWedges == b.buildWedges;
+           a.capVertices == b.capVertices && a.buildWedges == b.buildWedges;
 }
 
 } // namespace
@@ -543,143 +536,291 @@ void SilhouetteExtractor::Scratch::mergeGroups() {
 
 namespace {
 
+// The 12 box edges as pairs of corner indices (boxCorner: bit 0 = x, bit 1 = y, bit 2 = z).
+constexpr std::array<std::array<int, 2>, 12> kBoxEdges = {{{0, 1}, {2, 3}, {4, 5}, {6, 7},
+                                                           {0, 2}, {1, 3}, {4, 6}, {5, 7},
+                                                           {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+
+// Pairs of wedge planes whose normals are closer than this (sine of the angle) give no ray: the
+// corner of the cone's cross-section they would resolve is flatter than the final padding.
+constexpr double kParallelNormals = 1e-7;
+// A candidate ray is kept when no plane has it more than this (relative) outside. The normals
+// are exact float inputs and the test runs in double, so true rays pass with a wide margin; a
+// direction kept by the tolerance is a point of a slightly larger cone: still conservative.
+constexpr double kRayTolerance = 1e-9;
+// Two planes whose normals differ by less than this (max norm) count once for the rays.
+constexpr double kSameNormal = 1e-9;
+constexpr int kMaxWedgeRays = kMaxWedgePlanes * (kMaxWedgePlanes - 1) / 2;
+
+constexpr int kMixedFaces = -1;
+
+// Extends `bounds` by the part of the ray p + t d (t >= 0) inside `box`. Returns the box face
+// the ray leaves through (2 axis + (d[axis] > 0)) when it starts inside the box, else
+// kMixedFaces.
+int extendRayInBox(Aabb& bounds, const glm::vec3& p, const glm::vec3& d, const Aabb& box) {
+    float t0 = 0.0f, t1 = std::numeric_limits<float>::infinity();
+    int face = kMixedFaces;
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] == 0.0f) {
+            if (p[k] < box.min[k] || p[k] > box.max[k]) return kMixedFaces;
+            continue;
+        }
+        const float inv = 1.0f / d[k];
+        const float a = (box.min[k] - p[k]) * inv, b = (box.max[k] - p[k]) * inv;
+        t0 = std::max(t0, std::min(a, b));
+        const float exit = std::max(a, b);
+        if (exit < t1) {
+            t1 = exit;
+            face = 2 * k + (d[k] > 0.0f ? 1 : 0);
+        }
+    }
+    if (t0 > t1) return kMixedFaces;
+    bounds.extend(p + t0 * d);
+    bounds.extend(p + t1 * d);
+    return t0 > 0.0f ? kMixedFaces : face;
+}
+
+// Common exit face of several rays: kMixedFaces as soon as two differ.
+int mergeFaces(int a, int b) { return a == b ? a : kMixedFaces; }
+
+// The extreme rays of the recession cone C = { x : n_i . x <= 0 } of a wedge *as built*: the
+// directions in which its float planes let it reach infinity. appendWedge tilts every plane
+// outward until all shadow-ray generators are strictly inside (by up to ~0.1 rad when its hull
+// of the light's rays comes out degenerate), so C can be much wider than the exact cone over
+// the light's corners, and only the stored planes tell by how much.
+//
+// Every extreme ray of a pointed cone lies on two facets with independent normals, and a
+// direction on two planes that no plane excludes is an extreme ray. The planes are stored in
+// cyclic order around the cone, so first only neighbouring pairs are tried: a pointed cone
+// with p irredundant facets has exactly p extreme rays, so p distinct rays from p pairs are all
+// of them (O(p^2)). Otherwise (redundant or near-duplicate planes, another order) every pair is
+// tried (O(p^3), p <= 12).
+// Returns the ray count, or -1 when C is not pointed (it holds a line) or nothing resolved:
+// the caller then takes the whole box.
+int wedgeRays(const Wedge& wedge, std::array<glm::vec3, kMaxWedgeRays>& rays) {
+    std::array<glm::dvec3, kMaxWedgePlanes> n;
+    int count = 0;
+    for (std::uint32_t i = 0; i < wedge.planeCount; ++i) {
+        const glm::dvec3 c(wedge.planes[i]);
+        bool duplicate = false;
+        for (int j = 0; j < count && !duplicate; ++j) {
+            const glm::dvec3 diff = glm::abs(n[j] - c);
+            duplicate = std::max({diff.x, diff.y, diff.z}) < kSameNormal;
+        }
+        if (!duplicate) n[count++] = c;
+    }
+    int rayCount = 0;
+    bool line = false;
+    // Appends the ray of planes i and j if no plane excludes it and it is new (three or more
+    // planes through one ray give it several times).
+    const auto tryPair = [&](int i, int j) {
+        const glm::dvec3 r = glm::cross(n[i], n[j]);
+        const double len = glm::length(r);
+        if (len < kParallelNormals) return;
+        double hi = 0.0, lo = 0.0;
+        for (int k = 0; k < count; ++k) {
+            if (k == i || k == j) continue;
+            const double s = glm::dot(n[k], r);
+            hi = std::max(hi, s);
+            lo = std::min(lo, s);
+        }
+        const double tol = kRayTolerance * len;
+        const bool plus = hi <= tol, minus = lo >= -tol;
+        if (plus && minus) line = true; // every normal is orthogonal to r: a line in C
+        if (plus == minus) return;
+        const glm::vec3 ray((plus ? r : -r) / len);
+        for (int k = 0; k < rayCount; ++k) {
+            const glm::vec3 diff = glm::abs(rays[k] - ray);
+            if (std::max({diff.x, diff.y, diff.z}) <= 1e-6f) return;
+        }
+        rays[rayCount++] = ray;
+    };
+    for (int i = 0; i < count && !line; ++i) tryPair(i, (i + 1) % count);
+    if (line) return -1;
+    if (rayCount == count && count >= 3) return rayCount;
+    rayCount = 0;
+    for (int i = 0; i < count && !line; ++i) {
+        for (int j = i + 1; j < count && !line; ++j) tryPair(i, j);
+    }
+    return line || rayCount == 0 ? -1 : rayCount;
+}
+
 // Where the group can change visibility, clamped to the scene: the AABB of
-// (volume ∪ wedges) ∩ box. The extreme points of that set are vertices of its pieces: occluder
-// vertices (occluderBounds), rays from the silhouette vertices away from the light clipped to the
-// box, box corners inside a wedge or the volume, and the crossings of the wedge facets (or, without
-// wedges, of the volume's side quads) with the box edges. The side quads lie inside the wedges
-// (the light centre is a point of the light), so with wedges their crossings need no extra work.
+// (volume ∪ wedges) ∩ box, for the wedges as built (their float planes, which are looser than
+// the exact E + cone{e_i - c_j}: see wedgeRays).
+//
+// The extreme points of a convex piece P ∩ box are vertices: vertices of P inside the box,
+// crossings of P's edges with box faces, crossings of P's facets with box edges, and box
+// corners inside P. For a wedge P = conv(V) + C, V its finite vertices (at E, within the
+// planes' outward push) and C the recession cone above, so its edges are segments near E
+// (occluderBounds) and rays v + t r (r an extreme ray of C), approximated by e0 + t r and
+// e1 + t r: points of P (e0, e1 are in P, r in C) within the push of the true edges, which the
+// final padding covers. Facet crossings and corners use the stored planes, evaluated in float
+// exactly as wedgeContains does. The volume's boundary is its caps (in occluderBounds or at
+// infinity) and side quads, which lie inside the wedges (the light centre is a light point),
+// so with wedges only box corners inside the volume need a test of their own; without wedges
+// the side quads' rays and box-edge crossings are used instead.
+//
+// Work is ordered by cost: rays first, then box edges and corners, and those only where they can
+// matter. When every edge ray of a piece P starts inside the box and leaves it through the same
+// face F, P ∩ box = P ∩ (F's half-space), a bounded polytope whose vertices are P's finite
+// vertices and the ray exits on F (every recession direction of P leaves through F): no box
+// edge or corner can add anything. That holds for almost every wedge in practice (a penumbra
+// falls on one wall), so the per-edge box tests run only for the few pieces that straddle a box
+// edge, and only for box edges and corners still outside the bounds.
 Aabb influenceBounds(const SilhouetteFrame& frame, const SilhouetteGroup& group,
-                     const Topology& topo, const RectLight& light, const Aabb& box, bool wedges) {
+                     const Topology& topo, const glm::vec3& lc, const Aabb& box, bool wedges,
+                     std::vector<std::uint8_t>& straddles) {
     if (box.empty()) return Aabb{};
     const auto positions = topo.positions();
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    const glm::dvec3 lc(light.center);
-    const std::array<glm::dvec3, 5> lightPoints = {
-        lc, glm::dvec3(light.point(-1, -1)), glm::dvec3(light.point(1, -1)),
-        glm::dvec3(light.point(1, 1)), glm::dvec3(light.point(-1, 1))};
     Aabb b = group.occluderBounds;
+    std::array<glm::vec3, 8> corners;
+    for (int i = 0; i < 8; ++i) corners[i] = boxCorner(box, i);
+    const std::uint32_t edgeEnd = group.firstEdge + group.edgeCount;
+    const Wedge* groupWedges = wedges ? frame.wedges.wedges.data() + group.firstWedge : nullptr;
 
-    // Box edges: along axis k, at the (lo/hi) combinations of the two other axes.
-    const auto boxEdge = [&](int index, glm::dvec3& a, glm::dvec3& d) {
-        const int k = index / 4, i = (k + 1) % 3, j = (k + 2) % 3;
-        a[k] = box.min[k];
-        a[i] = index & 1 ? box.max[i] : box.min[i];
-        a[j] = index & 2 ? box.max[j] : box.min[j];
-        d = glm::dvec3(0.0);
-        d[k] = static_cast<double>(box.max[k]) - box.min[k];
-    };
-    const auto boxEdgeCovered = [&](int index) {
-        const int k = index / 4, i = (k + 1) % 3, j = (k + 2) % 3;
-        const float ci = index & 1 ? box.max[i] : box.min[i];
-        const float cj = index & 2 ? box.max[j] : box.min[j];
-        return ci >= b.min[i] && ci <= b.max[i] && cj >= b.min[j] && cj <= b.max[j] &&
-               b.min[k] <= box.min[k] && b.max[k] >= box.max[k];
-    };
-
-    for (std::uint32_t k = 0; k < group.edgeCount; ++k) {
-        if (coversBox(b, box)) break;
-        const SilhouetteEdge& se = frame.edges[group.firstEdge + k];
-        const glm::dvec3 e0(positions[se.v0]), e1(positions[se.v1]);
-        const Wedge* wedge = wedges ? &frame.wedges.wedges[group.firstWedge + k] : nullptr;
-        if (wedge && (wedge->flags & kWedgeUnbounded)) {
-            b.extend(box);
-            break;
-        }
-        for (const glm::dvec3& v : {e0, e1}) {
-            for (const glm::dvec3& c : lightPoints) {
-                if (v != c) extendClipped(b, v, v - c, kInf, box);
+    // Pass 1: rays, and which pieces straddle a box edge.
+    straddles.assign(group.edgeCount, 0);
+    std::array<glm::vec3, kMaxWedgeRays> rays;
+    for (std::uint32_t k = group.firstEdge; k < edgeEnd; ++k) {
+        const glm::vec3 e0 = positions[frame.edges[k].v0];
+        const glm::vec3 e1 = positions[frame.edges[k].v1];
+        int face;
+        if (!wedges) {
+            // The side quad's two edge rays (a vertex at the light casts none).
+            face = e0 != lc ? extendRayInBox(b, e0, e0 - lc, box) : kMixedFaces;
+            face = mergeFaces(face, e1 != lc ? extendRayInBox(b, e1, e1 - lc, box) : kMixedFaces);
+        } else {
+            const Wedge& wedge = groupWedges[k - group.firstEdge];
+            if (wedge.flags & kWedgeDegenerate) continue;
+            const int rayCount = (wedge.flags & kWedgeUnbounded) ? -1 : wedgeRays(wedge, rays);
+            if (rayCount < 0) return box; // may reach any point of the scene
+            face = extendRayInBox(b, e0, rays[0], box);
+            for (int r = 0; r < rayCount; ++r) {
+                if (r > 0) face = mergeFaces(face, extendRayInBox(b, e0, rays[r], box));
+                face = mergeFaces(face, extendRayInBox(b, e1, rays[r], box));
             }
         }
-        extendClipped(b, e0, e1 - e0, 1.0, box);
-        for (int be = 0; be < 12; ++be) {
-            if (boxEdgeCovered(be)) continue;
-            glm::dvec3 a, d;
-            boxEdge(be, a, d);
-            if (wedge) {
-                if (wedge->planeCount == 0) continue; // degenerate: nothing inside
-                // Clip a + t d, t in [0, 1], by the wedge's planes (n.x + w <= 0 inside).
-                double t0 = 0.0, t1 = 1.0;
-                for (std::uint32_t p = 0; p < wedge->planeCount && t0 <= t1; ++p) {
-                    const glm::dvec3 n(wedge->planes[p]);
-                    const double f0 = glm::dot(n, a) + wedge->planes[p].w;
-                    const double fd = glm::dot(n, d);
-                    if (fd == 0.0) {
-                        if (f0 > 0.0) t1 = -1.0;
-                    } else if (fd > 0.0) {
-                        t1 = std::min(t1, -f0 / fd);
+        straddles[k - group.firstEdge] = face == kMixedFaces;
+        // Typical in interiors (the light inside, walls all around): the group's penumbrae
+        // already reach every wall, nothing further can grow the bounds.
+        if (coversBox(b, box)) return box;
+    }
+
+    // Pass 2: box edges and corners not yet inside the bounds.
+    std::uint32_t cornersOut = 0, edgesOut = 0;
+    const auto updateOutside = [&] {
+        cornersOut = 0;
+        for (int i = 0; i < 8; ++i) cornersOut |= contains(b, corners[i]) ? 0u : 1u << i;
+        edgesOut = 0;
+        for (int e = 0; e < 12; ++e) {
+            // An edge is covered when both its ends are (the bounds are a box).
+            edgesOut |= (cornersOut >> kBoxEdges[e][0] | cornersOut >> kBoxEdges[e][1]) & 1u
+                            ? 1u << e
+                            : 0u;
+        }
+    };
+    updateOutside();
+    for (std::uint32_t k = group.firstEdge; k < edgeEnd && edgesOut != 0; ++k) {
+        if (!straddles[k - group.firstEdge]) continue;
+        const Aabb before = b;
+        if (wedges) {
+            const Wedge& wedge = groupWedges[k - group.firstEdge];
+            if (wedge.flags & kWedgeDegenerate) continue;
+            // f[p][c]: plane p at corner c, as wedgeContains evaluates it.
+            std::array<std::array<float, 8>, kMaxWedgePlanes> f;
+            const auto planeCount = static_cast<int>(wedge.planeCount);
+            for (int p = 0; p < planeCount; ++p) {
+                const glm::vec4& pl = wedge.planes[p];
+                for (int c = 0; c < 8; ++c)
+                    f[p][c] = glm::dot(glm::vec3(pl), corners[c]) + pl.w;
+            }
+            for (int c = 0; c < 8; ++c) {
+                if (!(cornersOut >> c & 1u)) continue;
+                bool inside = true;
+                for (int p = 0; p < planeCount && inside; ++p) inside = f[p][c] <= 0.0f;
+                if (inside) b.extend(corners[c]);
+            }
+            for (int e = 0; e < 12; ++e) {
+                if (!(edgesOut >> e & 1u)) continue;
+                const int ca = kBoxEdges[e][0], cb = kBoxEdges[e][1];
+                float t0 = 0.0f, t1 = 1.0f;
+                for (int p = 0; p < planeCount && t0 <= t1; ++p) {
+                    const float fa = f[p][ca], fb = f[p][cb];
+                    if (fa <= 0.0f && fb <= 0.0f) continue;
+                    if (fa > 0.0f && fb > 0.0f) {
+                        t1 = -1.0f;
+                        break;
+                    }
+                    const float t = fa / (fa - fb);
+                    if (fa > 0.0f) {
+                        t0 = std::max(t0, t);
                     } else {
-                        t0 = std::max(t0, -f0 / fd);
+                        t1 = std::min(t1, t);
                     }
                 }
-                if (t0 <= t1) {
-                    b.extend(glm::vec3(a + t0 * d));
-                    b.extend(glm::vec3(a + t1 * d));
-                }
-                continue;
+                if (t0 > t1) continue;
+                const glm::vec3 d = corners[cb] - corners[ca];
+                b.extend(corners[ca] + t0 * d);
+                b.extend(corners[ca] + t1 * d);
             }
-            // No wedges: the side quad E + cone{e0 - l, e1 - l} (planar) against the box edge.
-            const glm::dvec3 r0 = e0 - lc, r1 = e1 - lc;
+        } else {
+            // The side quad E + cone{e0 - lc, e1 - lc} (planar) against the box edges.
+            const glm::dvec3 l(lc);
+            const glm::dvec3 r0 = glm::dvec3(positions[frame.edges[k].v0]) - l;
+            const glm::dvec3 r1 = glm::dvec3(positions[frame.edges[k].v1]) - l;
             const glm::dvec3 n = glm::cross(r0, r1);
             const double nn = glm::dot(n, n);
             if (nn == 0.0) continue; // edge in line with the light: a flat, empty quad
-            const double fd = glm::dot(n, d), f0 = glm::dot(n, a - lc);
-            if (std::abs(fd) <= 1e-12 * std::sqrt(nn) * glm::length(d)) {
-                // Box edge in (or parallel to) the quad's plane: conservatively take it whole.
-                if (std::abs(f0) <= 1e-9 * std::sqrt(nn) * (glm::length(a - lc) + 1.0)) {
-                    b.extend(glm::vec3(a));
-                    b.extend(glm::vec3(a + d));
+            std::array<double, 8> f;
+            for (int c = 0; c < 8; ++c) f[c] = glm::dot(n, glm::dvec3(corners[c]) - l);
+            const double onPlane = 1e-9 * std::sqrt(nn) * (glm::length(box.extent()) + 1.0);
+            for (int e = 0; e < 12; ++e) {
+                if (!(edgesOut >> e & 1u)) continue;
+                const int ca = kBoxEdges[e][0], cb = kBoxEdges[e][1];
+                const double fa = f[ca], fb = f[cb];
+                if (std::abs(fa) <= onPlane && std::abs(fb) <= onPlane) {
+                    // Box edge in the quad's plane: conservatively take it whole.
+                    b.extend(corners[ca]);
+                    b.extend(corners[cb]);
+                    continue;
                 }
-                continue;
-            }
-            const double t = -f0 / fd;
-            if (t < 0.0 || t > 1.0) continue;
-            const glm::dvec3 x = a + t * d - lc;
-            // x = alpha r0 + beta r1 with alpha, beta >= 0 and alpha + beta >= 1 (beyond E).
-            const double alpha = glm::dot(glm::cross(x, r1), n) / nn;
-            const double beta = glm::dot(glm::cross(r0, x), n) / nn;
-            constexpr double kTol = 1e-9;
-            if (alpha >= -kTol && beta >= -kTol && alpha + beta >= 1.0 - kTol) {
-                b.extend(glm::vec3(x + lc));
+                if ((fa > 0.0 && fb > 0.0) || (fa < 0.0 && fb < 0.0)) continue;
+                const double t = fa / (fa - fb);
+                const glm::dvec3 a(corners[ca]);
+                const glm::dvec3 x = a + t * (glm::dvec3(corners[cb]) - a) - l;
+                // x = alpha r0 + beta r1 with alpha, beta >= 0 and alpha + beta >= 1 (beyond E).
+                const double alpha = glm::dot(glm::cross(x, r1), n) / nn;
+                const double beta = glm::dot(glm::cross(r0, x), n) / nn;
+                constexpr double kTol = 1e-9;
+                if (alpha >= -kTol && beta >= -kTol && alpha + beta >= 1.0 - kTol)
+                    b.extend(glm::vec3(x + l));
             }
         }
+        if (b.min != before.min || b.max != before.max) updateOutside();
     }
 
-    // Box corners inside a wedge or inside the volume (the segment to the light centre crosses
-    // one of the group's triangles). Only corners outside the bounds so far can change them.
+    // Box corners inside the volume (the segment to the light centre crosses one of the
+    // group's triangles). Corners inside a wedge were taken above.
     const auto groupTriangles = std::span<const std::uint32_t>(frame.triangles)
                                     .subspan(group.firstTriangle, group.triangleCount);
     for (int i = 0; i < 8; ++i) {
-        const glm::vec3 corner = boxCorner(box, i);
-        if (contains(b, corner)) continue;
-        bool inside = false;
-        if (wedges) {
-            for (std::uint32_t k = 0; k < group.edgeCount && !inside; ++k)
-                inside = wedgeContains(frame.wedges.wedges[group.firstWedge + k], corner);
+        if (!(cornersOut >> i & 1u) || contains(b, corners[i])) continue;
+        const glm::dvec3 p(corners[i]);
+        double t0, t1;
+        if (!clipRay(p, glm::dvec3(lc) - p, group.occluderBounds, 1.0, t0, t1)) continue;
+        bool inside = group.triangleCount > kExactCornerTestLimit; // conservative for big groups
+        for (std::size_t j = 0; j < groupTriangles.size() && !inside; ++j) {
+            const glm::uvec3 tri = topo.triangles()[groupTriangles[j] & ~kTriangleFlipped];
+            inside = segmentHitsTriangle(p, glm::dvec3(lc), glm::dvec3(positions[tri.x]),
+                                         glm::dvec3(positions[tri.y]),
+                                         glm::dvec3(positions[tri.z]));
         }
-        if (!inside) {
-            const glm::dvec3 p(corner);
-            double t0, t1;
-            if (clipRay(p, lc - p, group.occluderBounds, 1.0, t0, t1)) {
-                if (group.triangleCount > kExactCornerTestLimit) {
-                    inside = true; // conservative: the segment passes through the occluder box
-                } else {
-                    for (const std::uint32_t t : groupTriangles) {
-                        const glm::uvec3 tri = topo.triangles()[t];
-                        if (segmentHitsTriangle(p, lc, glm::dvec3(positions[tri.x]),
-                                                glm::dvec3(positions[tri.y]),
-                                                glm::dvec3(positions[tri.z]))) {
-                            inside = true;
-                            break;
-                        }
-                    }
-                }
-            }
-        }
-        if (inside) b.extend(corner);
+        if (inside) b.extend(corners[i]);
     }
 
-    // Float rounding of the clipped points: pad by a hair, then clamp to the scene.
+    // Float rounding of the clipped points and the push of the wedge planes: pad by a hair,
+    // then clamp to the scene.
     const glm::vec3 pad = 1e-5f * (box.extent() + glm::vec3(1e-6f));
     b.min = glm::max(b.min - pad, box.min);
     b.max = glm::min(b.max + pad, box.max);
@@ -823,6 +964,7 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
     // groupCursor[g] is now the end of group g; its start is groupCursor[g - 1] (or 0).
 
     // Step 5: ranges.
+    const bool capVertices = settings.buildVolumes && settings.capVertices;
     std::uint32_t triangleTotal = 0, edgeTotal = 0;
     std::size_t volumeTotal = 0;
     frame.groups.resize(groupCount);
@@ -837,8 +979,8 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
         group.occluderBounds = s.groupBounds[g];
         if (settings.buildVolumes) {
             group.firstVolumeVertex = static_cast<std::uint32_t>(volumeTotal);
-            group.frontCapVertexCount = 3 * group.triangleCount;
-            group.volumeVertexCount = 6 * group.triangleCount + 6 * group.edgeCount;
+            group.frontCapVertexCount = capVertices ? 3 * group.triangleCount : 0;
+            group.volumeVertexCount = 2 * group.frontCapVertexCount + 6 * group.edgeCount;
             volumeTotal += group.volumeVertexCount;
         }
         triangleTotal += group.triangleCount;
@@ -848,19 +990,19 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
     frame.triangles.resize(triangleTotal);
     frame.volumeVertices.resize(volumeTotal);
 
-    // Step 6: triangles of each group and, in the same pass, its front and back caps.
+    // Step 6: triangles of each group (with kTriangleFlipped: the GPU draws the caps from them)
+    // and, in the same pass, its front and back caps as vertices when asked for.
     s.groupCursor.resize(groupCount + 1);
     for (std::uint32_t g = 0; g < groupCount; ++g)
         s.groupCursor[g] = 0;
     std::uint32_t* triOut = frame.triangles.data();
     glm::vec4* volOut = frame.volumeVertices.data();
-    const bool caps = settings.buildVolumes;
     const auto emitTriangle = [&](std::uint32_t t, const SilhouetteGroup& group,
                                   std::uint32_t k) {
-        triOut[group.firstTriangle + k] = s.topologyId[t];
-        if (!caps) return;
-        const glm::uvec3 tri = s.localTriangles[t];
         const bool flip = orient[t] < 0;
+        triOut[group.firstTriangle + k] = s.topologyId[t] | (flip ? kTriangleFlipped : 0u);
+        if (!capVertices) return;
+        const glm::uvec3 tri = s.localTriangles[t];
         const glm::vec3 a = positions[tri.x];
         const glm::vec3 b = positions[flip ? tri.z : tri.y];
         const glm::vec3 c = positions[flip ? tri.y : tri.z];
@@ -1017,7 +1159,8 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
             }
         }
         group.influenceBounds =
-            influenceBounds(frame, group, topo, light, sceneBounds, settings.buildWedges);
+            influenceBounds(frame, group, topo, lc, sceneBounds, settings.buildWedges,
+                            s.straddles);
     }
     return frame;
 }

@@ -2,8 +2,11 @@
 // Benchmark.
 //
 // - silhouette_full: SilhouetteExtractor::update with default settings (classification,
-//   multiplicities, groups and loops, z-fail volumes, penumbra wedges): everything the CPU does
-//   per frame for one object. Target: <= 5 ms per 1M triangles on one core (>= 200 Mtri/s).
+//   multiplicities, groups and loops, z-fail volumes with caps by reference, penumbra wedges):
+//   everything the CPU does per frame for one object. Target: <= 5 ms per 1M triangles on one
+//   core (>= 200 Mtri/s).
+// - silhouette_full_caps: the same with capVertices = true (both caps of every light-oriented
+//   triangle re-emitted as vertices, ~96 bytes per triangle per frame), for comparison.
 // - silhouette_volumes: the same without wedges; silhouette_classify: without volumes and wedges
 //   (classification, multiplicities, groups, loops). The differences show where the time goes.
 // - topology_build: Topology construction (welding, edge CSR, OpenMesh), once per mesh; context
@@ -171,6 +174,12 @@ void silhouetteFull(benchmark::State& state, const MeshSpec* spec) {
     runExtractor(state, *spec, geometry::SilhouetteSettings{});
 }
 
+void silhouetteFullCaps(benchmark::State& state, const MeshSpec* spec) {
+    geometry::SilhouetteSettings settings;
+    settings.capVertices = true;
+    runExtractor(state, *spec, settings);
+}
+
 void silhouetteVolumes(benchmark::State& state, const MeshSpec* spec) {
     geometry::SilhouetteSettings settings;
     settings.buildWedges = false;
@@ -272,7 +281,8 @@ int pinToCurrentCpu() {
 } // namespace
 
 int main(int argc, char** argv) {
-    // Registered mesh by mesh (full, volumes, classify, topology) so the one-mesh cache is hit.
+    // Registered mesh by mesh (full, full with cap vertices, volumes, classify, topology) so the
+    // one-mesh cache is hit.
     static const std::vector<MeshSpec> specs = meshSpecs();
     for (const MeshSpec& spec : specs) {
         const auto reg = [&](const char* kind, void (*fn)(benchmark::State&, const MeshSpec*)) {
@@ -281,6 +291,7 @@ int main(int argc, char** argv) {
                 ->Threads(1);
         };
         reg("silhouette_full", silhouetteFull);
+        reg("silhouette_full_caps", silhouetteFullCaps);
         reg("silhouette_volumes", silhouetteVolumes);
         reg("silhouette_classify", silhouetteClassify);
         reg("topology_build", topologyBuild);

@@ -143,11 +143,22 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     return x;
 }
 
+// The light-oriented corners of a SilhouetteFrame::triangles entry: (a, b, c), or (a, c, b)
+// when it carries kTriangleFlipped.
+std::array<glm::vec3, 3> referencedCap(const Topology& topo, std::uint32_t entry) {
+    const glm::uvec3 tri = topo.triangles()[entry & ~kTriangleFlipped];
+    const bool flip = (entry & kTriangleFlipped) != 0;
+    const auto positions = topo.positions();
+    return {positions[tri.x], positions[flip ? tri.z : tri.y], positions[flip ? tri.y : tri.z]};
+}
+
 // Checks every structural invariant of one frame against brute force; returns the number of
 // silhouette edge copies (for the callers' expectations).
 void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
-                bool oneSided, bool wedges, const std::string& what) {
+                bool oneSided, const SilhouetteSettings& settings, const std::string& what) {
     SCOPED_TRACE(what);
+    const bool wedges = settings.buildWedges;
+    const bool capVertices = settings.buildVolumes && settings.capVertices;
     const Reference ref = reference(topo, light, oneSided);
     const std::size_t triangleCount = topo.triangles().size();
 
@@ -168,17 +179,24 @@ void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::v
         nextEdge += group.edgeCount;
         nextLoop += group.loopCount;
         for (std::uint32_t i = group.firstTriangle; i < nextTriangle; ++i) {
-            const std::uint32_t t = frame.triangles[i];
+            const std::uint32_t t = frame.triangles[i] & ~kTriangleFlipped;
             ASSERT_LT(t, triangleCount);
             ASSERT_EQ(groupOf[t], -1) << "triangle " << t << " in two groups";
             ASSERT_NE(ref.orientation[t], 0) << "non-participating triangle " << t;
+            // Flipped exactly when it takes part facing away (two-sided rule), in both modes.
+            EXPECT_EQ((frame.triangles[i] & kTriangleFlipped) != 0, ref.orientation[t] < 0)
+                << "triangle " << t;
             groupOf[t] = static_cast<int>(g);
         }
-        if (!frame.volumeVertices.empty()) {
+        if (settings.buildVolumes) {
             EXPECT_EQ(group.firstVolumeVertex, nextVolume);
-            EXPECT_EQ(group.frontCapVertexCount, 3 * group.triangleCount);
-            EXPECT_EQ(group.volumeVertexCount, 6 * group.triangleCount + 6 * group.edgeCount);
+            // Caps by reference (the default): the range holds the sides alone.
+            const std::uint32_t capCount = capVertices ? 3 * group.triangleCount : 0;
+            EXPECT_EQ(group.frontCapVertexCount, capCount);
+            EXPECT_EQ(group.volumeVertexCount, 2 * capCount + 6 * group.edgeCount);
             nextVolume += group.volumeVertexCount;
+        } else {
+            EXPECT_EQ(group.volumeVertexCount, 0u);
         }
         if (wedges) {
             EXPECT_EQ(group.firstWedge, group.firstEdge);
@@ -222,7 +240,7 @@ void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::v
         std::map<std::uint32_t, std::int32_t> expected, actual;
         for (std::uint32_t i = group.firstTriangle; i < group.firstTriangle + group.triangleCount;
              ++i) {
-            const std::uint32_t t = frame.triangles[i];
+            const std::uint32_t t = frame.triangles[i] & ~kTriangleFlipped;
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t e = topo.triangleEdges()[t][k];
                 const Edge edge = topo.edges()[e];
@@ -280,8 +298,15 @@ void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::v
         }
         EXPECT_EQ(covered, group.edgeCount);
 
-        // Front caps are light-oriented, and the occluder bounds hold the group's triangles.
-        if (!frame.volumeVertices.empty()) {
+        // Front caps are light-oriented (as vertices, and as referenced triangles wound by their
+        // flag), and the occluder bounds hold the group's triangles.
+        for (std::uint32_t i = group.firstTriangle; i < group.firstTriangle + group.triangleCount;
+             ++i) {
+            const std::array<glm::vec3, 3> cap = referencedCap(topo, frame.triangles[i]);
+            const glm::dvec3 a(cap[0]), b(cap[1]), c(cap[2]);
+            EXPECT_GE(glm::dot(glm::cross(b - a, c - a), glm::dvec3(light) - a), 0.0);
+        }
+        if (capVertices) {
             for (std::uint32_t i = 0; i < group.frontCapVertexCount; i += 3) {
                 const glm::dvec3 a(frame.volumeVertices[group.firstVolumeVertex + i]),
                     b(frame.volumeVertices[group.firstVolumeVertex + i + 1]),
@@ -292,7 +317,8 @@ void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::v
         for (std::uint32_t i = group.firstTriangle; i < group.firstTriangle + group.triangleCount;
              ++i) {
             for (int k = 0; k < 3; ++k) {
-                const glm::vec3 p = topo.positions()[topo.triangles()[frame.triangles[i]][k]];
+                const glm::vec3 p =
+                    topo.positions()[topo.triangles()[frame.triangles[i] & ~kTriangleFlipped][k]];
                 EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, group.occluderBounds.min)) &&
                             glm::all(glm::lessThanEqual(p, group.occluderBounds.max)));
             }
@@ -301,6 +327,29 @@ void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::v
 }
 
 // --- Volumes -------------------------------------------------------------------------------------
+
+// Every group's closed volume as vertices: the frame's own range when it holds the caps
+// (capVertices), else the caps built from the referenced triangles as the GPU draws them (front:
+// the triangle wound light-oriented; back: the same reversed at infinity), then the sides.
+std::vector<glm::vec4> groupVolumeVertices(const Topology& topo, const SilhouetteFrame& frame,
+                                           const glm::vec3& light) {
+    std::vector<glm::vec4> out;
+    for (const SilhouetteGroup& group : frame.groups) {
+        const auto first = frame.volumeVertices.begin() + group.firstVolumeVertex;
+        if (group.frontCapVertexCount == 0) {
+            for (std::uint32_t i = group.firstTriangle;
+                 i < group.firstTriangle + group.triangleCount; ++i) {
+                const std::array<glm::vec3, 3> cap = referencedCap(topo, frame.triangles[i]);
+                out.insert(out.end(), {glm::vec4(cap[0], 1.0f), glm::vec4(cap[1], 1.0f),
+                                       glm::vec4(cap[2], 1.0f), glm::vec4(cap[0] - light, 0.0f),
+                                       glm::vec4(cap[2] - light, 0.0f),
+                                       glm::vec4(cap[1] - light, 0.0f)});
+            }
+        }
+        out.insert(out.end(), first, first + group.volumeVertexCount);
+    }
+    return out;
+}
 
 // A homogeneous volume truncated at light + far * (x - light) for its w = 0 vertices: sides and
 // back caps share those vertices, so the result is a closed finite polyhedron with the same
@@ -379,7 +428,8 @@ void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm:
                   const std::string& what) {
     SCOPED_TRACE(what);
     const double far = 1e3 * (glm::length(box.extent()) + glm::length(glm::dvec3(light)));
-    const std::vector<glm::dvec3> groups = truncate(frame.volumeVertices, light, far);
+    const std::vector<glm::dvec3> groups =
+        truncate(groupVolumeVertices(topo, frame, light), light, far);
     ShadowVolumeGeometry hard;
     appendHardShadowVolume(topo, light, hard);
     const std::vector<glm::dvec3> whole = truncate(hard.vertices, light, far);
@@ -428,7 +478,7 @@ void checkInfluence(const Topology& topo, const SilhouetteFrame& frame, const gl
                 const glm::dvec3 dir = glm::dvec3(light) - glm::dvec3(p);
                 for (std::uint32_t j = group.firstTriangle;
                      j < group.firstTriangle + group.triangleCount && !in; ++j) {
-                    const glm::uvec3 tri = topo.triangles()[frame.triangles[j]];
+                    const glm::uvec3 tri = topo.triangles()[frame.triangles[j] & ~kTriangleFlipped];
                     const glm::dvec3 a(topo.positions()[tri.x]), e1 = glm::dvec3(
                         topo.positions()[tri.y]) - a, e2 = glm::dvec3(topo.positions()[tri.z]) - a;
                     const glm::dvec3 h = glm::cross(dir, e2), s = glm::dvec3(p) - a,
@@ -466,7 +516,7 @@ void runFullCheck(const Case& c, const SilhouetteSettings& settings, std::mt1993
     const SilhouetteFrame& frame = extractor.update(light, box, settings);
     const bool oneSided =
         settings.oneSidedClosed && topo.manifoldness() == Manifoldness::Closed;
-    checkFrame(topo, frame, c.light, oneSided, settings.buildWedges, c.name);
+    checkFrame(topo, frame, c.light, oneSided, settings, c.name);
     if (settings.buildVolumes) checkVolumes(topo, frame, c.light, oneSided, box, volumePoints,
                                             rng, c.name);
     if (settings.buildVolumes || settings.buildWedges) {
@@ -499,12 +549,13 @@ TEST(Silhouette, ClosedSphereHasOneGroupOneLoop) {
     SilhouetteExtractor extractor(topo);
     for (const glm::vec3 l : {glm::vec3(0.3f, 4.0f, 0.2f), glm::vec3(-5.0f, 0.7f, 2.0f),
                               glm::vec3(1.5f, -1.2f, 1.1f)}) {
+        const SilhouetteSettings settings{.buildWedges = false};
         const SilhouetteFrame& frame =
-            extractor.update(lightAt(l), boxAround(topo, 2.0f), {.buildWedges = false});
+            extractor.update(lightAt(l), boxAround(topo, 2.0f), settings);
         ASSERT_EQ(frame.groups.size(), 1u);
         EXPECT_EQ(totalLoops(frame), 1u);
         EXPECT_GT(frame.edges.size(), 20u);
-        checkFrame(topo, frame, l, true, false, "sphere");
+        checkFrame(topo, frame, l, true, settings, "sphere");
     }
 }
 
@@ -530,12 +581,12 @@ TEST(Silhouette, TorusFromAboveHasTwoLoops) {
     const Topology topo(torusMesh(2.0f, 0.5f, 48, 24));
     ASSERT_EQ(topo.manifoldness(), Manifoldness::Closed);
     SilhouetteExtractor extractor(topo);
+    const SilhouetteSettings settings{.buildWedges = false};
     const SilhouetteFrame& frame =
-        extractor.update(lightAt({0.0f, 10.0f, 0.0f}), boxAround(topo, 2.0f),
-                         {.buildWedges = false});
+        extractor.update(lightAt({0.0f, 10.0f, 0.0f}), boxAround(topo, 2.0f), settings);
     ASSERT_EQ(frame.groups.size(), 1u);
     EXPECT_EQ(frame.groups[0].loopCount, 2u);
-    checkFrame(topo, frame, {0.0f, 10.0f, 0.0f}, true, false, "torus");
+    checkFrame(topo, frame, {0.0f, 10.0f, 0.0f}, true, settings, "torus");
 }
 
 TEST(Silhouette, QuadHasOneLoopOfFourEdges) {
@@ -543,12 +594,13 @@ TEST(Silhouette, QuadHasOneLoopOfFourEdges) {
     SilhouetteExtractor extractor(topo);
     for (const float y : {3.0f, -3.0f}) { // two-sided: from either side
         const glm::vec3 l(0.3f, y, 0.2f);
+        const SilhouetteSettings settings{.buildWedges = false};
         const SilhouetteFrame& frame =
-            extractor.update(lightAt(l), boxAround(topo, 3.0f), {.buildWedges = false});
+            extractor.update(lightAt(l), boxAround(topo, 3.0f), settings);
         ASSERT_EQ(frame.groups.size(), 1u);
         ASSERT_EQ(frame.loops.size(), 1u);
         EXPECT_EQ(frame.loops[0].edgeCount, 4u);
-        checkFrame(topo, frame, l, false, false, "quad");
+        checkFrame(topo, frame, l, false, settings, "quad");
     }
 }
 
@@ -561,23 +613,32 @@ TEST(Silhouette, OpenBoxAndFanBalance) {
         SilhouetteExtractor extractor(topo);
         for (int trial = 0; trial < 40; ++trial) {
             const glm::vec3 l(coord(rng), coord(rng), coord(rng));
+            // Alternate the cap modes: the flags must be right in both.
+            const SilhouetteSettings settings{.capVertices = trial % 2 == 1, .buildWedges = false};
             const SilhouetteFrame& frame =
-                extractor.update(lightAt(l), boxAround(topo, 3.0f), {.buildWedges = false});
-            checkFrame(topo, frame, l, false, false, c.name);
+                extractor.update(lightAt(l), boxAround(topo, 3.0f), settings);
+            checkFrame(topo, frame, l, false, settings, c.name);
             if (HasFatalFailure()) return;
         }
     }
 }
 
 TEST(Silhouette, GroupVolumesMatchHardVolume) {
-    std::mt19937 rng(2024);
-    for (const Case& c : smallCases())
-        runFullCheck(c, {.buildWedges = false}, rng);
-    // Closed meshes with the two-sided rule too (both sides cast: counts up to 2).
-    runFullCheck({"cube two-sided", cubeMesh(), {3.0f, 4.0f, 2.5f}},
-                 {.oneSidedClosed = false, .buildWedges = false}, rng);
-    runFullCheck({"torus two-sided", torusMesh(2.0f, 0.5f, 24, 12), {1.0f, 3.0f, 0.5f}},
-                 {.oneSidedClosed = false, .buildWedges = false}, rng);
+    // Both cap modes: by reference (caps built from `triangles` and their flags, as the GPU
+    // draws them) and as vertices.
+    for (const bool capVertices : {false, true}) {
+        SCOPED_TRACE(capVertices ? "caps as vertices" : "caps by reference");
+        std::mt19937 rng(2024);
+        for (const Case& c : smallCases())
+            runFullCheck(c, {.capVertices = capVertices, .buildWedges = false}, rng);
+        // Closed meshes with the two-sided rule too (both sides cast: counts up to 2).
+        runFullCheck({"cube two-sided", cubeMesh(), {3.0f, 4.0f, 2.5f}},
+                     {.oneSidedClosed = false, .capVertices = capVertices, .buildWedges = false},
+                     rng);
+        runFullCheck({"torus two-sided", torusMesh(2.0f, 0.5f, 24, 12), {1.0f, 3.0f, 0.5f}},
+                     {.oneSidedClosed = false, .capVertices = capVertices, .buildWedges = false},
+                     rng);
+    }
 }
 
 TEST(Silhouette, WedgesFollowEdgesAndBoundsAreConservative) {
@@ -585,6 +646,7 @@ TEST(Silhouette, WedgesFollowEdgesAndBoundsAreConservative) {
     std::mt19937 rng(99);
     for (const Case& c : smallCases()) {
         runFullCheck(c, {}, rng, 100);
+        runFullCheck(c, {.capVertices = true}, rng, 50);
         // Light close to the occluder: wide penumbrae, the case that needs the box-edge crossings.
         Case close = c;
         close.light = 0.45f * c.light;
@@ -615,6 +677,8 @@ TEST(Silhouette, ReusesAnUnchangedLight) {
     EXPECT_FALSE(extractor.reused());
     extractor.update(lightAt({0.5f, 4.0f, 0.31f}), boxAround(topo, 2.5f), {});
     EXPECT_FALSE(extractor.reused());
+    extractor.update(lightAt({0.5f, 4.0f, 0.31f}), boxAround(topo, 2.5f), {.capVertices = true});
+    EXPECT_FALSE(extractor.reused());
     // Recomputing the first light gives the first result again (deterministic).
     const SilhouetteFrame& again = extractor.update(lightAt({0.5f, 4.0f, 0.3f}), box, settings);
     EXPECT_FALSE(extractor.reused());
@@ -640,13 +704,15 @@ TEST(Silhouette, GameLevel) {
                 "edges%s\n",
                 toString(topo.manifoldness()), topo.triangles().size(), frame.groups.size(),
                 frame.loops.size(), frame.edges.size(), wedges ? "" : " (no wedges yet)");
-    checkFrame(topo, frame, l, false, wedges, "oa_dm1");
-    // The union of the group volumes is the hard volume: same caps, and per edge the signed
-    // side copies of all groups add up to m_e (so the stencil count is the same everywhere).
+    checkFrame(topo, frame, l, false, settings, "oa_dm1");
+    // The union of the group volumes is the hard volume: same caps (two-sided: every triangle
+    // is some group's cap), and per edge the signed side copies of all groups add up to m_e (so
+    // the stencil count is the same everywhere).
     ShadowVolumeGeometry hard;
     appendHardShadowVolume(topo, l, hard);
-    EXPECT_EQ(frame.volumeVertices.size(), 6 * topo.triangles().size() + 6 * frame.edges.size());
     EXPECT_EQ(hard.capTriangles, 2 * topo.triangles().size());
+    EXPECT_EQ(frame.triangles.size(), topo.triangles().size());
+    EXPECT_EQ(frame.volumeVertices.size(), 6 * frame.edges.size()); // caps by reference
     const Reference ref = reference(topo, l, false);
     std::vector<std::int32_t> net(topo.edges().size(), 0);
     for (const SilhouetteEdge& se : frame.edges)
@@ -654,6 +720,12 @@ TEST(Silhouette, GameLevel) {
     EXPECT_TRUE(net == ref.multiplicity);
     std::mt19937 rng(31);
     if (wedges) checkInfluence(topo, frame, l, box, 300, rng, true, "oa_dm1");
+    // Caps as vertices: the same frame plus both caps of every triangle.
+    const std::size_t sides = frame.volumeVertices.size();
+    const SilhouetteSettings withCaps{.capVertices = true, .buildWedges = wedges};
+    const SilhouetteFrame& capped = extractor.update(lightAt(l, 0.5f), box, withCaps);
+    checkFrame(topo, capped, l, false, withCaps, "oa_dm1, caps as vertices");
+    EXPECT_EQ(capped.volumeVertices.size(), 6 * topo.triangles().size() + sides);
 }
 
 // Not a timed assertion: prints the per-frame cost for a ~1M-triangle mesh.
