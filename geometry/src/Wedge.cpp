@@ -22,6 +22,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 namespace geometry {
 namespace {
 
@@ -49,11 +53,7 @@ constexpr double kMargin = 4e-6;
 constexpr double kPush = 4e-6;
 constexpr double kUnbounded = 2.0 * kMargin; // below this best margin: treated as touching
 
-struct LightFrame {
-    dvec3 c, u, v, n;             // n: unit normal, cross(u, v) direction
-    dvec3 uStar, vStar;           // dual basis: dot(uStar, u) = 1, dot(uStar, v) = 0, ⟂ n
-    std::array<dvec3, 4> corners; // cyclic: neighbours share a light edge
-};
+using LightFrame = WedgeBuilder::Frame;
 
 LightFrame makeFrame(const RectLight& light) {
     LightFrame f;
@@ -177,7 +177,13 @@ int coneHullOrder(const dvec3* vecs, int n, const dvec3& axis, int* order) {
         }
         idx[j] = v;
     }
-    // Collinearity tolerance relative to the projected extent.
+    // The chain itself uses the plain sign of the turn. A collinearity tolerance there is not
+    // consistent with the sort: points on a line across the sort direction (an axis-aligned edge
+    // and light give four images with one x up to rounding) are sorted by their rounding noise,
+    // and a tolerance far above that noise then pops true extreme points and keeps a middle one
+    // (a wrong cone, rescued for containment only by the tilt, and a mesh not matching it).
+    // With exact signs the chain is the hull of the rounded points; near-collinear vertices
+    // (relative to the projected extent) are dropped afterwards, on the hull's cyclic order.
     const double eps = 1e-12 * (extent * extent + 1e-300);
     std::array<int, 32> hull;
     int k = 0;
@@ -186,19 +192,33 @@ int coneHullOrder(const dvec3* vecs, int n, const dvec3& axis, int* order) {
     };
     for (int s = 0; s < n; ++s) {
         const int i = idx[s];
-        while (k >= 2 && turn(hull[k - 2], hull[k - 1], i) <= eps) --k;
+        while (k >= 2 && turn(hull[k - 2], hull[k - 1], i) <= 0.0) --k;
         hull[k++] = i;
     }
     const int lower = k + 1;
     for (int s = n - 2; s >= 0; --s) {
         const int i = idx[s];
-        while (k >= lower && turn(hull[k - 2], hull[k - 1], i) <= eps) --k;
+        while (k >= lower && turn(hull[k - 2], hull[k - 1], i) <= 0.0) --k;
         hull[k++] = i;
     }
     const int count = k - 1; // the last point repeats the first
-    if (count < 3) return 0;  // no area: callers emit nothing
-    for (int i = 0; i < count; ++i) order[i] = hull[i];
-    return count;
+    int kept = 0;
+    for (int i = 0; i < count; ++i) {
+        while (kept >= 2 && turn(order[kept - 2], order[kept - 1], hull[i]) <= eps) --kept;
+        order[kept++] = hull[i];
+    }
+    for (bool changed = true; changed && kept >= 3;) { // the wrap-around vertices
+        changed = false;
+        if (turn(order[kept - 2], order[kept - 1], order[0]) <= eps) {
+            --kept;
+            changed = true;
+        } else if (turn(order[kept - 1], order[0], order[1]) <= eps) {
+            for (int i = 1; i < kept; ++i) order[i - 1] = order[i];
+            --kept;
+            changed = true;
+        }
+    }
+    return kept >= 3 ? kept : 0; // no area: callers emit nothing
 }
 
 struct Plane {
@@ -206,9 +226,8 @@ struct Plane {
     int anchor; // 0: e0, 1: e1
 };
 
-} // namespace
-
-std::uint32_t appendWedge(const glm::vec3& e0f, const glm::vec3& e1f, const RectLight& light,
+// The general exact construction (every configuration).
+std::uint32_t appendExact(const glm::vec3& e0f, const glm::vec3& e1f, const LightFrame& f,
                           WedgeArrays& out) {
     Wedge wedge;
     for (glm::vec4& p : wedge.planes) p = glm::vec4(0.0f);
@@ -229,7 +248,6 @@ std::uint32_t appendWedge(const glm::vec3& e0f, const glm::vec3& e1f, const Rect
     // input is not geometry; it gets the same treatment rather than NaN planes.
     if (!finite || e0f == e1f) return finish(kWedgeDegenerate);
 
-    const LightFrame f = makeFrame(light);
     const std::array<dvec3, 2> ends = {dvec3(e0f), dvec3(e1f)};
     const dvec3 d = ends[1] - ends[0];
     const double dLen = glm::length(d);
@@ -393,6 +411,301 @@ std::uint32_t appendWedge(const glm::vec3& e0f, const glm::vec3& e1f, const Rect
         }
     }
     return finish(0u);
+}
+
+// ---- Common-case fast path -------------------------------------------------------------------
+//
+// Classification, before any hull work: both end points strictly on one side σ of the light's
+// plane, h_i = σ dot(n, e_i - c) > 0, and every generator at an elevation
+// h_i / |e_i - c_j| >= kFastElevation above that plane. The corners lie in the plane, so
+// dot(σ n, g) = h_i for each generator g of end i: -σ n is inside the polar cone K° with margin
+// kFastElevation, E cannot touch L (the wedge is bounded; the exact path's q is at least as far
+// from 0 as the heights, so it agrees), and K is far from flat.
+//
+// Extreme rays combinatorially. Project each generator g = e_i - c_j onto the plane at unit
+// height along σ n (gnomonic: rays become points, planes through 0 become lines). In the light's
+// affine coordinates (s, t) = (dot(u*, .), dot(v*, .)) the image is
+//     X_ij = (s_i - S_j, t_i - T_j) / h_i,
+// with (s_i, t_i) the coordinates of e_i - c and (S_j, T_j) in {±1}^2 those of corner j. So each
+// end's images form the light's parallelogram point-reflected and scaled by 1 / h_i: P_0 and P_1
+// are positively homothetic, and K's extreme rays are the vertices of hull(P_0 ∪ P_1). P_i's
+// corners X_i0..X_i3 run counter-clockwise in (s, t) (a point reflection is a rotation); its edge
+// k (X_ik -> X_ik+1) supports it along +t, -s, -t, +s (k = 0..3) with the values
+//     b_k(i) / h_i,   b(i) = (1 + t_i, 1 - s_i, 1 - t_i, 1 + s_i).
+// With positive homothety both parallelograms attain the support along any direction at the same
+// corner index, so in the normal cone of corner j the union's support is the larger of X_0j and
+// X_1j, a linear comparison whose sign at the cone's two bounding normals decides it. Hence with
+//     win_k = [b_k(0) h_1 > b_k(1) h_0]   (P_0 reaches further across edge k than P_1)
+// the hull is, corner by corner counter-clockwise: X_0j when win_j-1 and win_j, X_1j when
+// neither, and both where they differ (the winner of edge j-1 first): a bridge, the facet through
+// E and light corner c_j, i.e. a front or back plane (it holds d = e1 - e0). The difference of the
+// support functions is (1/h_0 - 1/h_1) times the support function of a translated L (linear when
+// h_0 = h_1), negative on at most one arc of directions, so win changes at most twice around: at
+// most two bridges and six extreme rays. With no change one pyramid holds the other (the edge
+// points into it) and W is that end's pyramid. At a tie (coinciding support lines, e.g. an edge
+// parallel to a light side at constant height) all four images of that edge lie on one line, and
+// the hull runs along it from corner j's winner of edge j-1 to corner j+1's winner of edge j+1
+// (the extreme points of that line): possibly a bridge between different corners, the plane
+// through E and that light side.
+//
+// Facets of W = E + K as in the exact path: per hull edge (r_i, r_i+1) the normal
+// cross(r_i+1, r_i), anchored at the end whose generators span it (either end for a bridge, which
+// holds d); the exact path's front and back planes are these bridges. Then the same tilt and
+// push, which make any normal conservative (towards -σ n instead of -q: cheaper, and looser than
+// the exact path by at most kMargin / kFastElevation), and the same boundary mesh structure.
+// Falls back to the exact path (returns false, nothing appended) when the two generators of one
+// corner, or two consecutive extreme rays, are closer than kFastSeparation (an edge aimed at a
+// light corner or very short: a bridge normal would be ill-conditioned, the exact path merges
+// such rays), when two adjacent edges tie, or when the win pattern changes more than twice
+// (possible only through rounding in a degenerate configuration).
+constexpr double kFastElevation = 1e-3;
+constexpr double kFastSeparation = 1e-5; // |r_i+1 x r_i| of unit rays: far above the float
+                                          // rounding of the mesh directions (6e-8), and the
+                                          // cross product keeps ~11 significant digits
+
+// 1 / sqrt(v[i]) for four positive doubles within [1e-30, 1e30], to ~3e-7 relative: the
+// hardware estimate and one Newton step (x86 SSE), else the library. The fast path only uses it
+// to scale vectors: directions stay exact, and the final float normals carry an error of the
+// size of their own rounding (Wedge.h stores them as float).
+inline void invSqrt4(const double* v, double* out) {
+#if defined(__SSE2__)
+    const __m128 a =
+        _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(v)), _mm_cvtpd_ps(_mm_loadu_pd(v + 2)));
+    const __m128 r = _mm_rsqrt_ps(a);
+    const __m128 half = _mm_mul_ps(_mm_set1_ps(0.5f), a);
+    const __m128 nr =
+        _mm_mul_ps(r, _mm_sub_ps(_mm_set1_ps(1.5f), _mm_mul_ps(half, _mm_mul_ps(r, r))));
+    _mm_storeu_pd(out, _mm_cvtps_pd(nr));
+    _mm_storeu_pd(out + 2, _mm_cvtps_pd(_mm_movehl_ps(nr, nr)));
+#else
+    for (int i = 0; i < 4; ++i) out[i] = 1.0 / std::sqrt(v[i]);
+#endif
+}
+
+bool appendFast(const glm::vec3& e0f, const glm::vec3& e1f, const LightFrame& f,
+                WedgeArrays& out) {
+    const dvec3 x0(e0f), x1(e1f);
+    const dvec3 r0 = x0 - f.c, r1 = x1 - f.c;
+    const double n0 = glm::dot(f.n, r0), n1 = glm::dot(f.n, r1);
+    if (!(n0 * n1 > 0.0)) return false; // on both sides or on the plane
+    const double sigma = n0 > 0.0 ? 1.0 : -1.0;
+    const std::array<double, 2> h = {sigma * n0, sigma * n1};
+
+    // Generators g[4 i + j] = e_i - c_j (structure of arrays: the loops over the eight
+    // vectorise), the elevation test, and their unit directions.
+    alignas(16) double gx[8], gy[8], gz[8], len2[8], inv[8];
+    for (int j = 0; j < 4; ++j) {
+        gx[j] = x0.x - f.corners[j].x;
+        gy[j] = x0.y - f.corners[j].y;
+        gz[j] = x0.z - f.corners[j].z;
+        gx[4 + j] = x1.x - f.corners[j].x;
+        gy[4 + j] = x1.y - f.corners[j].y;
+        gz[4 + j] = x1.z - f.corners[j].z;
+    }
+    constexpr double kElev2 = kFastElevation * kFastElevation;
+    bool common = true;
+    for (int k = 0; k < 8; ++k) {
+        len2[k] = gx[k] * gx[k] + gy[k] * gy[k] + gz[k] * gz[k];
+        const double hk = k < 4 ? h[0] : h[1];
+        // (The range keeps invSqrt4's float conversion exact enough.)
+        common &= hk * hk >= kElev2 * len2[k] && len2[k] >= 1e-30 && len2[k] <= 1e30;
+    }
+    if (!common) return false;
+    invSqrt4(len2, inv);
+    invSqrt4(len2 + 4, inv + 4);
+    alignas(16) double ux[8], uy[8], uz[8];
+    for (int k = 0; k < 8; ++k) {
+        ux[k] = gx[k] * inv[k];
+        uy[k] = gy[k] * inv[k];
+        uz[k] = gz[k] * inv[k];
+    }
+    // An edge aimed at (or near) a light corner c_j, or very short: e0 - c_j and e1 - c_j are
+    // (nearly) one ray, and the sliver facet between them has an ill-conditioned normal (the
+    // exact path merges or keeps it): exact path.
+    for (int j = 0; j < 4; ++j) {
+        const double dx = ux[j] - ux[4 + j], dy = uy[j] - uy[4 + j], dz = uz[j] - uz[4 + j];
+        common &= dx * dx + dy * dy + dz * dz >= kFastSeparation * kFastSeparation;
+    }
+    if (!common) return false;
+
+    // Extreme rays (generator indices), counter-clockwise in (s, t).
+    const double s0 = glm::dot(f.uStar, r0), t0 = glm::dot(f.vStar, r0);
+    const double s1 = glm::dot(f.uStar, r1), t1 = glm::dot(f.vStar, r1);
+    // win_k: +1 (P_0), -1 (P_1), 0 for a tie within rounding (relative to the magnitudes of the
+    // operands). At a tie the hull edge runs along the common support line from the previous
+    // corner's winner to the next one's, so a tied edge contributes no vertex of its own: no
+    // redundant collinear vertex, plane or triangles (the exact path drops them too). Two
+    // adjacent ties mean coinciding images at their corner (the edge aimed at it): exact path.
+    const double tie = 1e-12 * (h[0] + h[1]) *
+                       (1.0 + std::max({std::abs(s0), std::abs(t0), std::abs(s1), std::abs(t1)}));
+    auto compare = [tie](double a, double b) { return a - b > tie ? 1 : b - a > tie ? -1 : 0; };
+    const std::array<int, 4> win = {compare((1.0 + t0) * h[1], (1.0 + t1) * h[0]),
+                                    compare((1.0 - s0) * h[1], (1.0 - s1) * h[0]),
+                                    compare((1.0 - t0) * h[1], (1.0 - t1) * h[0]),
+                                    compare((1.0 + s0) * h[1], (1.0 + s1) * h[0])};
+    std::array<int, 8> ray;
+    int m = 0;
+    for (int j = 0; j < 4; ++j) {
+        const int before = win[(j + 3) & 3], after = win[j];
+        if (before == 0 && after == 0) return false;
+        if (before != 0) ray[m++] = (before > 0 ? 0 : 4) + j;
+        if (after != 0 && after != before) ray[m++] = (after > 0 ? 0 : 4) + j;
+    }
+    // Bridges: consecutive extreme rays from different ends (two, or none).
+    int bridges = 0;
+    for (int i = 0; i < m; ++i) bridges += (ray[i] >> 2) != (ray[i + 1 < m ? i + 1 : 0] >> 2);
+    if (bridges > 2) return false; // (so m <= 6)
+    // Counter-clockwise seen from the tip of σ n, the cone's axis: (s, t) is counter-clockwise
+    // seen from +n (cross(u, v) = |u x v| n), mirrored seen from -n.
+    if (sigma < 0.0) std::reverse(ray.begin(), ray.begin() + m);
+
+    // Outward facet normals n_i = r_i+1 x r_i (the exact path's convention), in double.
+    alignas(16) double nx[8], ny[8], nz[8], nLen2[8] = {1, 1, 1, 1, 1, 1, 1, 1}, nInv[8];
+    for (int i = 0; i < m; ++i) {
+        const int a = ray[i + 1 < m ? i + 1 : 0], b = ray[i];
+        nx[i] = uy[a] * uz[b] - uz[a] * uy[b];
+        ny[i] = uz[a] * ux[b] - ux[a] * uz[b];
+        nz[i] = ux[a] * uy[b] - uy[a] * ux[b];
+        nLen2[i] = nx[i] * nx[i] + ny[i] * ny[i] + nz[i] * nz[i];
+        common &= nLen2[i] >= kFastSeparation * kFastSeparation;
+    }
+    if (!common) return false;
+    invSqrt4(nLen2, nInv);
+    invSqrt4(nLen2 + 4, nInv + 4);
+
+    // Tilt towards kHat = -σ n, inside K° with margin >= kFastElevation: -dot(kHat, g_k) is
+    // h_i / |g_k| (the corners lie in the light's plane), so 1 / that is |g_k| / h_i and needs no
+    // further dot products or divisions.
+    const dvec3 kHat = -sigma * f.n;
+    const std::array<double, 2> invH = {1.0 / h[0], 1.0 / h[1]};
+    // The tilt test runs in float, four generators at a time. A float dot product of (nearly)
+    // unit vectors, with its operands rounded to float, is within kFloatSlack = 1e-6 of the
+    // double value (~5 * 2^-24 = 3e-7, plus the relative error of invDepth times kMargin), so
+    // asking for kMargin + kFloatSlack in float leaves at least kMargin in exact arithmetic.
+    constexpr float kTiltMargin = static_cast<float>(kMargin + 1e-6);
+    alignas(16) float fx[8], fy[8], fz[8], fInvDepth[8];
+    for (int k = 0; k < 8; ++k) {
+        fx[k] = static_cast<float>(ux[k]);
+        fy[k] = static_cast<float>(uy[k]);
+        fz[k] = static_cast<float>(uz[k]);
+        fInvDepth[k] = static_cast<float>(len2[k] * inv[k] * (k < 4 ? invH[0] : invH[1]));
+    }
+    alignas(16) double tx[8], ty[8], tz[8], tLen2[8] = {1, 1, 1, 1, 1, 1, 1, 1}, tInv[8];
+    for (int i = 0; i < m; ++i) {
+        const double px = nx[i] * nInv[i], py = ny[i] * nInv[i], pz = nz[i] * nInv[i];
+        // tau = max(0, max_k (margin + s_k) / depth_k): generators already at -margin or
+        // beyond give a non-positive term, so no test is needed.
+#if defined(__SSE2__)
+        const __m128 qx = _mm_set1_ps(static_cast<float>(px));
+        const __m128 qy = _mm_set1_ps(static_cast<float>(py));
+        const __m128 qz = _mm_set1_ps(static_cast<float>(pz));
+        __m128 best = _mm_setzero_ps();
+        for (int k = 0; k < 8; k += 4) {
+            const __m128 sx = _mm_mul_ps(qx, _mm_load_ps(fx + k));
+            const __m128 sy = _mm_mul_ps(qy, _mm_load_ps(fy + k));
+            const __m128 sz = _mm_mul_ps(qz, _mm_load_ps(fz + k));
+            const __m128 sk =
+                _mm_add_ps(_mm_add_ps(sx, sy), _mm_add_ps(sz, _mm_set1_ps(kTiltMargin)));
+            best = _mm_max_ps(best, _mm_mul_ps(sk, _mm_load_ps(fInvDepth + k)));
+        }
+        best = _mm_max_ps(best, _mm_movehl_ps(best, best));
+        best = _mm_max_ss(best, _mm_shuffle_ps(best, best, 1));
+        const double tau = _mm_cvtss_f32(best);
+#else
+        float best = 0.0f;
+        for (int k = 0; k < 8; ++k) {
+            const float sk = static_cast<float>(px) * fx[k] + static_cast<float>(py) * fy[k] +
+                             static_cast<float>(pz) * fz[k] + kTiltMargin;
+            best = std::max(best, sk * fInvDepth[k]);
+        }
+        const double tau = best;
+#endif
+        // As in the exact path: afterwards every generator has dot(n', g) <= -kMargin whatever
+        // rounding n carried, so the plane can only be looser than exact.
+        tx[i] = px + tau * kHat.x;
+        ty[i] = py + tau * kHat.y;
+        tz[i] = pz + tau * kHat.z;
+        tLen2[i] = tx[i] * tx[i] + ty[i] * ty[i] + tz[i] * tz[i];
+    }
+    invSqrt4(tLen2, tInv);
+    invSqrt4(tLen2 + 4, tInv + 4);
+
+    Wedge& wedge = out.wedges.emplace_back(); // value-initialised: unused planes are zero
+    wedge.e0 = glm::vec4(e0f, 1.0f);
+    wedge.e1 = glm::vec4(e1f, 1.0f);
+    const dvec3 d = x1 - x0;
+    // Push as in the exact path, kPush (|anchor| + |d|), with the lengths bounded above by
+    // their 1-norms (a larger push is only safer; at most sqrt(3) times, ~7e-6 of the scene).
+    const double dLen = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    const std::array<double, 2> push = {
+        kPush * (std::abs(x0.x) + std::abs(x0.y) + std::abs(x0.z) + dLen),
+        kPush * (std::abs(x1.x) + std::abs(x1.y) + std::abs(x1.z) + dLen)};
+    for (int i = 0; i < m; ++i) {
+        const dvec3 nt(tx[i] * tInv[i], ty[i] * tInv[i], tz[i] * tInv[i]);
+        const bool e = glm::dot(nt, d) > 0.0; // re-anchored: the tilt may change it
+        const double w = -glm::dot(nt, e ? x1 : x0) - push[e];
+        wedge.planes[i] = glm::vec4(glm::vec3(nt), static_cast<float>(w));
+    }
+    wedge.planeCount = static_cast<std::uint32_t>(m);
+
+    // Boundary mesh, the exact path's structure written straight into the output: the cap at
+    // infinity, per facet the triangle (anchor, r_i+1, r_i), and per bridge from end a to end b
+    // the second triangle (e_b, r_i+1, e_a) of its quadrilateral (e_a, e_b, r_i+1, r_i).
+    std::array<glm::vec4, 6> dirs;
+    for (int i = 0; i < m; ++i) {
+        const int k = ray[i];
+        dirs[i] = glm::vec4(static_cast<float>(ux[k]), static_cast<float>(uy[k]),
+                            static_cast<float>(uz[k]), 0.0f);
+    }
+    const std::array<glm::vec4, 2> endVerts = {wedge.e0, wedge.e1};
+    const std::size_t first = out.vertices.size();
+    out.vertices.resize(first + 3 * static_cast<std::size_t>(2 * m - 2 + bridges));
+    glm::vec4* v = out.vertices.data() + first;
+    auto emit = [&](const glm::vec4& a, const glm::vec4& b, const glm::vec4& c) {
+        v[0] = a;
+        v[1] = b;
+        v[2] = c;
+        v += 3;
+    };
+    for (int i = 1; i + 1 < m; ++i) emit(dirs[0], dirs[i], dirs[i + 1]); // cap
+    for (int i = 0; i < m; ++i) {
+        const int next = i + 1 < m ? i + 1 : 0;
+        const int a = ray[i] >> 2, b = ray[next] >> 2;
+        emit(endVerts[a], dirs[next], dirs[i]);
+        if (a != b) emit(endVerts[b], dirs[next], endVerts[a]);
+    }
+    wedge.firstVertex = static_cast<std::uint32_t>(first);
+    wedge.vertexCount = static_cast<std::uint32_t>(out.vertices.size() - first);
+    wedge.flags = 0u;
+    return true;
+}
+
+bool finiteAndDistinct(const glm::vec3& e0, const glm::vec3& e1) {
+    return std::isfinite(e0.x) && std::isfinite(e0.y) && std::isfinite(e0.z) &&
+           std::isfinite(e1.x) && std::isfinite(e1.y) && std::isfinite(e1.z) && e0 != e1;
+}
+
+} // namespace
+
+WedgeBuilder::WedgeBuilder(const RectLight& light, Path path)
+    : frame_(makeFrame(light)), path_(path) {}
+
+std::uint32_t WedgeBuilder::append(const glm::vec3& e0, const glm::vec3& e1,
+                                   WedgeArrays& out) const {
+    if (path_ == Path::Auto && finiteAndDistinct(e0, e1) && appendFast(e0, e1, frame_, out))
+        return static_cast<std::uint32_t>(out.wedges.size() - 1);
+    return appendExact(e0, e1, frame_, out);
+}
+
+bool WedgeBuilder::takesFastPath(const glm::vec3& e0, const glm::vec3& e1) const {
+    if (path_ != Path::Auto || !finiteAndDistinct(e0, e1)) return false;
+    WedgeArrays scratch;
+    return appendFast(e0, e1, frame_, scratch);
+}
+
+std::uint32_t appendWedge(const glm::vec3& e0, const glm::vec3& e1, const RectLight& light,
+                          WedgeArrays& out) {
+    return WedgeBuilder(light).append(e0, e1, out);
 }
 
 bool wedgeContains(const Wedge& wedge, const glm::vec3& p, float eps) {

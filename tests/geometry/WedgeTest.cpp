@@ -721,3 +721,257 @@ TEST(WedgeTest, PrintTimings) {
                 "ns/call (checksum %.3f)\n",
                 nsWedge, static_cast<double>(arrays.vertices.size()) / n, nsCov, sum);
 }
+
+namespace {
+
+// A light with u, v along x and z (rectangular, axis-aligned) and an edge on a grid, parallel to
+// x or z at one height, or vertical: the exact ties of the fast path's hull (coinciding support
+// lines), frequent in game levels with axis-aligned architecture and lights.
+std::pair<RectLight, TestEdge> axisAlignedCase(Rng& rng) {
+    RectLight light;
+    light.center = vec3(std::round(rng.uniform(-4, 4)), std::round(rng.uniform(4, 8)),
+                        std::round(rng.uniform(-4, 4)));
+    light.u = vec3(std::round(rng.uniform(1, 4)) * 0.25f, 0, 0);
+    light.v = vec3(0, 0, std::round(rng.uniform(1, 4)) * 0.25f);
+    if (rng.uniform(0, 1) < 0.5) std::swap(light.u, light.v); // normal -y: the other side
+    const vec3 e0(std::round(rng.uniform(-8, 8)), std::round(rng.uniform(0, 3)),
+                  std::round(rng.uniform(-8, 8)));
+    vec3 dir(0.0f);
+    dir[rng.uniform(0, 1) < 0.45 ? 0 : rng.uniform(0, 1) < 0.8 ? 2 : 1] = 1.0f;
+    const float len = std::round(static_cast<float>(rng.uniform(1, 6)));
+    return {light, {e0, e0 + len * dir, EdgeKind::ParallelToSide}};
+}
+
+// Every directed boundary edge appears once, with its reverse (BoundaryMeshIsClosed's criterion).
+bool meshIsClosed(const WedgeArrays& arrays, const Wedge& w) {
+    const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
+    std::map<std::array<float, 8>, int> directed;
+    for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4& a = v[t + k];
+            const glm::vec4& b = v[t + (k + 1) % 3];
+            ++directed[{a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w}];
+        }
+    }
+    for (const auto& [key, count] : directed) {
+        const std::array<float, 8> reverse = {key[4], key[5], key[6], key[7],
+                                              key[0], key[1], key[2], key[3]};
+        if (count != 1 || directed.count(reverse) != 1) return false;
+    }
+    return w.vertexCount >= 12 && w.vertexCount % 3 == 0;
+}
+
+// Winding number of the boundary mesh around p (directions lifted far out from `mid`, as in
+// BoundaryMeshIsClosed): 1 inside, 0 outside.
+int meshWinding(const WedgeArrays& arrays, const Wedge& w, const dvec3& mid, double size,
+                const dvec3& p, const dvec3& dir) {
+    const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
+    auto lift = [&](const glm::vec4& q) {
+        return q.w == 0.0f ? mid + 1e6 * size * dvec3(vec3(q)) : dvec3(vec3(q));
+    };
+    int winding = 0;
+    for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
+        const dvec3 a = lift(v[t]), b = lift(v[t + 1]), c = lift(v[t + 2]);
+        if (segmentHitsTriangle(p, p + 1e9 * size * dir, a, b, c))
+            winding += glm::dot(glm::cross(b - a, c - a), dir) > 0.0 ? 1 : -1;
+    }
+    return winding;
+}
+
+// Signed distance-like margin of p for the float planes of a wedge, in double: > 0 outside.
+double planeMargin(const Wedge& w, const dvec3& p) {
+    double m = -1e300;
+    for (std::uint32_t i = 0; i < w.planeCount; ++i)
+        m = std::max(m, glm::dot(dvec3(vec3(w.planes[i])), p) + double(w.planes[i].w));
+    return m;
+}
+
+} // namespace
+
+// The common-case fast path against the exact general construction (WedgeBuilder::Path::Exact)
+// on thousands of random edges that take it: random lights (half of them parallelograms) with
+// generic, side-parallel, light-pointing, corner-pointing and short edges, and axis-aligned
+// lights with grid-aligned edges (exact ties in the fast path's hull). Both tilt every exact
+// facet normal by at most kMargin / kappa (4e-6 over the polar cone's margin, Wedge.cpp), and
+// kappa >= min_i h_i / max |e_i - c_j| =: k for both tilt directions, so planes must agree within
+// tolN = 2 * 4e-6 / k (+ float rounding) and offsets within tolN |anchor| plus the push; then
+//   - each plane of one has a match in the other (the exact path repeats its bridges as front and
+//     back planes, and the fast path may keep a collinear copy of a facet at a tie: sets, not
+//     sequences, are compared);
+//   - every sampled shadow-ray point is in both, and random points farther than the tolerance
+//     band from the exact wedge's boundary are in both or in neither;
+//   - the fast path's boundary mesh is closed, it never has more planes than the exact one, and
+//     for both paths the mesh's winding number agrees with the planes off the band (the exact
+//     path once built a wrong cone at such ties: loose planes, rescued by the tilt, and a mesh
+//     that did not match them).
+TEST(WedgeTest, FastPathMatchesExactPath) {
+    Rng rng(314159);
+    WedgeArrays exactArrays, fastArrays;
+    const std::array<EdgeKind, 6> kinds = {EdgeKind::Generic,      EdgeKind::ParallelToSide,
+                                           EdgeKind::TowardLight,  EdgeKind::TowardCorner,
+                                           EdgeKind::Short,        EdgeKind::CloseToLight};
+    std::array<int, 7> fastPerKind{}, totalPerKind{};
+    int compared = 0, rayPoints = 0, agreeOutside = 0, agreeInside = 0, inBand = 0, windings = 0;
+    double worstN = 0.0, worstNRel = 0.0;
+    for (int c = 0; c < 8000; ++c) {
+        RectLight light;
+        TestEdge edge;
+        int kindSlot;
+        if (c % 4 == 3) {
+            std::tie(light, edge) = axisAlignedCase(rng);
+            kindSlot = 6;
+        } else {
+            light = randomLight(rng);
+            kindSlot = static_cast<int>(rng.uniform(0, kinds.size()));
+            edge = randomEdge(rng, light, kinds[kindSlot]);
+        }
+        ++totalPerKind[kindSlot];
+        const geometry::WedgeBuilder exact(light, geometry::WedgeBuilder::Path::Exact);
+        const geometry::WedgeBuilder fast(light);
+        ASSERT_FALSE(exact.takesFastPath(edge.e0, edge.e1));
+        if (!fast.takesFastPath(edge.e0, edge.e1)) continue;
+        ++fastPerKind[kindSlot];
+        exactArrays.clear();
+        fastArrays.clear();
+        const Wedge we = exactArrays.wedges[exact.append(edge.e0, edge.e1, exactArrays)];
+        const Wedge wf = fastArrays.wedges[fast.append(edge.e0, edge.e1, fastArrays)];
+        ASSERT_EQ(we.flags, 0u) << describe(edge, light);
+        ASSERT_EQ(wf.flags, 0u);
+        ASSERT_GE(wf.planeCount, 4u);
+        ASSERT_LE(wf.planeCount, we.planeCount) << describe(edge, light);
+        ASSERT_TRUE(meshIsClosed(fastArrays, wf)) << describe(edge, light);
+        for (std::uint32_t i = wf.planeCount; i < geometry::kMaxWedgePlanes; ++i)
+            ASSERT_EQ(wf.planes[i], glm::vec4(0.0f));
+
+        // Tolerances from the tilt bound (see above).
+        const Frame f = frameOf(light);
+        const dvec3 e0(edge.e0), e1(edge.e1);
+        double minH = 1e300, maxG = 0.0;
+        for (const dvec3& e : {e0, e1}) {
+            minH = std::min(minH, std::abs(glm::dot(f.n, e - f.c)));
+            for (int k = 0; k < 4; ++k) {
+                const dvec3 y = f.c + (k & 1 ? 1.0 : -1.0) * f.u + (k & 2 ? 1.0 : -1.0) * f.v;
+                maxG = std::max(maxG, glm::length(e - y));
+            }
+        }
+        const double tolN = 2.0 * 4e-6 / (minH / maxG) + 1e-6;
+        const double reach = glm::length(e0) + glm::length(e1) + glm::length(e1 - e0);
+        const double tolW = tolN * reach + 1e-5 * reach;
+        auto matches = [&](const Wedge& a, const Wedge& b) {
+            for (std::uint32_t i = 0; i < a.planeCount; ++i) {
+                double best = 1e300;
+                bool found = false;
+                for (std::uint32_t j = 0; j < b.planeCount; ++j) {
+                    const double dn = glm::length(dvec3(vec3(a.planes[i])) -
+                                                  dvec3(vec3(b.planes[j])));
+                    best = std::min(best, dn);
+                    found |= dn <= tolN &&
+                             std::abs(double(a.planes[i].w) - double(b.planes[j].w)) <= tolW;
+                }
+                worstN = std::max(worstN, best);
+                worstNRel = std::max(worstNRel, best / tolN);
+                if (!found) return false;
+            }
+            return true;
+        };
+        ASSERT_TRUE(matches(wf, we)) << "case " << c << "\n" << describe(edge, light);
+        ASSERT_TRUE(matches(we, wf)) << "case " << c << "\n" << describe(edge, light);
+
+        // Shadow-ray points (must be in both) and random points off the tolerance band.
+        const dvec3 mid = 0.5 * (e0 + e1);
+        const double size = glm::length(mid - f.c) + glm::length(f.u) + glm::length(f.v);
+        for (int i = 0; i < 24; ++i) {
+            const dvec3 y = f.c + rng.uniform(-1, 1) * f.u + rng.uniform(-1, 1) * f.v;
+            const dvec3 a = e0 + rng.uniform(0, 1) * (e1 - e0);
+            const vec3 p(a + std::pow(10.0, rng.uniform(-4, 2)) * (a - y));
+            ASSERT_TRUE(geometry::wedgeContains(wf, p, 0.0f)) << "case " << c;
+            ASSERT_TRUE(geometry::wedgeContains(we, p, 0.0f)) << "case " << c;
+            ++rayPoints;
+        }
+        for (int i = 0; i < 40; ++i) {
+            const vec3 p(mid + rng.uniform(0, 3) * size * rng.direction());
+            const double m = planeMargin(we, dvec3(p));
+            const double band = tolN * glm::length(dvec3(p) - mid) + 2.0 * tolW;
+            if (std::abs(m) <= band) {
+                ++inBand;
+                continue;
+            }
+            const bool in = m < 0.0;
+            ASSERT_EQ(geometry::wedgeContains(wf, p, 0.0f), in) << "case " << c;
+            ++(in ? agreeInside : agreeOutside);
+            if (i % 4 == 0) {
+                const dvec3 dir = rng.direction();
+                ASSERT_EQ(meshWinding(fastArrays, wf, mid, size, dvec3(p), dir), in ? 1 : 0)
+                    << "fast, case " << c << "\n" << describe(edge, light);
+                ASSERT_EQ(meshWinding(exactArrays, we, mid, size, dvec3(p), dir), in ? 1 : 0)
+                    << "exact, case " << c << "\n" << describe(edge, light);
+                ++windings;
+            }
+        }
+        ++compared;
+    }
+    // The fast path must really be the common case, not a silent fallback: generic edges and
+    // the axis-aligned level-like cases take it almost always.
+    EXPECT_GT(fastPerKind[0], 0.95 * totalPerKind[0]);
+    EXPECT_GT(fastPerKind[1], 0.8 * totalPerKind[1]);
+    EXPECT_GT(fastPerKind[6], 0.95 * totalPerKind[6]);
+    EXPECT_GT(compared, 4000);
+    EXPECT_GT(agreeInside, 10000);
+    EXPECT_GT(agreeOutside, 50000);
+    std::printf("[ wedge    ] fast path on %d of 8000 edges (generic %d/%d, side-parallel %d/%d, "
+                "toward light %d/%d, toward corner %d/%d, short %d/%d, close %d/%d, "
+                "axis-aligned %d/%d)\n",
+                compared, fastPerKind[0], totalPerKind[0], fastPerKind[1], totalPerKind[1],
+                fastPerKind[2], totalPerKind[2], fastPerKind[3], totalPerKind[3], fastPerKind[4],
+                totalPerKind[4], fastPerKind[5], totalPerKind[5], fastPerKind[6],
+                totalPerKind[6]);
+    std::printf("[ wedge    ] fast = exact: %d shadow-ray points in both, %d inside / %d outside "
+                "agree, %d in the band, %d mesh windings match; worst normal gap %.2g (%.2g of "
+                "its tolerance)\n",
+                rayPoints, agreeInside, agreeOutside, inBand, windings, worstN, worstNRel);
+}
+
+// Before/after in one run (printed, not asserted): the exact construction (WedgeBuilder with
+// Path::Exact, the previous appendWedge), the builder's default path, and the appendWedge
+// wrapper (a builder per call), on PrintTimings' 100k generic edges over 16 lights.
+TEST(WedgeTest, PrintFastPathTimings) {
+    Rng rng(99);
+    const int n = 100000;
+    std::vector<RectLight> lights(16);
+    for (RectLight& l : lights) l = randomLight(rng);
+    std::vector<TestEdge> edges;
+    edges.reserve(n);
+    for (int i = 0; i < n; ++i)
+        edges.push_back(randomEdge(rng, lights[i % 16], EdgeKind::Generic));
+    std::vector<geometry::WedgeBuilder> exact, fast;
+    for (const RectLight& l : lights) {
+        exact.emplace_back(l, geometry::WedgeBuilder::Path::Exact);
+        fast.emplace_back(l);
+    }
+    int fastCount = 0;
+    for (int i = 0; i < n; ++i) fastCount += fast[i % 16].takesFastPath(edges[i].e0, edges[i].e1);
+    WedgeArrays arrays;
+    auto time = [&](auto&& append) {
+        double best = 1e300;
+        for (int rep = 0; rep < 3; ++rep) { // steady state: capacity kept; best of three
+            arrays.clear();
+            const auto t0 = std::chrono::steady_clock::now();
+            for (int i = 0; i < n; ++i) append(i);
+            const auto t1 = std::chrono::steady_clock::now();
+            best = std::min(best, std::chrono::duration<double, std::nano>(t1 - t0).count() / n);
+        }
+        return best;
+    };
+    const double nsExact =
+        time([&](int i) { exact[i % 16].append(edges[i].e0, edges[i].e1, arrays); });
+    const double vertsExact = static_cast<double>(arrays.vertices.size()) / n;
+    const double nsFast =
+        time([&](int i) { fast[i % 16].append(edges[i].e0, edges[i].e1, arrays); });
+    const double vertsFast = static_cast<double>(arrays.vertices.size()) / n;
+    const double nsWrapper = time([&](int i) {
+        geometry::appendWedge(edges[i].e0, edges[i].e1, lights[i % 16], arrays);
+    });
+    std::printf("[ wedge    ] ns/wedge: exact path %.0f (%.1f vertices), builder %.0f (%.1f "
+                "vertices, fast path on %.1f%%), appendWedge wrapper %.0f\n",
+                nsExact, vertsExact, nsFast, vertsFast, 100.0 * fastCount / n, nsWrapper);
+}

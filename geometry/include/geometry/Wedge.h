@@ -17,6 +17,7 @@
 
 #include <geometry/Types.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -54,8 +55,44 @@ struct WedgeArrays {
 };
 
 // Appends the wedge of edge [e0, e1] for `light` to `out` and returns its index.
+// (A thin wrapper: WedgeBuilder(light).append(e0, e1, out). Per-edge callers with one light for
+// many edges should hold a WedgeBuilder instead, which sets up the light's frame once.)
 std::uint32_t appendWedge(const glm::vec3& e0, const glm::vec3& e1, const RectLight& light,
                           WedgeArrays& out);
+
+// Builds the wedges of many edges for one light. The light's frame is set up once here, and
+// edges in the common case (both end points on one side of the light's plane, every light corner
+// seeing them at an elevation of at least ~1e-3 rad, the cone's extreme rays well apart) take a
+// specialised path whose extreme rays are known combinatorially; every other edge, and every edge
+// with Path::Exact, takes the general exact construction. Both paths give the same planes up to
+// the float tolerance and the same float-safety guarantee (Wedge.cpp).
+class WedgeBuilder {
+public:
+    enum class Path : std::uint32_t {
+        Auto,  // fast path where it applies, the exact one elsewhere
+        Exact, // always the general construction (reference and before/after comparisons)
+    };
+
+    explicit WedgeBuilder(const RectLight& light, Path path = Path::Auto);
+
+    // Same contract as appendWedge.
+    std::uint32_t append(const glm::vec3& e0, const glm::vec3& e1, WedgeArrays& out) const;
+
+    // Whether append(e0, e1, ...) takes the fast path (for tests and statistics; not cheap).
+    bool takesFastPath(const glm::vec3& e0, const glm::vec3& e1) const;
+
+    // The light's frame in double precision.
+    struct Frame {
+        glm::dvec3 c, u, v, n;             // n: unit normal, cross(u, v) direction
+        glm::dvec3 uStar, vStar;           // dual basis: dot(uStar, u) = 1, dot(uStar, v) = 0,
+                                           // both ⟂ n
+        std::array<glm::dvec3, 4> corners; // cyclic: neighbours share a light edge
+    };
+
+private:
+    Frame frame_;
+    Path path_;
+};
 
 // Inside test with a tolerance (positive eps grows the wedge). Unbounded wedges contain every
 // point, degenerate ones none.
