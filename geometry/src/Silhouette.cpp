@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <utility>
@@ -1036,6 +1037,9 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
     }
 
     // Step 7: per group, loops (then sides and wedges in loop order) and influence bounds.
+    // One wedge builder per frame: the light's per-frame constants are set up once.
+    std::optional<WedgeBuilder> wedgeBuilder;
+    if (settings.buildWedges) wedgeBuilder.emplace(light);
     frame.edges.resize(edgeTotal);
     std::uint32_t shareBegin = 0;
     for (std::uint32_t g = 0; g < groupCount; ++g) {
@@ -1154,8 +1158,8 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
         if (settings.buildWedges) {
             group.firstWedge = static_cast<std::uint32_t>(frame.wedges.wedges.size());
             for (std::uint32_t k = group.firstEdge; k < group.firstEdge + group.edgeCount; ++k) {
-                appendWedge(positions[frame.edges[k].v0], positions[frame.edges[k].v1], light,
-                            frame.wedges);
+                wedgeBuilder->append(positions[frame.edges[k].v0], positions[frame.edges[k].v1],
+                                     frame.wedges);
             }
         }
         group.influenceBounds =
