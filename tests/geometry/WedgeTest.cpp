@@ -975,3 +975,42 @@ TEST(WedgeTest, PrintFastPathTimings) {
                 "vertices, fast path on %.1f%%), appendWedge wrapper %.0f\n",
                 nsExact, vertsExact, nsFast, vertsFast, 100.0 * fastCount / n, nsWrapper);
 }
+
+// Regression: an axis-aligned light over an axis-aligned edge (as on every box and in game
+// levels) once made the hull drop a real cone direction on a 1e-17 rounding tie, so the boundary
+// mesh — what the GPU rasterises — missed part of the wedge. Every shadow-ray point must be
+// inside the mesh, not only inside the planes.
+TEST(WedgeTest, AxisAlignedTieKeepsEveryShadowRayInsideTheMesh) {
+    RectLight light;
+    light.center = {0.1f, 5.0f, -0.2f};
+    light.u = {0.3f, 0.0f, 0.0f};
+    light.v = {0.0f, 0.0f, 0.3f};
+    const vec3 e0(1.0f, 1.0f, -1.0f), e1(-1.0f, 1.0f, -1.0f);
+    WedgeArrays arrays;
+    const Wedge& w = arrays.wedges[geometry::appendWedge(e0, e1, light, arrays)];
+    ASSERT_EQ(w.flags, 0u);
+    ASSERT_GT(w.vertexCount, 0u);
+    const dvec3 mid = 0.5 * (dvec3(e0) + dvec3(e1));
+    const double size = 10.0;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    int checked = 0;
+    // Points strictly inside W: light samples and edge points kept off the light's and the
+    // edge's ends, whose shadow rays are W's boundary (where a winding count is a tie).
+    for (int i = 0; i < 2000; ++i) {
+        const float s = 0.98f * unit(rng), t = 0.98f * unit(rng);
+        const vec3 y = light.point(s, t);
+        const float along = 0.5f + 0.49f * unit(rng);
+        const vec3 a = glm::mix(e0, e1, along);
+        for (const float k : {0.01f, 0.5f, 3.0f, 40.0f}) {
+            const vec3 p = a + k * (a - y);
+            ASSERT_TRUE(geometry::wedgeContains(w, p)) << "planes miss " << i;
+            // Any ray direction works for the winding; avoid the mesh's symmetry axes.
+            const dvec3 dir = glm::normalize(dvec3(0.31, 0.47, 0.83));
+            ASSERT_EQ(meshWinding(arrays, w, mid, size, dvec3(p), dir), 1)
+                << "mesh misses a shadow-ray point, sample " << i << " k " << k;
+            ++checked;
+        }
+    }
+    EXPECT_EQ(checked, 8000);
+}
