@@ -2,6 +2,8 @@
 // orientation of the volumes, and the property everything rests on: the signed crossing count of
 // the volume along any ray from P equals the number of triangles between P and the light, for
 // closed, open and non-manifold meshes alike.
+#include "TestMeshes.h"
+
 #include <geometry/GltfLoader.h>
 #include <geometry/ShadowVolume.h>
 
@@ -22,77 +24,14 @@ namespace {
 
 // --- Meshes --------------------------------------------------------------------------------------
 
-// Cube [-1, 1]^3 with 8 shared corners, outward counter-clockwise; without face `skipFace`.
-MeshData cube(int skipFace = -1) {
-    MeshData mesh;
-    for (int i = 0; i < 8; ++i) {
-        mesh.positions.push_back(
-            {i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f});
-    }
-    // Quads listed counter-clockwise from outside: -x, +x, -y, +y, -z, +z.
-    const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                       {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-    for (int f = 0; f < 6; ++f) {
-        if (f == skipFace) continue;
-        const auto& q = quads[f];
-        mesh.triangles.emplace_back(q[0], q[1], q[2]);
-        mesh.triangles.emplace_back(q[0], q[2], q[3]);
-    }
-    return mesh;
-}
-
-MeshData quad(float z = 0.0f) {
-    MeshData mesh;
-    mesh.positions = {{-1, -1, z}, {1, -1, z}, {1, 1, z}, {-1, 1, z}};
-    mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
-    return mesh;
-}
+using testmeshes::cube;
+using testmeshes::edgeFan;
+using testmeshes::quad;
 
 // Closed, non-convex "blob": a UV sphere with jittered radii.
 MeshData blob(std::mt19937& rng, int segments = 10, int rings = 6) {
     std::uniform_real_distribution<float> radius(0.6f, 1.4f);
-    MeshData mesh;
-    mesh.positions.push_back({0, radius(rng), 0});
-    for (int r = 1; r < rings; ++r) {
-        const float theta = 3.14159265f * static_cast<float>(r) / static_cast<float>(rings);
-        for (int s = 0; s < segments; ++s) {
-            const float phi = 6.2831853f * static_cast<float>(s) / static_cast<float>(segments);
-            const float rad = radius(rng);
-            mesh.positions.push_back({rad * std::sin(theta) * std::cos(phi), rad * std::cos(theta),
-                                      rad * std::sin(theta) * std::sin(phi)});
-        }
-    }
-    mesh.positions.push_back({0, -radius(rng), 0});
-    const auto ring = [&](int r, int s) {
-        return static_cast<std::uint32_t>(1 + (r - 1) * segments + (s % segments));
-    };
-    const auto south = static_cast<std::uint32_t>(mesh.positions.size() - 1);
-    for (int s = 0; s < segments; ++s) {
-        mesh.triangles.emplace_back(0, ring(1, s + 1), ring(1, s));
-        mesh.triangles.emplace_back(south, ring(rings - 1, s), ring(rings - 1, s + 1));
-        for (int r = 1; r + 1 < rings; ++r) {
-            mesh.triangles.emplace_back(ring(r, s), ring(r, s + 1), ring(r + 1, s + 1));
-            mesh.triangles.emplace_back(ring(r, s), ring(r + 1, s + 1), ring(r + 1, s));
-        }
-    }
-    return mesh;
-}
-
-// `count` triangles on one edge (0,1), alternating orientation, fanned around it.
-MeshData edgeFan(int count) {
-    MeshData mesh;
-    mesh.positions = {{-1, 0, 0}, {1, 0, 0}};
-    for (int i = 0; i < count; ++i) {
-        const float a = 6.2831853f * (static_cast<float>(i) + 0.3f) / static_cast<float>(count);
-        mesh.positions.push_back({0.2f * static_cast<float>(i) - 0.3f, std::cos(a), std::sin(a)});
-        const auto apex = static_cast<std::uint32_t>(2 + i);
-        if (i % 2) {
-            mesh.triangles.emplace_back(1, 0, apex);
-        } else {
-            mesh.triangles.emplace_back(0, 1, apex);
-        }
-    }
-    return mesh;
+    return testmeshes::uvSphere(segments, rings, [&] { return radius(rng); });
 }
 
 // Independent random triangles (they may intersect each other).

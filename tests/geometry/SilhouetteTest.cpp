@@ -1,6 +1,8 @@
 // Silhouette groups, loops, volumes, wedges and bounds (geometry/Silhouette.h), checked against
 // brute force on every kind of mesh: closed (sphere, cube, torus), open (box, quad), non-manifold
 // (edge fan) and a real OpenArena level.
+#include "TestMeshes.h"
+
 #include <geometry/GltfLoader.h>
 #include <geometry/Primitives.h>
 #include <geometry/ShadowVolume.h>
@@ -24,25 +26,11 @@ namespace {
 
 // --- Meshes --------------------------------------------------------------------------------------
 
-// Cube [-1, 1]^3, outward counter-clockwise, 8 shared corners; without face `skipFace`
-// (0..5 = -x, +x, -y, +y, -z, +z).
-MeshData cubeMesh(int skipFace = -1) {
-    MeshData mesh;
-    for (int i = 0; i < 8; ++i) {
-        mesh.positions.push_back(
-            {i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f});
-    }
-    const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                       {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-    for (int f = 0; f < 6; ++f) {
-        if (f == skipFace) continue;
-        mesh.triangles.emplace_back(quads[f][0], quads[f][1], quads[f][2]);
-        mesh.triangles.emplace_back(quads[f][0], quads[f][2], quads[f][3]);
-    }
-    return mesh;
-}
+using testmeshes::cube;
+using testmeshes::edgeFan;
 
-// Torus around the y axis: major radius R, minor radius r, outward counter-clockwise.
+// Torus around the y axis: major radius R, minor radius r, outward counter-clockwise. Same
+// layout as makeTorus, which computes in double: its coordinates differ in the last bits.
 MeshData torusMesh(float major, float minor, int around, int tube) {
     MeshData mesh;
     constexpr float kTau = 6.2831853f;
@@ -63,23 +51,6 @@ MeshData torusMesh(float major, float minor, int around, int tube) {
             // Winding chosen so that normals point away from the tube's centre line.
             mesh.triangles.emplace_back(id(i, j), id(i, j + 1), id(i + 1, j + 1));
             mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i + 1, j));
-        }
-    }
-    return mesh;
-}
-
-// Three triangles on the edge (0, 1), alternating orientation: a non-manifold fan.
-MeshData fanMesh() {
-    MeshData mesh;
-    mesh.positions = {{-1, 0, 0}, {1, 0, 0}};
-    for (int i = 0; i < 3; ++i) {
-        const float a = 6.2831853f * (static_cast<float>(i) + 0.3f) / 3.0f;
-        mesh.positions.push_back({0.2f * static_cast<float>(i) - 0.3f, std::cos(a), std::sin(a)});
-        const auto apex = static_cast<std::uint32_t>(2 + i);
-        if (i % 2) {
-            mesh.triangles.emplace_back(1, 0, apex);
-        } else {
-            mesh.triangles.emplace_back(0, 1, apex);
         }
     }
     return mesh;
@@ -527,13 +498,13 @@ void runFullCheck(const Case& c, const SilhouetteSettings& settings, std::mt1993
 std::vector<Case> smallCases() {
     std::vector<Case> cases;
     cases.push_back({"sphere", makeSphere({0, 0, 0}, 1.0f, 24), {0.7f, 4.0f, 0.4f}});
-    cases.push_back({"cube corner", cubeMesh(), {3.0f, 4.0f, 2.5f}});
-    cases.push_back({"cube above", cubeMesh(), {0.1f, 5.0f, -0.2f}});
+    cases.push_back({"cube corner", cube(), {3.0f, 4.0f, 2.5f}});
+    cases.push_back({"cube above", cube(), {0.1f, 5.0f, -0.2f}});
     cases.push_back({"torus", torusMesh(2.0f, 0.5f, 32, 16), {0.0f, 10.0f, 0.0f}});
-    cases.push_back({"open box", cubeMesh(3), {0.3f, 4.0f, 0.2f}});
-    cases.push_back({"open box, side light", cubeMesh(3), {4.0f, 0.5f, 0.7f}});
+    cases.push_back({"open box", cube(3), {0.3f, 4.0f, 0.2f}});
+    cases.push_back({"open box, side light", cube(3), {4.0f, 0.5f, 0.7f}});
     cases.push_back({"quad", makeQuad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}), {0.3f, 3.0f, 0.2f}});
-    cases.push_back({"fan of 3", fanMesh(), {0.4f, 2.5f, 1.7f}});
+    cases.push_back({"fan of 3", edgeFan(3), {0.4f, 2.5f, 1.7f}});
     return cases;
 }
 
@@ -560,7 +531,7 @@ TEST(Silhouette, ClosedSphereHasOneGroupOneLoop) {
 }
 
 TEST(Silhouette, CubeLoopsHaveSixOrFourEdges) {
-    const Topology topo(cubeMesh());
+    const Topology topo(cube());
     SilhouetteExtractor extractor(topo);
     const Aabb box = boxAround(topo, 3.0f);
     const SilhouetteFrame& corner =
@@ -607,7 +578,7 @@ TEST(Silhouette, QuadHasOneLoopOfFourEdges) {
 TEST(Silhouette, OpenBoxAndFanBalance) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> coord(-4.0f, 4.0f);
-    for (const Case& c : {Case{"open box", cubeMesh(3), {}}, Case{"fan of 3", fanMesh(), {}}}) {
+    for (const Case& c : {Case{"open box", cube(3), {}}, Case{"fan of 3", edgeFan(3), {}}}) {
         const Topology topo(c.mesh);
         ASSERT_NE(topo.manifoldness(), Manifoldness::Closed);
         SilhouetteExtractor extractor(topo);
@@ -632,7 +603,7 @@ TEST(Silhouette, GroupVolumesMatchHardVolume) {
         for (const Case& c : smallCases())
             runFullCheck(c, {.capVertices = capVertices, .buildWedges = false}, rng);
         // Closed meshes with the two-sided rule too (both sides cast: counts up to 2).
-        runFullCheck({"cube two-sided", cubeMesh(), {3.0f, 4.0f, 2.5f}},
+        runFullCheck({"cube two-sided", cube(), {3.0f, 4.0f, 2.5f}},
                      {.oneSidedClosed = false, .capVertices = capVertices, .buildWedges = false},
                      rng);
         runFullCheck({"torus two-sided", torusMesh(2.0f, 0.5f, 24, 12), {1.0f, 3.0f, 0.5f}},

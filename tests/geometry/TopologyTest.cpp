@@ -1,7 +1,10 @@
 // Welding, degenerate-triangle removal, edge/use arrays and manifold classification
 // (geometry/Topology.h), on hand-built meshes and on a real game level.
+#include "TestMeshes.h"
+
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
+#include <geometry/Primitives.h>
 #include <geometry/Topology.h>
 
 #include <gtest/gtest.h>
@@ -44,12 +47,10 @@ MeshData splitCube(int skipFace = -1) {
     return mesh;
 }
 
+// Unit square [0, 1]^2 facing +z, named "quad": corners (0,0) (1,0) (1,1) (0,1), triangles
+// (0,1,2) (0,2,3), every coordinate exact.
 MeshData quad() {
-    MeshData mesh;
-    mesh.name = "quad";
-    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-    mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
-    return mesh;
+    return makeQuad({0.5f, 0.5f, 0.0f}, {0.5f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f});
 }
 
 // Checks the internal consistency every Topology must have, whatever the input.
@@ -257,30 +258,7 @@ TEST(Topology, BowtieVertexIsNonManifold) {
 TEST(Topology, ClosedManifoldInAnyFaceOrderStaysClosed) {
     // OpenMesh's add_face relinks open fans as faces arrive; a valid closed mesh must never be
     // reported non-manifold because of the order its triangles come in.
-    MeshData mesh;
-    const int segments = 10, rings = 6;
-    mesh.positions.push_back({0, 1, 0});
-    for (int r = 1; r < rings; ++r) {
-        const float theta = 3.14159265f * static_cast<float>(r) / rings;
-        for (int s = 0; s < segments; ++s) {
-            const float phi = 6.2831853f * static_cast<float>(s) / segments;
-            mesh.positions.push_back({std::sin(theta) * std::cos(phi), std::cos(theta),
-                                      std::sin(theta) * std::sin(phi)});
-        }
-    }
-    mesh.positions.push_back({0, -1, 0});
-    const auto ring = [&](int r, int s) {
-        return static_cast<std::uint32_t>(1 + (r - 1) * segments + (s % segments));
-    };
-    const auto south = static_cast<std::uint32_t>(mesh.positions.size() - 1);
-    for (int s = 0; s < segments; ++s) {
-        mesh.triangles.emplace_back(0, ring(1, s + 1), ring(1, s));
-        mesh.triangles.emplace_back(south, ring(rings - 1, s), ring(rings - 1, s + 1));
-        for (int r = 1; r + 1 < rings; ++r) {
-            mesh.triangles.emplace_back(ring(r, s), ring(r, s + 1), ring(r + 1, s + 1));
-            mesh.triangles.emplace_back(ring(r, s), ring(r + 1, s + 1), ring(r + 1, s));
-        }
-    }
+    MeshData mesh = testmeshes::uvSphere(10, 6, [] { return 1.0f; });
     std::mt19937 rng(7);
     for (int trial = 0; trial < 50; ++trial) {
         std::shuffle(mesh.triangles.begin(), mesh.triangles.end(), rng);

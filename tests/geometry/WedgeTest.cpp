@@ -326,6 +326,45 @@ const Wedge& build(WedgeArrays& arrays, const vec3& e0, const vec3& e1, const Re
     return arrays.wedges[i];
 }
 
+// Directed edges (a corner and the next, as float quadruples) of a wedge's boundary triangles,
+// with how often each appears.
+using DirectedEdges = std::map<std::array<float, 8>, int>;
+DirectedEdges directedEdges(const WedgeArrays& arrays, const Wedge& w) {
+    const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
+    DirectedEdges directed;
+    for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4& a = v[t + k];
+            const glm::vec4& b = v[t + (k + 1) % 3];
+            ++directed[{a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w}];
+        }
+    }
+    return directed;
+}
+
+// The same edge walked the other way.
+std::array<float, 8> reversed(const std::array<float, 8>& key) {
+    return {key[4], key[5], key[6], key[7], key[0], key[1], key[2], key[3]};
+}
+
+// Winding number of the boundary mesh around p, counted along the ray p + t dir: directions
+// (w = 0) are lifted far out from `mid`, so the truncated surface stays closed (its cap is the
+// far cap). 1 inside, 0 outside.
+int meshWinding(const WedgeArrays& arrays, const Wedge& w, const dvec3& mid, double size,
+                const dvec3& p, const dvec3& dir) {
+    const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
+    auto lift = [&](const glm::vec4& q) {
+        return q.w == 0.0f ? mid + 1e6 * size * dvec3(vec3(q)) : dvec3(vec3(q));
+    };
+    int winding = 0;
+    for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
+        const dvec3 a = lift(v[t]), b = lift(v[t + 1]), c = lift(v[t + 2]);
+        if (segmentHitsTriangle(p, p + 1e9 * size * dir, a, b, c))
+            winding += glm::dot(glm::cross(b - a, c - a), dir) > 0.0 ? 1 : -1;
+    }
+    return winding;
+}
+
 } // namespace
 
 TEST(WedgeTest, LayoutIsGpuReady) {
@@ -510,41 +549,23 @@ TEST(WedgeTest, BoundaryMeshIsClosed) {
         if (w.flags != 0u) continue;
         ASSERT_EQ(w.vertexCount % 3, 0u);
         ASSERT_GE(w.vertexCount, 12u);
-        const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
-        std::map<std::array<float, 8>, int> directed;
-        for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
-            for (int k = 0; k < 3; ++k) {
-                const glm::vec4& a = v[t + k];
-                const glm::vec4& b = v[t + (k + 1) % 3];
-                ++directed[{a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w}];
-            }
-        }
+        const DirectedEdges directed = directedEdges(arrays, w);
         for (const auto& [key, count] : directed) {
             ASSERT_EQ(count, 1) << "case " << c << "\n" << describe(edge, light);
-            const std::array<float, 8> reverse = {key[4], key[5], key[6], key[7],
-                                                  key[0], key[1], key[2], key[3]};
+            const std::array<float, 8> reverse = reversed(key);
             ASSERT_EQ(directed.count(reverse), 1u) << "case " << c << " kind "
                                                    << static_cast<int>(kind);
         }
-        // Winding number: directions become mid + K dir, all from one point, so the truncated
-        // surface stays closed (its cap is the far cap).
+        // Winding number (meshWinding: directions lifted far out from mid).
         const dvec3 mid = 0.5 * (dvec3(edge.e0) + dvec3(edge.e1));
         const Frame f = frameOf(light);
         const double size = glm::length(mid - f.c) + glm::length(f.u) + glm::length(f.v);
-        auto lift = [&](const glm::vec4& q) {
-            return q.w == 0.0f ? mid + 1e6 * size * dvec3(vec3(q)) : dvec3(vec3(q));
-        };
         const BrutePlanes brute = brutePlanes(edge.e0, edge.e1, light);
         for (int i = 0; i < 20; ++i) {
             const dvec3 p = mid + rng.uniform(0, 3) * size * rng.direction();
             if (std::abs(brute.margin(p)) < 1e-3 * size) continue;
             const dvec3 dir = rng.direction();
-            int winding = 0;
-            for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
-                const dvec3 a = lift(v[t]), b = lift(v[t + 1]), cc = lift(v[t + 2]);
-                if (segmentHitsTriangle(p, p + 1e9 * size * dir, a, b, cc))
-                    winding += glm::dot(glm::cross(b - a, cc - a), dir) > 0.0 ? 1 : -1;
-            }
+            const int winding = meshWinding(arrays, w, mid, size, p, dir);
             ASSERT_EQ(winding, geometry::wedgeContains(w, vec3(p)) ? 1 : 0) << "case " << c;
             ++tested;
         }
@@ -744,38 +765,11 @@ std::pair<RectLight, TestEdge> axisAlignedCase(Rng& rng) {
 
 // Every directed boundary edge appears once, with its reverse (BoundaryMeshIsClosed's criterion).
 bool meshIsClosed(const WedgeArrays& arrays, const Wedge& w) {
-    const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
-    std::map<std::array<float, 8>, int> directed;
-    for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
-        for (int k = 0; k < 3; ++k) {
-            const glm::vec4& a = v[t + k];
-            const glm::vec4& b = v[t + (k + 1) % 3];
-            ++directed[{a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w}];
-        }
-    }
+    const DirectedEdges directed = directedEdges(arrays, w);
     for (const auto& [key, count] : directed) {
-        const std::array<float, 8> reverse = {key[4], key[5], key[6], key[7],
-                                              key[0], key[1], key[2], key[3]};
-        if (count != 1 || directed.count(reverse) != 1) return false;
+        if (count != 1 || directed.count(reversed(key)) != 1) return false;
     }
     return w.vertexCount >= 12 && w.vertexCount % 3 == 0;
-}
-
-// Winding number of the boundary mesh around p (directions lifted far out from `mid`, as in
-// BoundaryMeshIsClosed): 1 inside, 0 outside.
-int meshWinding(const WedgeArrays& arrays, const Wedge& w, const dvec3& mid, double size,
-                const dvec3& p, const dvec3& dir) {
-    const glm::vec4* v = arrays.vertices.data() + w.firstVertex;
-    auto lift = [&](const glm::vec4& q) {
-        return q.w == 0.0f ? mid + 1e6 * size * dvec3(vec3(q)) : dvec3(vec3(q));
-    };
-    int winding = 0;
-    for (std::uint32_t t = 0; t < w.vertexCount; t += 3) {
-        const dvec3 a = lift(v[t]), b = lift(v[t + 1]), c = lift(v[t + 2]);
-        if (segmentHitsTriangle(p, p + 1e9 * size * dir, a, b, c))
-            winding += glm::dot(glm::cross(b - a, c - a), dir) > 0.0 ? 1 : -1;
-    }
-    return winding;
 }
 
 // Signed distance-like margin of p for the float planes of a wedge, in double: > 0 outside.
