@@ -181,6 +181,7 @@ struct SilhouetteExtractor::Scratch {
     std::vector<SilhouetteEdge> copies;
     std::vector<std::uint32_t> multiVertices, ins, outs;
     std::vector<std::uint8_t> straddles; // influence bounds: per edge of the group
+    WedgeRays rays;                      // the wedge just built
 
     void build(const Topology& topology);
     void classify(const Topology& topology, const glm::vec3& light, bool oneSided);
@@ -542,17 +543,6 @@ constexpr std::array<std::array<int, 2>, 12> kBoxEdges = {{{0, 1}, {2, 3}, {4, 5
                                                            {0, 2}, {1, 3}, {4, 6}, {5, 7},
                                                            {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
 
-// Pairs of wedge planes whose normals are closer than this (sine of the angle) give no ray: the
-// corner of the cone's cross-section they would resolve is flatter than the final padding.
-constexpr double kParallelNormals = 1e-7;
-// A candidate ray is kept when no plane has it more than this (relative) outside. The normals
-// are exact float inputs and the test runs in double, so true rays pass with a wide margin; a
-// direction kept by the tolerance is a point of a slightly larger cone: still conservative.
-constexpr double kRayTolerance = 1e-9;
-// Two planes whose normals differ by less than this (max norm) count once for the rays.
-constexpr double kSameNormal = 1e-9;
-constexpr int kMaxWedgeRays = kMaxWedgePlanes * (kMaxWedgePlanes - 1) / 2;
-
 constexpr int kMixedFaces = -1;
 
 // Extends `bounds` by the part of the ray p + t d (t >= 0) inside `box`. Returns the box face
@@ -584,71 +574,60 @@ int extendRayInBox(Aabb& bounds, const glm::vec3& p, const glm::vec3& d, const A
 // Common exit face of several rays: kMixedFaces as soon as two differ.
 int mergeFaces(int a, int b) { return a == b ? a : kMixedFaces; }
 
-// The extreme rays of the recession cone C = { x : n_i . x <= 0 } of a wedge *as built*: the
-// directions in which its float planes let it reach infinity. appendWedge tilts every plane
-// outward until all shadow-ray generators are strictly inside (by up to ~0.1 rad when its hull
-// of the light's rays comes out degenerate), so C can be much wider than the exact cone over
-// the light's corners, and only the stored planes tell by how much.
-//
-// Every extreme ray of a pointed cone lies on two facets with independent normals, and a
-// direction on two planes that no plane excludes is an extreme ray. The planes are stored in
-// cyclic order around the cone, so first only neighbouring pairs are tried: a pointed cone
-// with p irredundant facets has exactly p extreme rays, so p distinct rays from p pairs are all
-// of them (O(p^2)). Otherwise (redundant or near-duplicate planes, another order) every pair is
-// tried (O(p^3), p <= 12).
-// Returns the ray count, or -1 when C is not pointed (it holds a line) or nothing resolved:
-// the caller then takes the whole box.
-int wedgeRays(const Wedge& wedge, std::array<glm::vec3, kMaxWedgeRays>& rays) {
-    std::array<glm::dvec3, kMaxWedgePlanes> n;
-    int count = 0;
-    for (std::uint32_t i = 0; i < wedge.planeCount; ++i) {
-        const glm::dvec3 c(wedge.planes[i]);
-        bool duplicate = false;
-        for (int j = 0; j < count && !duplicate; ++j) {
-            const glm::dvec3 diff = glm::abs(n[j] - c);
-            duplicate = std::max({diff.x, diff.y, diff.z}) < kSameNormal;
+// A wedge's rays from both its end points, as extendRayInBox for each (the same bounds and the
+// same common exit face), but with each ray's reciprocal computed once for both ends, and for an
+// end inside the box (always, for a scene box around the mesh) without the entry parameter: from
+// inside the box every ray enters at t = 0, at the end point itself, which the caller's bounds
+// already hold (occluderBounds), and leaves where the first of its three exit slabs ends.
+int extendWedgeRaysInBox(Aabb& bounds, const glm::vec3& e0, const glm::vec3& e1,
+                         const WedgeRays& rays, const Aabb& box) {
+    if (!contains(box, e0) || !contains(box, e1)) {
+        int face = extendRayInBox(bounds, e0, rays.dirs[0], box);
+        for (int r = 0; r < rays.count; ++r) {
+            if (r > 0) face = mergeFaces(face, extendRayInBox(bounds, e0, rays.dirs[r], box));
+            face = mergeFaces(face, extendRayInBox(bounds, e1, rays.dirs[r], box));
         }
-        if (!duplicate) n[count++] = c;
+        return face;
     }
-    int rayCount = 0;
-    bool line = false;
-    // Appends the ray of planes i and j if no plane excludes it and it is new (three or more
-    // planes through one ray give it several times).
-    const auto tryPair = [&](int i, int j) {
-        const glm::dvec3 r = glm::cross(n[i], n[j]);
-        const double len = glm::length(r);
-        if (len < kParallelNormals) return;
-        double hi = 0.0, lo = 0.0;
-        for (int k = 0; k < count; ++k) {
-            if (k == i || k == j) continue;
-            const double s = glm::dot(n[k], r);
-            hi = std::max(hi, s);
-            lo = std::min(lo, s);
+    bounds.extend(e0);
+    bounds.extend(e1);
+    const glm::vec3 lo0 = box.min - e0, hi0 = box.max - e0; // lo <= 0 <= hi
+    const glm::vec3 lo1 = box.min - e1, hi1 = box.max - e1;
+    glm::vec3 bmin = bounds.min, bmax = bounds.max;
+    int face = kMixedFaces - 1; // not set yet
+    for (int r = 0; r < rays.count; ++r) {
+        const glm::vec3 d = rays.dirs[r];
+        float t0 = std::numeric_limits<float>::infinity(), t1 = t0;
+        int f0 = kMixedFaces, f1 = kMixedFaces;
+        for (int k = 0; k < 3; ++k) {
+            if (d[k] == 0.0f) continue; // parallel to this slab, and inside it
+            const float inv = 1.0f / d[k];
+            const bool up = d[k] > 0.0f;
+            const float a = (up ? hi0[k] : lo0[k]) * inv, b = (up ? hi1[k] : lo1[k]) * inv;
+            // Strictly smaller, in axis order: the face extendRayInBox reports.
+            if (a < t0) {
+                t0 = a;
+                f0 = 2 * k + up;
+            }
+            if (b < t1) {
+                t1 = b;
+                f1 = 2 * k + up;
+            }
         }
-        const double tol = kRayTolerance * len;
-        const bool plus = hi <= tol, minus = lo >= -tol;
-        if (plus && minus) line = true; // every normal is orthogonal to r: a line in C
-        if (plus == minus) return;
-        const glm::vec3 ray((plus ? r : -r) / len);
-        for (int k = 0; k < rayCount; ++k) {
-            const glm::vec3 diff = glm::abs(rays[k] - ray);
-            if (std::max({diff.x, diff.y, diff.z}) <= 1e-6f) return;
-        }
-        rays[rayCount++] = ray;
-    };
-    for (int i = 0; i < count && !line; ++i) tryPair(i, (i + 1) % count);
-    if (line) return -1;
-    if (rayCount == count && count >= 3) return rayCount;
-    rayCount = 0;
-    for (int i = 0; i < count && !line; ++i) {
-        for (int j = i + 1; j < count && !line; ++j) tryPair(i, j);
+        const glm::vec3 x0 = e0 + t0 * d, x1 = e1 + t1 * d;
+        bmin = glm::min(bmin, glm::min(x0, x1));
+        bmax = glm::max(bmax, glm::max(x0, x1));
+        face = mergeFaces(face == kMixedFaces - 1 ? f0 : face, f0);
+        face = mergeFaces(face, f1);
     }
-    return line || rayCount == 0 ? -1 : rayCount;
+    bounds.min = bmin;
+    bounds.max = bmax;
+    return face == kMixedFaces - 1 ? kMixedFaces : face;
 }
 
 // Where the group can change visibility, clamped to the scene: the AABB of
 // (volume ∪ wedges) ∩ box, for the wedges as built (their float planes, which are looser than
-// the exact E + cone{e_i - c_j}: see wedgeRays).
+// the exact E + cone{e_i - c_j}: see wedgeRecessionRays in geometry/Wedge.h).
 //
 // The extreme points of a convex piece P ∩ box are vertices: vertices of P inside the box,
 // crossings of P's edges with box faces, crossings of P's facets with box edges, and box
@@ -669,43 +648,59 @@ int wedgeRays(const Wedge& wedge, std::array<glm::vec3, kMaxWedgeRays>& rays) {
 // edge or corner can add anything. That holds for almost every wedge in practice (a penumbra
 // falls on one wall), so the per-edge box tests run only for the few pieces that straddle a box
 // edge, and only for box edges and corners still outside the bounds.
+//
+// With wedges, pass 1 (the rays) runs in update() as each wedge is built, while its rays are at
+// hand from the builder (WedgeRayPass below); `rayBounds` and `straddles` are its result.
+// Pass 1 of influenceBounds for wedges, fed wedge by wedge: the rays from both end points, and
+// which pieces straddle a box edge. `whole` once the bounds can only be the whole box.
+struct WedgeRayPass {
+    Aabb bounds;
+    bool whole = false;
+
+    void begin(const SilhouetteGroup& group, const Aabb& box, std::uint32_t edgeCount,
+               std::vector<std::uint8_t>& straddles) {
+        bounds = group.occluderBounds;
+        whole = box.empty(); // (influenceBounds returns empty bounds then)
+        straddles.assign(edgeCount, 0);
+    }
+    void add(const Wedge& wedge, const WedgeRays& rays, const Aabb& box, std::uint8_t& straddle) {
+        if (whole || (wedge.flags & kWedgeDegenerate)) return;
+        if (rays.count < 0) {
+            whole = true; // may reach any point of the scene
+            return;
+        }
+        const int face = extendWedgeRaysInBox(bounds, glm::vec3(wedge.e0), glm::vec3(wedge.e1),
+                                              rays, box);
+        straddle = face == kMixedFaces;
+        // Typical in interiors (the light inside, walls all around): the group's penumbrae
+        // already reach every wall, nothing further can grow the bounds.
+        whole = coversBox(bounds, box);
+    }
+};
+
 Aabb influenceBounds(const SilhouetteFrame& frame, const SilhouetteGroup& group,
                      const Topology& topo, const glm::vec3& lc, const Aabb& box, bool wedges,
-                     std::vector<std::uint8_t>& straddles) {
+                     const Aabb& rayBounds, std::vector<std::uint8_t>& straddles) {
     if (box.empty()) return Aabb{};
     const auto positions = topo.positions();
-    Aabb b = group.occluderBounds;
+    Aabb b = wedges ? rayBounds : group.occluderBounds;
     std::array<glm::vec3, 8> corners;
     for (int i = 0; i < 8; ++i) corners[i] = boxCorner(box, i);
     const std::uint32_t edgeEnd = group.firstEdge + group.edgeCount;
     const Wedge* groupWedges = wedges ? frame.wedges.wedges.data() + group.firstWedge : nullptr;
 
-    // Pass 1: rays, and which pieces straddle a box edge.
-    straddles.assign(group.edgeCount, 0);
-    std::array<glm::vec3, kMaxWedgeRays> rays;
-    for (std::uint32_t k = group.firstEdge; k < edgeEnd; ++k) {
-        const glm::vec3 e0 = positions[frame.edges[k].v0];
-        const glm::vec3 e1 = positions[frame.edges[k].v1];
-        int face;
-        if (!wedges) {
+    // Pass 1 without wedges: the side quads' rays, and which quads straddle a box edge.
+    if (!wedges) {
+        straddles.assign(group.edgeCount, 0);
+        for (std::uint32_t k = group.firstEdge; k < edgeEnd; ++k) {
+            const glm::vec3 e0 = positions[frame.edges[k].v0];
+            const glm::vec3 e1 = positions[frame.edges[k].v1];
             // The side quad's two edge rays (a vertex at the light casts none).
-            face = e0 != lc ? extendRayInBox(b, e0, e0 - lc, box) : kMixedFaces;
+            int face = e0 != lc ? extendRayInBox(b, e0, e0 - lc, box) : kMixedFaces;
             face = mergeFaces(face, e1 != lc ? extendRayInBox(b, e1, e1 - lc, box) : kMixedFaces);
-        } else {
-            const Wedge& wedge = groupWedges[k - group.firstEdge];
-            if (wedge.flags & kWedgeDegenerate) continue;
-            const int rayCount = (wedge.flags & kWedgeUnbounded) ? -1 : wedgeRays(wedge, rays);
-            if (rayCount < 0) return box; // may reach any point of the scene
-            face = extendRayInBox(b, e0, rays[0], box);
-            for (int r = 0; r < rayCount; ++r) {
-                if (r > 0) face = mergeFaces(face, extendRayInBox(b, e0, rays[r], box));
-                face = mergeFaces(face, extendRayInBox(b, e1, rays[r], box));
-            }
+            straddles[k - group.firstEdge] = face == kMixedFaces;
+            if (coversBox(b, box)) return box;
         }
-        straddles[k - group.firstEdge] = face == kMixedFaces;
-        // Typical in interiors (the light inside, walls all around): the group's penumbrae
-        // already reach every wall, nothing further can grow the bounds.
-        if (coversBox(b, box)) return box;
     }
 
     // Pass 2: box edges and corners not yet inside the bounds.
@@ -1155,16 +1150,22 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
                 side += 6;
             }
         }
+        WedgeRayPass rayPass;
         if (settings.buildWedges) {
             group.firstWedge = static_cast<std::uint32_t>(frame.wedges.wedges.size());
-            for (std::uint32_t k = group.firstEdge; k < group.firstEdge + group.edgeCount; ++k) {
-                wedgeBuilder->append(positions[frame.edges[k].v0], positions[frame.edges[k].v1],
-                                     frame.wedges);
+            rayPass.begin(group, sceneBounds, group.edgeCount, s.straddles);
+            for (std::uint32_t k = 0; k < group.edgeCount; ++k) {
+                const SilhouetteEdge& se = frame.edges[group.firstEdge + k];
+                const std::uint32_t w =
+                    wedgeBuilder->append(positions[se.v0], positions[se.v1], frame.wedges, s.rays);
+                rayPass.add(frame.wedges.wedges[w], s.rays, sceneBounds, s.straddles[k]);
             }
         }
         group.influenceBounds =
-            influenceBounds(frame, group, topo, lc, sceneBounds, settings.buildWedges,
-                            s.straddles);
+            settings.buildWedges && rayPass.whole && !sceneBounds.empty()
+                ? sceneBounds
+                : influenceBounds(frame, group, topo, lc, sceneBounds, settings.buildWedges,
+                                  rayPass.bounds, s.straddles);
     }
     return frame;
 }

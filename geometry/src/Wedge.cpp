@@ -413,6 +413,93 @@ std::uint32_t appendExact(const glm::vec3& e0f, const glm::vec3& e1f, const Ligh
     return finish(0u);
 }
 
+// ---- Recession rays of the stored planes ---------------------------------------------------
+//
+// Every extreme ray of a pointed cone lies on two facets with independent normals, and a
+// direction on two planes that no plane excludes is an extreme ray (a face of a face). The
+// planes are stored in cyclic order around the cone, so first only neighbouring pairs are tried:
+// a pointed cone has at most as many extreme rays as planes, so p distinct rays from the p
+// neighbouring pairs are all of them (O(p^2)). Otherwise (redundant or near-duplicate planes,
+// another order) every pair is tried (O(p^3), p <= 12). The normals are the stored floats, so
+// the rays are those of the cone wedgeContains actually tests, tilt and rounding included.
+
+// Pairs of normals closer than this (sine of the angle) give no ray: the corner of the cone's
+// cross-section they would resolve is flatter than any use of the rays needs.
+constexpr double kParallelNormals = 1e-7;
+// A candidate ray is kept when no plane has it more than this (relative) outside. The normals
+// are exact float inputs and the test runs in double, so true rays pass with a wide margin; a
+// direction kept by the tolerance is a point of a slightly larger cone: still conservative.
+constexpr double kRayTolerance = 1e-9;
+// Two planes whose normals differ by less than this (max norm) count once for the rays.
+constexpr double kSamePlaneNormal = 1e-9;
+
+// Appends the ray on planes i and j of n[0..count) to `rays` if no plane excludes it and it is
+// new (three or more planes through one ray give it several times). Sets `line` when every
+// normal is orthogonal to it (C holds a line).
+void tryRayPair(const dvec3* n, int count, int i, int j, WedgeRays& rays, bool& line) {
+    const dvec3 r = glm::cross(n[i], n[j]);
+    const double len = glm::length(r);
+    if (len < kParallelNormals) return;
+    double hi = 0.0, lo = 0.0;
+    for (int k = 0; k < count; ++k) {
+        if (k == i || k == j) continue;
+        const double s = glm::dot(n[k], r);
+        hi = std::max(hi, s);
+        lo = std::min(lo, s);
+    }
+    const double tol = kRayTolerance * len;
+    const bool plus = hi <= tol, minus = lo >= -tol;
+    if (plus && minus) line = true;
+    if (plus == minus) return;
+    const glm::vec3 ray((plus ? r : -r) / len);
+    for (int k = 0; k < rays.count; ++k) {
+        const glm::vec3 diff = glm::abs(rays.dirs[k] - ray);
+        if (std::max({diff.x, diff.y, diff.z}) <= 1e-6f) return;
+    }
+    rays.dirs[rays.count++] = ray;
+}
+
+// The neighbouring-pair pass for the fast path's m <= 8 planes, the same arithmetic as
+// tryRayPair over the pairs (i, i + 1) (so the same rays, bit for bit), with the pairs' cross
+// products, lengths and tests in flat loops the compiler can keep in registers. Returns false
+// (rays unspecified) whenever that pass would not have found every ray on its own: a pair too
+// close to parallel, a candidate excluded or ambiguous either way (a line, or not a ray of C),
+// or a repeated ray; the caller then runs the general derivation.
+bool cyclicRays(const dvec3* n, int m, WedgeRays& rays) {
+    if (m < 3) return false;
+    for (int i = 0; i < m; ++i) {
+        const int j = i + 1 < m ? i + 1 : 0;
+        const dvec3 r = glm::cross(n[i], n[j]);
+        const double len = glm::length(r);
+        if (len < kParallelNormals) return false;
+        double hi = 0.0, lo = 0.0;
+        for (int k = 0; k < m; ++k) {
+            const double s = (k == i || k == j) ? 0.0 : glm::dot(n[k], r);
+            hi = std::max(hi, s);
+            lo = std::min(lo, s);
+        }
+        const double tol = kRayTolerance * len;
+        const bool plus = hi <= tol, minus = lo >= -tol;
+        if (plus == minus) return false;
+        const glm::vec3 ray((plus ? r : -r) / len);
+        for (int k = 0; k < i; ++k) {
+            const glm::vec3 diff = glm::abs(rays.dirs[k] - ray);
+            if (std::max({diff.x, diff.y, diff.z}) <= 1e-6f) return false;
+        }
+        rays.dirs[i] = ray;
+    }
+    rays.count = m;
+    return true;
+}
+
+// The neighbouring-pair pass alone: true when it found all the rays (see above).
+bool neighbourRays(const dvec3* n, int count, WedgeRays& rays, bool& line) {
+    rays.count = 0;
+    line = false;
+    for (int i = 0; i < count && !line; ++i) tryRayPair(n, count, i, (i + 1) % count, rays, line);
+    return !line && rays.count == count && count >= 3;
+}
+
 // ---- Common-case fast path -------------------------------------------------------------------
 //
 // Classification, before any hull work: both end points strictly on one side σ of the light's
@@ -483,7 +570,7 @@ inline void invSqrt4(const double* v, double* out) {
 }
 
 bool appendFast(const glm::vec3& e0f, const glm::vec3& e1f, const LightFrame& f,
-                WedgeArrays& out) {
+                WedgeArrays& out, WedgeRays* rays) {
     const dvec3 x0(e0f), x1(e1f);
     const dvec3 r0 = x0 - f.c, r1 = x1 - f.c;
     const double n0 = glm::dot(f.n, r0), n1 = glm::dot(f.n, r1);
@@ -647,6 +734,14 @@ bool appendFast(const glm::vec3& e0f, const glm::vec3& e1f, const LightFrame& f,
         wedge.planes[i] = glm::vec4(glm::vec3(nt), static_cast<float>(w));
     }
     wedge.planeCount = static_cast<std::uint32_t>(m);
+    if (rays) {
+        // The planes are m distinct facets in cyclic order (the hull's), so the neighbouring
+        // pairs almost always give every ray; the tilt can in principle make a plane redundant,
+        // and then the general derivation decides. Either way: the rays of the stored planes.
+        std::array<dvec3, 8> stored;
+        for (int i = 0; i < m; ++i) stored[i] = dvec3(glm::vec3(wedge.planes[i]));
+        if (!cyclicRays(stored.data(), m, *rays)) wedgeRecessionRays(wedge, *rays);
+    }
 
     // Boundary mesh, the exact path's structure written straight into the output: the cap at
     // infinity, per facet the triangle (anchor, r_i+1, r_i), and per bridge from end a to end b
@@ -687,20 +782,56 @@ bool finiteAndDistinct(const glm::vec3& e0, const glm::vec3& e1) {
 
 } // namespace
 
+int wedgeRecessionRays(const Wedge& wedge, WedgeRays& rays) {
+    rays.count = 0;
+    if (wedge.flags & kWedgeDegenerate) return 0;
+    if (wedge.flags & kWedgeUnbounded) return rays.count = -1;
+    std::array<dvec3, kMaxWedgePlanes> n;
+    int count = 0;
+    for (std::uint32_t i = 0; i < wedge.planeCount; ++i) {
+        const dvec3 c(glm::vec3(wedge.planes[i]));
+        bool duplicate = false;
+        for (int j = 0; j < count && !duplicate; ++j) {
+            const dvec3 diff = glm::abs(n[j] - c);
+            duplicate = std::max({diff.x, diff.y, diff.z}) < kSamePlaneNormal;
+        }
+        if (!duplicate) n[count++] = c;
+    }
+    bool line;
+    if (neighbourRays(n.data(), count, rays, line)) return rays.count;
+    if (line) return rays.count = -1;
+    rays.count = 0;
+    for (int i = 0; i < count && !line; ++i) {
+        for (int j = i + 1; j < count && !line; ++j) tryRayPair(n.data(), count, i, j, rays, line);
+    }
+    if (line || rays.count == 0) rays.count = -1;
+    return rays.count;
+}
+
 WedgeBuilder::WedgeBuilder(const RectLight& light, Path path)
     : frame_(makeFrame(light)), path_(path) {}
 
 std::uint32_t WedgeBuilder::append(const glm::vec3& e0, const glm::vec3& e1,
                                    WedgeArrays& out) const {
-    if (path_ == Path::Auto && finiteAndDistinct(e0, e1) && appendFast(e0, e1, frame_, out))
+    if (path_ == Path::Auto && finiteAndDistinct(e0, e1) &&
+        appendFast(e0, e1, frame_, out, nullptr))
         return static_cast<std::uint32_t>(out.wedges.size() - 1);
     return appendExact(e0, e1, frame_, out);
+}
+
+std::uint32_t WedgeBuilder::append(const glm::vec3& e0, const glm::vec3& e1, WedgeArrays& out,
+                                   WedgeRays& rays) const {
+    if (path_ == Path::Auto && finiteAndDistinct(e0, e1) && appendFast(e0, e1, frame_, out, &rays))
+        return static_cast<std::uint32_t>(out.wedges.size() - 1);
+    const std::uint32_t index = appendExact(e0, e1, frame_, out);
+    wedgeRecessionRays(out.wedges[index], rays);
+    return index;
 }
 
 bool WedgeBuilder::takesFastPath(const glm::vec3& e0, const glm::vec3& e1) const {
     if (path_ != Path::Auto || !finiteAndDistinct(e0, e1)) return false;
     WedgeArrays scratch;
-    return appendFast(e0, e1, frame_, scratch);
+    return appendFast(e0, e1, frame_, scratch, nullptr);
 }
 
 std::uint32_t appendWedge(const glm::vec3& e0, const glm::vec3& e1, const RectLight& light,

@@ -1008,3 +1008,47 @@ TEST(WedgeTest, AxisAlignedTieKeepsEveryShadowRayInsideTheMesh) {
     }
     EXPECT_EQ(checked, 8000);
 }
+
+namespace {
+
+// The recession rays WedgeBuilder reports with a wedge (the fast path derives them from its
+// planes' cyclic order) are those wedgeRecessionRays derives from the stored planes, and each
+// lies in the cone the stored planes bound (influence bounds rely on both).
+TEST(WedgeTest, ReportedRaysAreThoseOfTheStoredPlanes) {
+    Rng rng(4711);
+    WedgeArrays arrays;
+    int fast = 0, compared = 0;
+    for (int c = 0; c < 3000; ++c) {
+        const RectLight light = randomLight(rng);
+        const auto kind = static_cast<EdgeKind>(c % static_cast<int>(EdgeKind::Count));
+        const TestEdge edge = randomEdge(rng, light, kind);
+        const geometry::WedgeBuilder builder(light);
+        fast += builder.takesFastPath(edge.e0, edge.e1);
+        arrays.clear();
+        geometry::WedgeRays reported, derived;
+        const Wedge& w = arrays.wedges[builder.append(edge.e0, edge.e1, arrays, reported)];
+        geometry::wedgeRecessionRays(w, derived);
+        ASSERT_EQ(reported.count, derived.count) << "edge " << c;
+        if (w.flags & geometry::kWedgeUnbounded) {
+            EXPECT_EQ(reported.count, -1);
+            continue;
+        }
+        for (int i = 0; i < reported.count; ++i) {
+            const vec3 r = reported.dirs[i];
+            EXPECT_NEAR(glm::length(r), 1.0f, 1e-6f);
+            bool found = false;
+            for (int j = 0; j < derived.count && !found; ++j)
+                found = glm::all(glm::lessThanEqual(glm::abs(derived.dirs[j] - r), vec3(1e-6f)));
+            EXPECT_TRUE(found) << "edge " << c << ": ray " << i << " not derived from the planes";
+            for (std::uint32_t p = 0; p < w.planeCount; ++p) {
+                EXPECT_LE(glm::dot(dvec3(glm::vec3(w.planes[p])), dvec3(r)), 1e-6)
+                    << "edge " << c << ": ray " << i << " outside plane " << p;
+            }
+        }
+        ++compared;
+    }
+    EXPECT_GT(fast, 1000) << "the fast path's rays were hardly exercised";
+    EXPECT_GT(compared, 2000);
+}
+
+} // namespace

@@ -54,6 +54,21 @@ struct WedgeArrays {
     }
 };
 
+// The extreme rays of a wedge's recession cone C = { x : dot(n_i, x) <= 0 } for its planes *as
+// stored* (float normals, tilted outward for float safety: Wedge.cpp), as unit vectors: the
+// directions in which wedgeContains lets the wedge reach infinity. C can be wider than the exact
+// cone{e_i - c_j}; only the stored planes tell by how much. (Used for influence bounds.)
+inline constexpr int kMaxWedgeRays = kMaxWedgePlanes * (kMaxWedgePlanes - 1) / 2;
+struct WedgeRays {
+    std::array<glm::vec3, kMaxWedgeRays> dirs;
+    int count = 0; // -1: C is not pointed (holds a line) or is unresolved, or the wedge is
+                   // unbounded: it may reach any point; 0 for a degenerate wedge
+};
+
+// Derives them from the stored planes of any wedge (O(p^2), O(p^3) when the planes are not in
+// cyclic order or some are redundant). Returns rays.count.
+int wedgeRecessionRays(const Wedge& wedge, WedgeRays& rays);
+
 // Appends the wedge of edge [e0, e1] for `light` to `out` and returns its index.
 // (A thin wrapper: WedgeBuilder(light).append(e0, e1, out). Per-edge callers with one light for
 // many edges should hold a WedgeBuilder instead, which sets up the light's frame once.)
@@ -77,6 +92,10 @@ public:
 
     // Same contract as appendWedge.
     std::uint32_t append(const glm::vec3& e0, const glm::vec3& e1, WedgeArrays& out) const;
+    // The same, also reporting the wedge's recession rays exactly as wedgeRecessionRays would
+    // give them, but cheaper where the builder knows the planes' cyclic order (fast path).
+    std::uint32_t append(const glm::vec3& e0, const glm::vec3& e1, WedgeArrays& out,
+                         WedgeRays& rays) const;
 
     // Whether append(e0, e1, ...) takes the fast path (for tests and statistics; not cheap).
     bool takesFastPath(const glm::vec3& e0, const glm::vec3& e1) const;
