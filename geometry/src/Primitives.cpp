@@ -5,6 +5,8 @@
 
 #include <geometry/Error.h>
 
+#include "Hash.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -28,16 +30,6 @@ std::string str(const glm::vec3& v) {
     return s.str();
 }
 
-// SplitMix64's finaliser: a cheap bijective mixer whose output bits all depend on every input bit,
-// enough for decorrelated per-vertex noise (no statistical quality beyond that is needed).
-std::uint64_t mix64(std::uint64_t x) {
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ull;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebull;
-    x ^= x >> 31;
-    return x;
-}
 
 // Uniform in [0, 1) from the seed and the exact bits of a position. Adding 0.0f turns -0 into +0,
 // so the two zeros (equal positions) hash alike.

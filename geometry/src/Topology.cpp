@@ -10,6 +10,7 @@
 #include <geometry/Error.h>
 
 #include "HalfEdgeMesh.h"
+#include "Hash.h"
 
 #include <algorithm>
 #include <array>
@@ -44,15 +45,6 @@ constexpr double kDegenerateArea = 1e-12;
 // Cell coordinates are packed 21 bits per axis into one 64-bit key.
 constexpr std::int64_t kMaxCell = (std::int64_t{1} << 21) - 2;
 
-std::uint64_t mixHash(std::uint64_t x) {
-    // splitmix64 finaliser: grid keys are highly regular, the table needs them scattered.
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ull;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebull;
-    x ^= x >> 31;
-    return x;
-}
 
 // Cell key -> most recently inserted welded vertex of that cell (the rest chained via `next`).
 class CellTable {
@@ -66,7 +58,7 @@ public:
     }
 
     std::uint32_t find(std::uint64_t key) const {
-        for (std::size_t i = mixHash(key) & mMask;; i = (i + 1) & mMask) {
+        for (std::size_t i = mix64(key) & mMask;; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) return mSlots[i].head;
             if (mSlots[i].key == kEmpty) return kNone;
         }
@@ -74,7 +66,7 @@ public:
 
     // Returns the previous head of the cell (kNone if new) and makes `vertex` the head.
     std::uint32_t push(std::uint64_t key, std::uint32_t vertex) {
-        for (std::size_t i = mixHash(key) & mMask;; i = (i + 1) & mMask) {
+        for (std::size_t i = mix64(key) & mMask;; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) return std::exchange(mSlots[i].head, vertex);
             if (mSlots[i].key == kEmpty) {
                 mSlots[i] = Slot{key, vertex};
