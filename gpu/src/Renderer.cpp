@@ -16,7 +16,6 @@
 #include "ShaderBindings.h"
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -24,7 +23,6 @@
 #include <cstring>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 namespace gpu {
 
