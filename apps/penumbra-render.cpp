@@ -74,7 +74,7 @@ struct Options {
 
 int run(const Options& opt) {
     // Everything that can be wrong with the input is checked before anything is written.
-    const gpu::Method method = gpu::parseMethod(opt.methodName);
+    const gpu::MethodInfo& method = gpu::findMethod(opt.methodName);
     const auto [width, height] = parseSize(opt.size);
     if (opt.samples < 1 || opt.samples > (1 << 20))
         throw geometry::InputError("--samples must be between 1 and 1048576");
@@ -106,12 +106,12 @@ int run(const Options& opt) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     gpu::RenderSettings settings;
-    settings.method = method;
+    settings.method = std::string(method.name);
     settings.width = width;
     settings.height = height;
     settings.samples = opt.samples;
     settings.seed = opt.seed;
-    if (!opt.quiet && method == gpu::Method::Reference)
+    if (!opt.quiet && method.name == "reference")
         settings.progress = [tty = isatty(fileno(stderr)) != 0](int done, int total) {
             // One line per update when logged (CI), an updating line on a terminal.
             std::fprintf(stderr, "%s  reference: %d/%d light samples%s", tty ? "\r" : "", done,
@@ -140,9 +140,9 @@ int run(const Options& opt) {
     const std::vector<std::uint8_t> image = renderer.imageRgba8();
 
     nlohmann::json report;
-    report["method"] = gpu::toString(method);
+    report["method"] = method.name;
     report["scene"] = opt.scenePath;
-    report["parameters"] = {{"samples", method == gpu::Method::Hard ? 1 : opt.samples},
+    report["parameters"] = {{"samples", method.usesSamples ? opt.samples : 1},
                             {"seed", opt.seed},
                             {"frames", opt.frames}};
     report["size"] = {width, height};
@@ -172,8 +172,17 @@ int run(const Options& opt) {
         objects.push_back(std::move(j));
     }
     report["objects"] = std::move(objects);
-    report["silhouette_groups"] = last.silhouetteGroups; // per-silhouette grouping lands with the wedge methods
-    report["wedges"] = 0;
+    report["silhouette_groups"] = last.silhouetteGroups;
+    report["silhouette_upload_bytes"] = last.silhouetteUploadBytes;
+    // Wedges drawn this frame (0 for methods without wedges); per-kind counts in "counters".
+    double wedges = 0.0;
+    nlohmann::json counters = nlohmann::json::object();
+    for (const auto& c : last.counters) {
+        counters[c.name] = c.value;
+        if (c.name == "wedges") wedges = c.value;
+    }
+    report["wedges"] = wedges;
+    report["counters"] = std::move(counters);
     report["shadow_volume_triangles"] = last.volumeTriangles;
     nlohmann::json gpuJson = nlohmann::json::object(), cpuJson = nlohmann::json::object();
     for (const auto& name : gpuOrder) gpuJson[name] = median(gpuMs[name]);
@@ -201,7 +210,7 @@ int run(const Options& opt) {
 
     if (!opt.quiet) {
         std::printf("%s: %s, %dx%d, %zu triangles, %zu silhouette edges\n", opt.scenePath.c_str(),
-                    gpu::toString(method), width, height, last.triangles, last.silhouetteEdges);
+                    std::string(method.name).c_str(), width, height, last.triangles, last.silhouetteEdges);
         std::printf("  renderer: %s\n", info.renderer.c_str());
         std::printf("  frame %.2f ms (median of %d)", median(frameMs), opt.frames);
         for (const auto& name : gpuOrder)
@@ -224,10 +233,12 @@ int main(int argc, char** argv) {
     CLI::App app{"penumbra-render: headless soft-shadow renderer (surfaceless EGL)"};
     Options opt;
     std::string methods;
-    for (const auto& n : gpu::allMethodNames()) methods += (methods.empty() ? "" : ", ") + n;
+    for (const gpu::MethodInfo& m : gpu::methodTable())
+        methods += "\n    " + std::string(m.name) + (m.implemented() ? "" : " (not implemented yet)") +
+                   ": " + std::string(m.summary);
     app.add_option("--scene", opt.scenePath, "scene JSON, or a .gltf/.glb to frame automatically")
         ->required();
-    app.add_option("--method", opt.methodName, "one of: " + methods)->required();
+    app.add_option("--method", opt.methodName, "visibility method, one of:" + methods)->required();
     app.add_option("--size", opt.size, "image size WIDTHxHEIGHT")->capture_default_str();
     app.add_option("--out", opt.outDir, "output directory")->capture_default_str();
     app.add_option("--samples", opt.samples, "light samples per pixel (reference, raytrace)")

@@ -3,4 +3,6 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
+
 #include "../../shaders/lib/Bindings.h"

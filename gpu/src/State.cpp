@@ -26,8 +26,25 @@ void applyState(const PipelineState& state) {
     glDepthFunc(state.depthFunc);
     // Depth and colour masks also gate glClear: a pass that clears sets them itself.
     glDepthMask(state.depthWrite ? GL_TRUE : GL_FALSE);
-    GLboolean c = state.colorWrite ? GL_TRUE : GL_FALSE;
-    glColorMask(c, c, c, c);
+    if (state.independentTargets) {
+        for (GLuint i = 0; i < kMaxColorTargets; ++i) {
+            const ColorTargetState& t = state.targets[i];
+            if (t.blend) {
+                glEnablei(GL_BLEND, i);
+            } else {
+                glDisablei(GL_BLEND, i);
+            }
+            glBlendFunci(i, t.blendSrc, t.blendDst);
+            glBlendEquationi(i, t.blendEquation);
+            glColorMaski(i, t.writeR, t.writeG, t.writeB, t.writeA);
+        }
+    } else {
+        GLboolean c = state.colorWrite ? GL_TRUE : GL_FALSE;
+        glColorMask(c, c, c, c);
+        setCap(GL_BLEND, state.blend);
+        glBlendFunc(state.blendSrc, state.blendDst);
+        glBlendEquation(state.blendEquation);
+    }
 
     setCap(GL_STENCIL_TEST, state.stencilTest);
     applyStencilFace(GL_FRONT, state.stencilFront);
@@ -37,15 +54,14 @@ void applyState(const PipelineState& state) {
     setCap(GL_CULL_FACE, state.cull);
     glCullFace(state.cullFace);
 
-    setCap(GL_BLEND, state.blend);
-    glBlendFunc(state.blendSrc, state.blendDst);
-    glBlendEquation(state.blendEquation);
-
     setCap(GL_POLYGON_OFFSET_FILL, state.polygonOffset);
     glPolygonOffset(state.polygonOffsetFactor, state.polygonOffsetUnits);
 
     setCap(GL_DEPTH_CLAMP, state.depthClamp);
     setCap(GL_SCISSOR_TEST, state.scissor);
+    if (state.scissor)
+        glScissor(state.scissorRect.x, state.scissorRect.y, state.scissorRect.width,
+                  state.scissorRect.height);
 }
 
 } // namespace gpu

@@ -6,6 +6,16 @@
 
 #define BINDING_FRAME_UBO 0
 
+// Storage buffers (std430). Static: every caster's welded geometry, concatenated (CasterSet).
+#define BINDING_WELDED_POSITIONS 0 // vec4 per welded vertex (w = 1)
+#define BINDING_WELDED_INDICES 1   // 3 uint per welded triangle, global vertex ids
+// Per frame, from the light centre's silhouettes (one upload, three ranges).
+#define BINDING_CAP_TRIANGLES 2 // uint per group triangle: global triangle id | CAP_FLIPPED
+#define BINDING_EDGES 3         // GpuEdge per directed silhouette edge copy
+#define BINDING_GROUPS 4        // GpuGroup per silhouette group
+
+#define CAP_FLIPPED 0x80000000u // light-oriented winding is (a, c, b) (geometry kTriangleFlipped)
+
 #define TEXUNIT_POSITION 0
 #define TEXUNIT_NORMAL 1
 #define TEXUNIT_ALBEDO 2
@@ -17,6 +27,7 @@
 namespace gpu::shader {
 using mat4 = glm::mat4;
 using vec4 = glm::vec4;
+using uint = std::uint32_t;
 #define PENUMBRA_UBO_BEGIN(Name, slot) struct Name {
 #define PENUMBRA_UBO_END(Name, instance) };
 #else
@@ -34,7 +45,28 @@ PENUMBRA_UBO_BEGIN(FrameUniforms, BINDING_FRAME_UBO)
     vec4 params;      // x: ambient term, y: accumulation weight, z: exposure, w: unused
 PENUMBRA_UBO_END(FrameUniforms, frame)
 
+// One directed silhouette edge copy from the light centre: the group's light-oriented
+// triangles lie to the left of v0 -> v1 seen from the light (geometry/Silhouette.h).
+struct GpuEdge {
+    uint v0;    // global welded vertex ids
+    uint v1;
+    uint group; // global group index (GpuGroup)
+    uint flags; // reserved, 0
+};
+
+// One silhouette group (geometry::SilhouetteGroup) with global ranges.
+struct GpuGroup {
+    vec4 influenceMin; // xyz: conservative bounds of where the group changes visibility
+    vec4 influenceMax;
+    uint firstEdge;
+    uint edgeCount;
+    uint firstTriangle;
+    uint triangleCount;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
+static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 5 * 16, "FrameUniforms must match std140");
 } // namespace gpu::shader
 #endif

@@ -74,7 +74,7 @@ class HardShadow : public GlTest {};
 
 TEST_F(HardShadow, ParallelSquareMatchesPointLightClosedForm) {
     const auto scene = geometry::loadScene(testutil::dataPath("parallel-square.json"));
-    const Rendered r = testutil::render(scene, gpu::Method::Hard, 128);
+    const Rendered r = testutil::render(scene, "hard", 128);
     // Margin: one pixel on the floor is ~4 cm here, ~3 cm where the shadow ray crosses the
     // occluder plane; 5 cm keeps pixels whose centre is within ~1.5 px of the edge out.
     const FloorCheck c = checkFloor(r, scene, {&kParallelOccluder, 1}, 0.05f);
@@ -105,7 +105,7 @@ TEST_F(HardShadow, CameraInsideVolumeGivesSameVisibility) {
     const HardTruth inside = hardTruth(scene.light.center, {&kParallelOccluder, 1}, scene.camera.eye);
     ASSERT_EQ(inside.v, 0.0f) << "test setup: the camera must start inside the volume";
     scene.camera.fovYDeg = 70.0f;
-    const Rendered r = testutil::render(scene, gpu::Method::Hard, 128);
+    const Rendered r = testutil::render(scene, "hard", 128);
     const FloorCheck c = checkFloor(r, scene, {&kParallelOccluder, 1}, 0.05f);
     EXPECT_GT(c.umbra, 200);
     EXPECT_GT(c.lit, 200);
@@ -151,7 +151,7 @@ TEST_F(HardShadow, TwoSidedQuadMatchesEmbree) {
     // Tilted, and seen from its back by the camera for part of the view: one open quad.
     scene.objects.push_back({"card", geometry::ShadowMethod::Auto,
                              geometry::makeQuad({0, 1.2f, 0}, {0.6f, 0.2f, 0}, {0, 0.3f, 0.5f})});
-    const Rendered r = testutil::render(scene, gpu::Method::Hard, 128);
+    const Rendered r = testutil::render(scene, "hard", 128);
     const auto c = compareWithEmbree(scene, r, "hard-quad");
     EXPECT_GT(c.pixels, 8000u);
     // Tolerance: only pixels whose position lies within float rounding of the shadow boundary
@@ -161,7 +161,7 @@ TEST_F(HardShadow, TwoSidedQuadMatchesEmbree) {
 
 TEST_F(HardShadow, OpenArenaLevelMatchesEmbree) {
     const auto scene = geometry::loadScene(testutil::sharedPath("levels/oa_dm1.glb"));
-    const Rendered r = testutil::render(scene, gpu::Method::Hard, 128);
+    const Rendered r = testutil::render(scene, "hard", 128);
     const auto c = compareWithEmbree(scene, r, "hard-oa_dm1");
     EXPECT_GT(c.pixels, 4000u);
     // Tolerance: the level is not closed (boundary and 3-5-triangle edges, T-junctions); pixels

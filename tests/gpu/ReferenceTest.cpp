@@ -53,8 +53,8 @@ class ReferenceClosedForm : public Reference, public ::testing::WithParamInterfa
 TEST_P(ReferenceClosedForm, GpuAndEmbreeMatchExactVisibility) {
     const auto& param = GetParam();
     const auto scene = geometry::loadScene(testutil::dataPath(param.file));
-    const Rendered gl = testutil::render(scene, gpu::Method::Reference, kSize, kSamples);
-    const Rendered rt = testutil::render(scene, gpu::Method::Raytrace, kSize, kSamples);
+    const Rendered gl = testutil::render(scene, "reference", kSize, kSamples);
+    const Rendered rt = testutil::render(scene, "raytrace", kSize, kSamples);
     const std::string stem = std::filesystem::path(param.file).stem().string();
 
     const auto exact = closedFormFloor(scene, gl, param.rects);
@@ -93,8 +93,8 @@ INSTANTIATE_TEST_SUITE_P(
 // geometry, surfaces whose plane cuts the light, contact shadows.
 TEST_F(Reference, GpuAndEmbreeAgreeOnOpenArenaLevel) {
     const auto scene = geometry::loadScene(testutil::sharedPath("levels/oa_dm4.glb"));
-    const Rendered gl = testutil::render(scene, gpu::Method::Reference, 96, kSamples);
-    const Rendered rt = testutil::render(scene, gpu::Method::Raytrace, 96, kSamples);
+    const Rendered gl = testutil::render(scene, "reference", 96, kSamples);
+    const Rendered rt = testutil::render(scene, "raytrace", 96, kSamples);
     const auto e = check("oa_dm4-reference-vs-raytrace", gl, rt.visibility.data);
     EXPECT_GT(e.pixels, 8000u);
     EXPECT_EQ(e.mismatchedCoverage, 0u);

@@ -31,7 +31,7 @@ struct Rendered {
     gpu::FrameStats stats;
 };
 
-inline Rendered render(const geometry::Scene& scene, gpu::Method method, int size,
+inline Rendered render(const geometry::Scene& scene, const std::string& method, int size,
                        int samples = 256) {
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);

@@ -1,10 +1,8 @@
 // The frame: G-buffer → visibility (per method) → shading, on the current GL context.
 //
-// Methods implemented here:
-// - hard:      one z-fail stencil shadow-volume pass from the light centre (DESIGN.md §4);
-// - reference: `samples` hard-shadow passes from stratified points on the light, averaged;
-// - raytrace:  the G-buffer positions read back and traced on the CPU with Embree.
-// Every pass opens a debug group and a GPU timer; FrameStats carries them by name.
+// The visibility step is one object per method, chosen by name from the table in gpu/Methods.h
+// (gpu/src/methods/). Every pass opens a debug group and a GPU timer; FrameStats carries them by
+// name.
 #pragma once
 
 #include <geometry/ErrorStats.h>
@@ -12,6 +10,7 @@
 #include <geometry/Scene.h>
 #include <geometry/Topology.h>
 #include <gpu/Debug.h>
+#include <gpu/Methods.h>
 #include <gpu/Objects.h>
 #include <gpu/ShaderLoader.h>
 
@@ -27,18 +26,9 @@ class RayTracer;
 
 namespace gpu {
 
-enum class Method { Hard, Reference, Raytrace };
-
-// All method names of the render contract (DESIGN.md §3), implemented or not.
-const std::vector<std::string>& allMethodNames();
-// Parses an implemented method name; throws geometry::InputError naming the valid choices, or
-// saying that a known method is not implemented yet.
-Method parseMethod(const std::string& name);
-const char* toString(Method m);
-
 // One settings struct for the renderer, the command line and (later) the viewer UI.
 struct RenderSettings {
-    Method method = Method::Hard;
+    std::string method = "hard"; // a name from methodTable()
     int width = 512;
     int height = 512;
     int samples = 1024;       // reference methods: light samples per pixel
@@ -54,6 +44,12 @@ struct CpuTime {
     double ms = 0.0;
 };
 
+// A named count of the frame (pixels clamped, wedges culled, ...), written to report.json.
+struct Counter {
+    std::string name;
+    double value = 0.0;
+};
+
 struct FrameStats {
     std::vector<PassTime> gpu; // per pass, GL timer queries
     std::vector<CpuTime> cpu;  // per CPU stage
@@ -62,6 +58,8 @@ struct FrameStats {
     std::size_t silhouetteEdges = 0;  // directed silhouette edges from the light centre
     std::size_t silhouetteGroups = 0; // groups (geometry/Silhouette.h) from the light centre
     std::size_t volumeTriangles = 0; // shadow-volume triangles for the light centre
+    std::size_t silhouetteUploadBytes = 0; // per-frame upload of the centre's silhouettes
+    std::vector<Counter> counters;         // method-specific counts
 };
 
 // What the renderer made of each scene object (welded topology of the shadow casters).

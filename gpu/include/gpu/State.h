@@ -4,6 +4,8 @@
 
 #include <epoxy/gl.h>
 
+#include <array>
+
 namespace gpu {
 
 struct StencilFace {
@@ -13,6 +15,24 @@ struct StencilFace {
     GLenum stencilFail = GL_KEEP;
     GLenum depthFail = GL_KEEP;
     GLenum depthPass = GL_KEEP;
+};
+
+// Blend and colour-write state of one colour attachment (used when
+// PipelineState::independentTargets is set; otherwise the shared fields apply to every target).
+struct ColorTargetState {
+    bool blend = false;
+    GLenum blendSrc = GL_ONE;
+    GLenum blendDst = GL_ZERO;
+    GLenum blendEquation = GL_FUNC_ADD;
+    bool writeR = true, writeG = true, writeB = true, writeA = true;
+};
+
+inline constexpr int kMaxColorTargets = 4;
+
+// Window-space rectangle (pixels, lower-left origin), used when PipelineState::scissor is set.
+struct ScissorRect {
+    GLint x = 0, y = 0;
+    GLsizei width = 0, height = 0;
 };
 
 struct PipelineState {
@@ -35,6 +55,10 @@ struct PipelineState {
     float polygonOffsetUnits = 0.0f;
     bool depthClamp = false;
     bool scissor = false;
+    ScissorRect scissorRect; // set at draw time by passes that scissor (e.g. per group)
+    // Per-attachment blend and colour masks (MRT passes that treat targets differently).
+    bool independentTargets = false;
+    std::array<ColorTargetState, kMaxColorTargets> targets{};
 };
 
 // Applies every field (the full state, not a diff).

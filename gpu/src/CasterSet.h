@@ -1,0 +1,67 @@
+// The shadow casters of a scene on the GPU, and their per-frame silhouettes.
+// - Built once: welded topology per caster (geometry::Topology), its SilhouetteExtractor, and
+//   static GPU buffers of every caster's welded positions and triangle indices, concatenated and
+//   rebased to one global numbering (caps and wedges are drawn from them by vertex pulling).
+// - Per frame: the extractors run from the light centre (reused while the light is still), and
+//   their cap triangles, directed silhouette edges and groups go up in ONE upload (the buffer is
+//   invalidated and refilled: orphaning), each caster's ids rebased once on the way.
+#pragma once
+
+#include <geometry/Scene.h>
+#include <geometry/Silhouette.h>
+#include <geometry/Topology.h>
+#include <gpu/Objects.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace gpu {
+
+// One caster's share of the frame upload (element indices into the arrays of Bindings.h).
+struct CasterRange {
+    std::uint32_t firstTriangle = 0, triangleCount = 0; // capTriangles[]
+    std::uint32_t firstEdge = 0, edgeCount = 0;         // edges[]
+    std::uint32_t firstGroup = 0, groupCount = 0;       // groups[]
+};
+
+class CasterSet {
+public:
+    // Objects whose method is not None, in scene order. Needs a current GL context.
+    explicit CasterSet(const geometry::Scene& scene);
+
+    std::size_t size() const { return mTopologies.size(); }
+    const geometry::Topology& topology(std::size_t i) const { return mTopologies[i]; }
+    std::size_t sceneObject(std::size_t i) const { return mObjectIndex[i]; }
+
+    // Silhouettes of every caster from the light centre (classification, groups, directed edges,
+    // caps by reference, influence bounds; no CPU volumes or wedges), then the upload.
+    void update(const geometry::RectLight& light, const geometry::Aabb& sceneBounds);
+
+    const geometry::SilhouetteFrame& frame(std::size_t i) const;
+    const CasterRange& range(std::size_t i) const { return mRanges[i]; }
+    // Totals over all casters (the frame upload).
+    std::uint32_t triangleCount() const { return mTotal.triangleCount; }
+    std::uint32_t edgeCount() const { return mTotal.edgeCount; }
+    std::uint32_t groupCount() const { return mTotal.groupCount; }
+    std::size_t uploadBytes() const { return mUploadBytes; }
+    // Welded vertex/triangle offset of caster i in the static buffers.
+    std::uint32_t vertexBase(std::size_t i) const { return mVertexBase[i]; }
+
+    // Binds the static and per-frame arrays to their storage-buffer slots (Bindings.h).
+    void bind() const;
+
+private:
+    std::vector<geometry::Topology> mTopologies;
+    std::vector<std::size_t> mObjectIndex;
+    std::vector<geometry::SilhouetteExtractor> mExtractors;
+    std::vector<std::uint32_t> mVertexBase, mTriangleBase;
+    Buffer mPositions, mIndices; // static
+    Buffer mFrameData;           // per frame: capTriangles | edges | groups
+    std::vector<std::byte> mStaging;
+    std::size_t mEdgeOffset = 0, mGroupOffset = 0, mUploadBytes = 0; // bytes into mFrameData
+    std::vector<CasterRange> mRanges;
+    CasterRange mTotal;
+};
+
+} // namespace gpu

@@ -1,0 +1,63 @@
+// A visibility method: one class per method behind one small interface, created from the table
+// in gpu/Methods.h. A method writes V into Targets::visibility (cleared to 0 before it runs) for
+// the pixels its casters affect, and may run on a subset of the casters (`auto` composes methods
+// per object in one frame).
+#pragma once
+
+#include <geometry/Scene.h>
+#include <gpu/Debug.h>
+#include <gpu/Methods.h>
+#include <gpu/Renderer.h>
+#include <gpu/ShaderLoader.h>
+
+#include "CasterSet.h"
+#include "Targets.h"
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string_view>
+
+namespace gpu {
+
+// What a method may use when it is built.
+struct MethodResources {
+    const ShaderLoader& shaders;
+    const geometry::Scene& scene;
+};
+
+// What a method sees during one frame.
+struct FrameContext {
+    const RenderSettings& settings;
+    const geometry::Scene& scene;
+    const Targets& targets;
+    CasterSet& casters;
+    std::span<const std::uint32_t> casterSubset; // caster indices this method serves
+    GpuTimers& timers;
+    FrameStats& stats;
+    // Re-uploads the frame uniforms with another accumulation weight (params.y).
+    std::function<void(float weight)> setAccumulationWeight;
+
+    void addCpuTime(std::string_view stage, double ms) const;
+    void addCounter(std::string_view name, double value) const;
+};
+
+class VisibilityMethod {
+public:
+    virtual ~VisibilityMethod() = default;
+    virtual void resize(int /*width*/, int /*height*/) {}
+    virtual void execute(const FrameContext& ctx) = 0;
+};
+
+using Clock = std::chrono::steady_clock;
+inline double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Factories of the implemented methods (gpu/src/methods/*.cpp).
+std::unique_ptr<VisibilityMethod> createHardMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createReferenceMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createRaytraceMethod(const MethodResources&);
+
+} // namespace gpu

@@ -1,0 +1,23 @@
+#include "FullscreenPass.h"
+
+namespace gpu {
+
+FullscreenPass::FullscreenPass(const ShaderLoader& shaders, const char* fragment,
+                               const char* label, const PipelineState& state,
+                               std::vector<std::string> defines)
+    : mProgram(shaders.load({.stages = {{GL_VERTEX_SHADER, "fullscreen.vert"},
+                                        {GL_FRAGMENT_SHADER, fragment}},
+                             .defines = std::move(defines),
+                             .label = label})),
+      mVao(label), mState(state) {}
+
+void FullscreenPass::execute(const Framebuffer& target, int width, int height) const {
+    applyState(mState);
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+    glViewport(0, 0, width, height);
+    glUseProgram(mProgram.id());
+    glBindVertexArray(mVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+} // namespace gpu

@@ -1,0 +1,45 @@
+// One triangle over the viewport with a fragment shader, a fixed state and a target; the
+// building block of the accumulate, resolve and shade passes.
+#pragma once
+
+#include <gpu/ShaderLoader.h>
+#include <gpu/State.h>
+
+namespace gpu {
+
+class FullscreenPass {
+public:
+    FullscreenPass(const ShaderLoader& shaders, const char* fragment, const char* label,
+                   const PipelineState& state, std::vector<std::string> defines = {});
+    void execute(const Framebuffer& target, int width, int height) const;
+    const Program& program() const { return mProgram; }
+
+private:
+    Program mProgram;
+    VertexArray mVao;
+    PipelineState mState;
+};
+
+// Adds frame.params.y into V where the stencil count is zero (lit).
+class AccumulatePass {
+public:
+    static constexpr PipelineState kState{
+        .stencilTest = true,
+        .stencilWriteMask = 0,
+        .stencilFront = {.func = GL_EQUAL, .ref = 0},
+        .stencilBack = {.func = GL_EQUAL, .ref = 0},
+        .blend = true,
+        .blendSrc = GL_ONE,
+        .blendDst = GL_ONE,
+    };
+    explicit AccumulatePass(const ShaderLoader& shaders)
+        : mPass(shaders, "accumulate.frag", "accumulate", kState) {}
+    void execute(const Framebuffer& target, int width, int height) const {
+        mPass.execute(target, width, height);
+    }
+
+private:
+    FullscreenPass mPass;
+};
+
+} // namespace gpu
