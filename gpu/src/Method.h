@@ -32,6 +32,7 @@ struct FrameContext {
     const RenderSettings& settings;
     const geometry::Scene& scene;
     const Targets& targets;
+    const glm::mat4& viewProj; // of the frame uniforms
     CasterSet& casters;
     std::span<const std::uint32_t> casterSubset; // caster indices this method serves
     GpuTimers& timers;
@@ -59,5 +60,6 @@ inline double msSince(Clock::time_point t0) {
 std::unique_ptr<VisibilityMethod> createHardMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createReferenceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createRaytraceMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResources&);
 
 } // namespace gpu

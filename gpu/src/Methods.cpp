@@ -18,7 +18,7 @@ const std::array<MethodInfo, 9> kMethods = {{
     {"raytrace", "N stratified Embree rays per pixel to the light (CPU)", true,
      createRaytraceMethod},
     {"wedges-additive", "penumbra wedges, coverage summed (Assarsson & Akenine-Moller 2003)",
-     false, nullptr},
+     false, createAdditiveWedgesMethod},
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
      nullptr},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied", false, nullptr},

@@ -86,6 +86,7 @@ struct Renderer::Impl {
     std::size_t triangles = 0;
     float zNear = 0.01f;
     geometry::Aabb sceneBounds;
+    glm::mat4 viewProj{1.0f}; // of the last frame-uniform upload
 
     Buffer frameUbo{{.size = sizeof(shader::FrameUniforms), .label = "frame-uniforms"}};
     Targets targets;
@@ -117,8 +118,9 @@ struct Renderer::Impl {
         const auto& cam = scene.camera;
         const float aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
         shader::FrameUniforms u{};
-        u.viewProj = infiniteReversedZ(glm::radians(cam.fovYDeg), aspect, zNear) *
-                     glm::lookAt(cam.eye, cam.target, cam.up);
+        viewProj = infiniteReversedZ(glm::radians(cam.fovYDeg), aspect, zNear) *
+                   glm::lookAt(cam.eye, cam.target, cam.up);
+        u.viewProj = viewProj;
         u.eye = glm::vec4(cam.eye, 1.0f);
         u.lightCenter = glm::vec4(scene.light.center, 1.0f);
         u.lightU = glm::vec4(scene.light.u, 0.0f);
@@ -190,7 +192,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const float zero = 0.0f;
     glClearTexImage(m.targets.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
 
-    FrameContext ctx{settings, m.scene, m.targets, m.casters, m.allCasters, m.timers, stats,
+    FrameContext ctx{settings, m.scene, m.targets, m.viewProj, m.casters, m.allCasters, m.timers, stats,
                      [&](float weight) { m.uploadFrameUniforms(settings, weight); }};
 
     // Light-centre silhouettes, uploaded once: every method reports them, most draw from them.

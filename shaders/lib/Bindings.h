@@ -14,6 +14,22 @@
 #define BINDING_EDGES 3         // GpuEdge per directed silhouette edge copy
 #define BINDING_GROUPS 4        // GpuGroup per silhouette group
 
+// Per frame, on the GPU only (wedge methods).
+#define BINDING_WEDGES 5      // GpuWedge per directed edge, built by shaders/wedge-setup.comp
+#define BINDING_WEDGE_STATS 6 // uint counters (WEDGE_STAT_*)
+
+#define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
+
+// GpuWedge::kind
+#define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)
+#define WEDGE_FULLSCREEN 1u // no bounded hull (edge line through the light): one triangle over
+                            // the group's screen rectangle
+#define WEDGE_DEGENERATE 2u // zero-length edge: changes nothing, draws nothing
+#define WEDGE_CULLED 3u     // its group's influence misses the view frustum: draws nothing
+// Counters in the wedge-stats buffer: one per kind, then pixels clamped by the resolve.
+#define WEDGE_STAT_CLAMPED 4
+#define WEDGE_STAT_COUNT 8
+
 #define CAP_FLIPPED 0x80000000u // light-oriented winding is (a, c, b) (geometry kTriangleFlipped)
 
 #define TEXUNIT_POSITION 0
@@ -64,7 +80,22 @@ struct GpuGroup {
     uint triangleCount;
 };
 
+// One penumbra wedge as the GPU draws it: the edge and its conservative hull
+// E + cone(rays) (geometry/WedgeHull.h, shaders/lib/WedgeHull.glsl).
+struct GpuWedge {
+    vec4 e0;        // xyz: edge start (light-oriented triangles to the left of e0 -> e1)
+    vec4 e1;        // xyz: edge end
+    vec4 planes[4]; // hull planes: front, back, side at e0, side at e1; P is inside when
+                    // dot(planes[i].xyz, P) + planes[i].w <= 0 for all four
+    vec4 rays[4];   // xyz: the hull's directions at infinity g1..g4
+    uint kind;      // WEDGE_*
+    uint group;
+    uint pad0;
+    uint pad1;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(GpuWedge) == 176, "GpuWedge must match std430");
 static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 5 * 16, "FrameUniforms must match std140");

@@ -15,16 +15,8 @@ public:
     explicit HardMethod(const MethodResources& r) : mVolumes(r.shaders), mAccumulate(r.shaders) {}
 
     void execute(const FrameContext& ctx) override {
-        const Targets& t = ctx.targets;
-        {
-            ScopedPass pass(&ctx.timers, "shadow-volume");
-            clearStencil(t);
-            ctx.casters.bind();
-            for (const CasterRange& range : casterRuns(ctx.casters, ctx.casterSubset))
-                mVolumes.drawCentre(t, range);
-        }
-        ScopedPass pass(&ctx.timers, "accumulate");
-        mAccumulate.execute(t.visibilityFbo, t.width, t.height);
+        drawHardVisibility(ctx, casterRuns(ctx.casters, ctx.casterSubset), mVolumes,
+                           mAccumulate);
     }
 
 private:

@@ -1,5 +1,7 @@
 #include "MethodUtil.h"
 
+#include "../passes/FullscreenPass.h"
+#include "../passes/StencilVolumePass.h"
 #include "../passes/VolumeStates.h"
 
 namespace gpu {
@@ -27,6 +29,39 @@ std::vector<CasterRange> casterRuns(const CasterSet& casters,
         previous = subset[k];
     }
     return runs;
+}
+
+void drawHardVisibility(const FrameContext& ctx, std::span<const CasterRange> runs,
+                        StencilVolumePass& volumes, const AccumulatePass& accumulate) {
+    const Targets& t = ctx.targets;
+    {
+        ScopedPass pass(&ctx.timers, "shadow-volume");
+        clearStencil(t);
+        ctx.casters.bind();
+        for (const CasterRange& range : runs) volumes.drawCentre(t, range);
+    }
+    ScopedPass pass(&ctx.timers, "accumulate");
+    accumulate.execute(t.visibilityFbo, t.width, t.height);
+}
+
+std::uint32_t countCulledGroups(const FrameContext& ctx) {
+    // The planes of shaders/lib/Frustum.glsl: rows of viewProj combined.
+    const glm::mat4& m = ctx.viewProj;
+    auto row = [&](int j) { return glm::vec4(m[0][j], m[1][j], m[2][j], m[3][j]); };
+    const glm::vec4 planes[5] = {row(3) + row(0), row(3) - row(0), row(3) + row(1),
+                                 row(3) - row(1), row(3) - row(2)};
+    std::uint32_t culled = 0;
+    for (const std::uint32_t c : ctx.casterSubset)
+        for (const geometry::SilhouetteGroup& g : ctx.casters.frame(c).groups)
+            for (const glm::vec4& p : planes) {
+                const glm::vec3 corner = glm::mix(g.influenceBounds.min, g.influenceBounds.max,
+                                                  glm::step(glm::vec3(0.0f), glm::vec3(p)));
+                if (glm::dot(glm::vec3(p), corner) + p.w < 0.0f) {
+                    ++culled;
+                    break;
+                }
+            }
+    return culled;
 }
 
 } // namespace gpu

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "../CasterSet.h"
+#include "../Method.h"
 #include "../Targets.h"
 
 #include <cstdint>
@@ -17,5 +18,17 @@ void clearStencil(const Targets& t);
 // range each so that the usual case, every caster, is one draw per volume part.
 std::vector<CasterRange> casterRuns(const CasterSet& casters,
                                     std::span<const std::uint32_t> subset);
+
+class StencilVolumePass;
+class AccumulatePass;
+
+// V = 1 where the light centre is visible, 0 elsewhere: the z-fail volumes of `runs`, then the
+// accumulate pass (the `hard` method, and the start value of every wedge method).
+void drawHardVisibility(const FrameContext& ctx, std::span<const CasterRange> runs,
+                        StencilVolumePass& volumes, const AccumulatePass& accumulate);
+
+// Groups of the casters in `ctx.casterSubset` whose influence bounds miss the view frustum
+// (the wedge set-up culls their wedges on the GPU by the same test).
+std::uint32_t countCulledGroups(const FrameContext& ctx);
 
 } // namespace gpu

@@ -1,0 +1,64 @@
+// wedges-additive (Assarsson & Akenine-Möller 2003): V = clamp(V_hard - Σ coverage, 0, 1).
+// - V_hard: the light centre's z-fail volumes (as `hard`);
+// - one wedge per directed silhouette edge, built on the GPU from the edge (WedgePass), each
+//   pixel inside it subtracting the edge's signed coverage of the light;
+// - exact for one silhouette; where penumbrae of different silhouettes overlap the sum
+//   double-counts (DESIGN.md §4): the resolve counts the pixels its clamp touched.
+#include "../Method.h"
+#include "../passes/FullscreenPass.h"
+#include "../passes/StencilVolumePass.h"
+#include "../passes/WedgePass.h"
+#include "MethodUtil.h"
+
+namespace gpu {
+
+namespace {
+
+class AdditiveWedgesMethod final : public VisibilityMethod {
+public:
+    explicit AdditiveWedgesMethod(const MethodResources& r)
+        : mVolumes(r.shaders), mAccumulate(r.shaders), mWedges(r.shaders) {}
+
+    void execute(const FrameContext& ctx) override {
+        const Targets& t = ctx.targets;
+        const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
+        drawHardVisibility(ctx, runs, mVolumes, mAccumulate);
+        std::uint32_t edges = 0;
+        for (const CasterRange& r : runs) edges += r.edgeCount;
+        {
+            ScopedPass pass(&ctx.timers, "wedge-setup");
+            mWedges.beginFrame(ctx.casters.edgeCount());
+            mWedges.setup(runs);
+        }
+        {
+            ScopedPass pass(&ctx.timers, "wedges");
+            mWedges.draw(t, runs);
+        }
+        {
+            ScopedPass pass(&ctx.timers, "resolve");
+            mWedges.resolve(t);
+        }
+        const WedgeCounts c = mWedges.counts();
+        ctx.addCounter("wedges", edges);
+        ctx.addCounter("wedges_bounded", c.bounded);
+        ctx.addCounter("wedges_fullscreen", c.fullscreen);
+        ctx.addCounter("wedges_degenerate", c.degenerate);
+        ctx.addCounter("wedges_culled", c.culled);
+        ctx.addCounter("groups_culled", countCulledGroups(ctx));
+        ctx.addCounter("wedge_fragments", static_cast<double>(c.fragments));
+        ctx.addCounter("pixels_clamped", c.clampedPixels);
+    }
+
+private:
+    StencilVolumePass mVolumes;
+    AccumulatePass mAccumulate;
+    WedgePass mWedges;
+};
+
+} // namespace
+
+std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResources& r) {
+    return std::make_unique<AdditiveWedgesMethod>(r);
+}
+
+} // namespace gpu

@@ -1,0 +1,91 @@
+#include "WedgePass.h"
+
+#include "../ShaderBindings.h"
+
+#include <algorithm>
+
+namespace gpu {
+
+WedgePass::WedgePass(const ShaderLoader& shaders)
+    : mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
+                           .label = "wedge-setup"})),
+      mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
+                                     {GL_FRAGMENT_SHADER, "wedge.frag"}},
+                          .label = "wedges"})),
+      mResolve(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-resolve.comp"}},
+                             .label = "wedge-resolve"})),
+      mVao("wedges"),
+      mStats({.size = WEDGE_STAT_COUNT * sizeof(std::uint32_t), .label = "wedge-stats"}),
+      mSamples(GL_SAMPLES_PASSED) {}
+
+void WedgePass::beginFrame(std::uint32_t edgeCount) {
+    const std::size_t needed = std::max<std::size_t>(edgeCount, 1);
+    if (needed > mWedgeCapacity) {
+        mWedgeCapacity = std::max(needed, 2 * mWedgeCapacity);
+        mWedges = Buffer({.size = mWedgeCapacity * sizeof(shader::GpuWedge), .flags = 0,
+                          .label = "wedges"});
+    }
+    const std::uint32_t zero = 0;
+    glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGES, mWedges.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_STATS, mStats.id());
+    mSampled = false;
+}
+
+void WedgePass::setup(std::span<const CasterRange> runs) {
+    glUseProgram(mSetup.id());
+    for (const CasterRange& range : runs) {
+        if (range.edgeCount == 0) continue;
+        glUniform2ui(0, range.firstEdge, range.edgeCount);
+        glDispatchCompute((range.edgeCount + 63) / 64, 1, 1);
+    }
+}
+
+void WedgePass::draw(const Targets& t, std::span<const CasterRange> runs) {
+    // The set-up's buffer writes must be visible to the vertex and fragment shaders.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    applyState(kState);
+    glBindFramebuffer(GL_FRAMEBUFFER, t.visibilityFbo.id());
+    glViewport(0, 0, t.width, t.height);
+    glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
+    glUseProgram(mDraw.id());
+    glBindVertexArray(mVao.id());
+    glBeginQuery(GL_SAMPLES_PASSED, mSamples.id());
+    for (const CasterRange& range : runs)
+        if (range.edgeCount > 0)
+            glDrawArrays(GL_TRIANGLES, static_cast<GLint>(24 * range.firstEdge),
+                         static_cast<GLsizei>(24 * range.edgeCount));
+    glEndQuery(GL_SAMPLES_PASSED);
+    mSampled = true;
+}
+
+void WedgePass::resolve(const Targets& t) {
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glUseProgram(mResolve.id());
+    glBindImageTexture(IMAGE_VISIBILITY, t.visibility.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_R32F);
+    glDispatchCompute(static_cast<GLuint>((t.width + 7) / 8),
+                      static_cast<GLuint>((t.height + 7) / 8), 1);
+    // V is sampled by the shading pass and read back next.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+WedgeCounts WedgePass::counts() {
+    std::array<std::uint32_t, WEDGE_STAT_COUNT> s{};
+    glGetNamedBufferSubData(mStats.id(), 0, sizeof(s), s.data());
+    WedgeCounts c;
+    c.bounded = s[WEDGE_BOUNDED];
+    c.fullscreen = s[WEDGE_FULLSCREEN];
+    c.degenerate = s[WEDGE_DEGENERATE];
+    c.culled = s[WEDGE_CULLED];
+    c.clampedPixels = s[WEDGE_STAT_CLAMPED];
+    if (mSampled) {
+        GLuint64 samples = 0;
+        glGetQueryObjectui64v(mSamples.id(), GL_QUERY_RESULT, &samples);
+        c.fragments = samples;
+    }
+    return c;
+}
+
+} // namespace gpu

@@ -1,0 +1,50 @@
+// Wedge set-up: one invocation per directed silhouette edge of a range of the frame's edges.
+// - The wedge is built here, on the GPU, from the edge and the light (no CPU wedges): the
+//   conservative hull of geometry/WedgeHull.h (shaders/lib/WedgeHull.glsl);
+// - a wedge whose group's influence bounds miss the view frustum is culled (draws nothing);
+// - kinds are counted for the report.
+#include "lib/Bindings.h"
+#include "lib/Casters.glsl"
+#include "lib/Frustum.glsl"
+#include "lib/WedgeHull.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = BINDING_WEDGES) writeonly buffer Wedges {
+    GpuWedge wedges[];
+};
+layout(std430, binding = BINDING_WEDGE_STATS) buffer WedgeStats {
+    uint wedgeStats[];
+};
+
+layout(location = 0) uniform uvec2 uRange; // first edge, edge count
+
+void main() {
+    if (gl_GlobalInvocationID.x >= uRange.y) return;
+    uint i = uRange.x + gl_GlobalInvocationID.x;
+    GpuEdge edge = edges[i];
+    GpuWedge w;
+    w.e0 = vec4(weldedPositions[edge.v0].xyz, 1.0);
+    w.e1 = vec4(weldedPositions[edge.v1].xyz, 1.0);
+    w.group = edge.group;
+    w.pad0 = 0u;
+    w.pad1 = 0u;
+    GpuGroup g = groups[edge.group];
+    if (boxOutsideFrustum(g.influenceMin.xyz, g.influenceMax.xyz)) {
+        w.kind = WEDGE_CULLED;
+        for (int k = 0; k < 4; ++k) {
+            w.planes[k] = vec4(0.0);
+            w.rays[k] = vec4(0.0);
+        }
+    } else {
+        WedgeHull h = buildWedgeHull(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz,
+                                     frame.lightU.xyz, frame.lightV.xyz);
+        w.kind = h.kind;
+        for (int k = 0; k < 4; ++k) {
+            w.planes[k] = h.planes[k];
+            w.rays[k] = vec4(h.rays[k], 0.0);
+        }
+    }
+    wedges[i] = w;
+    atomicAdd(wedgeStats[w.kind], 1u);
+}

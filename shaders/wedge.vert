@@ -1,0 +1,62 @@
+// Wedge pass, vertex pulling: 24 vertices per wedge (gl_VertexID / 24 = the edge's index).
+// - WEDGE_BOUNDED: the 8 triangles of its conservative hull, outward wound, w = 0 at infinity;
+//   the pass culls front faces, so each pixel whose eye ray meets the hull gets exactly one
+//   fragment (the ray leaves a convex polyhedron through one back face), camera inside or not;
+// - WEDGE_FULLSCREEN: one clockwise (back-facing) triangle over the screen rectangle of its
+//   group's influence bounds (all of the screen if they reach behind the camera);
+// - otherwise every vertex at one point: nothing is rasterised.
+#include "lib/Bindings.h"
+#include "lib/WedgeHull.glsl"
+
+layout(std430, binding = BINDING_WEDGES) readonly buffer Wedges {
+    GpuWedge wedges[];
+};
+layout(std430, binding = BINDING_GROUPS) readonly buffer Groups {
+    GpuGroup groups[];
+};
+
+// The fragment shader's inputs, flat: reading the wedge buffer per fragment costs far more.
+flat out vec4 vE0;
+flat out vec4 vE1;
+flat out vec4 vPlanes[4];
+flat out uint vBounded;
+
+// The NDC rectangle of a box, or [-1, 1]^2 when part of it is behind the eye.
+vec4 screenRect(vec3 lo, vec3 hi) {
+    vec2 rmin = vec2(1.0), rmax = vec2(-1.0);
+    for (int c = 0; c < 8; ++c) {
+        vec3 corner = vec3((c & 1) != 0 ? hi.x : lo.x, (c & 2) != 0 ? hi.y : lo.y,
+                           (c & 4) != 0 ? hi.z : lo.z);
+        vec4 clip = frame.viewProj * vec4(corner, 1.0);
+        if (clip.w <= 0.0) return vec4(-1.0, -1.0, 1.0, 1.0);
+        rmin = min(rmin, clip.xy / clip.w);
+        rmax = max(rmax, clip.xy / clip.w);
+    }
+    return vec4(max(rmin, vec2(-1.0)), min(rmax, vec2(1.0)));
+}
+
+void main() {
+    uint w = uint(gl_VertexID) / 24u;
+    int k = gl_VertexID % 24;
+    GpuWedge wedge = wedges[w];
+    vE0 = wedge.e0;
+    vE1 = wedge.e1;
+    for (int i = 0; i < 4; ++i) vPlanes[i] = wedge.planes[i];
+    vBounded = wedge.kind == WEDGE_BOUNDED ? 1u : 0u;
+    if (wedge.kind == WEDGE_BOUNDED) {
+        int corner = wedgeHullCorner(k);
+        vec4 world = corner == 0   ? vec4(wedge.e0.xyz, 1.0)
+                     : corner == 1 ? vec4(wedge.e1.xyz, 1.0)
+                                   : vec4(wedge.rays[corner - 2].xyz, 0.0);
+        gl_Position = frame.viewProj * world;
+    } else if (wedge.kind == WEDGE_FULLSCREEN && k < 3) {
+        GpuGroup g = groups[wedge.group];
+        vec4 r = screenRect(g.influenceMin.xyz, g.influenceMax.xyz);
+        vec2 size = max(r.zw - r.xy, vec2(0.0));
+        // (x0, y0), (x0, y0 + 2h), (x0 + 2w, y0): clockwise, covers the rectangle.
+        vec2 p = r.xy + vec2(k == 2 ? 2.0 * size.x : 0.0, k == 1 ? 2.0 * size.y : 0.0);
+        gl_Position = vec4(p, 0.5, 1.0);
+    } else {
+        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+    }
+}
