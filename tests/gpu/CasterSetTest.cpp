@@ -15,6 +15,7 @@
 
 #include <geometry/Scene.h>
 #include <gpu/ShaderLoader.h>
+#include <gpu/State.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -137,6 +138,7 @@ std::vector<std::uint8_t> fullRayCounts(const geometry::Scene& scene, const glm:
     std::vector<std::uint8_t> stencil(static_cast<std::size_t>(size) * size);
     for (std::size_t i = 0; i < stencil.size(); ++i)
         stencil[i] = static_cast<std::uint8_t>(raw[8 * i + 4]);
+    gpu::applyState(gpu::PipelineState{}); // later tests in this process expect the defaults
     return stencil;
 }
 
