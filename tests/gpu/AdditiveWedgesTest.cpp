@@ -1,0 +1,192 @@
+// wedges-additive on the GPU against its CPU model and against the reference.
+// - The GPU's V equals clamp(V_hard - Σ edgeCoverage) evaluated on the CPU (double) at the
+//   G-buffer positions of the same render, for the same directed silhouette edges: this checks
+//   the GPU hulls (no pixel with coverage may be missed), the float coverage and the blending.
+// - One occluder: V against the GPU reference (N = 256, 128²): mean ≤ 0.01, p99 ≤ 0.05.
+// - Hard cases (camera inside a wedge or a volume, light close to an occluder, an edge touching
+//   the light's plane): no GL error, no NaN, V in [0, 1].
+#include "GlTestEnv.h"
+#include "RenderTestUtil.h"
+
+#include <geometry/ErrorStats.h>
+#include <geometry/Silhouette.h>
+#include <geometry/Topology.h>
+#include <geometry/Wedge.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace {
+
+using testutil::Rendered;
+
+// Σ over the light centre's directed silhouette edges of edgeCoverage at every surface pixel
+// (the settings of the GPU path: gpu/src/CasterSet.cpp).
+std::vector<double> cpuCoverageSum(const geometry::Scene& scene, const Rendered& r) {
+    geometry::SilhouetteSettings settings;
+    settings.buildVolumes = false;
+    settings.buildWedges = false;
+    std::vector<std::pair<glm::vec3, glm::vec3>> edges;
+    for (const auto& object : scene.objects) {
+        if (object.method == geometry::ShadowMethod::None) continue;
+        const geometry::Topology topology(object.mesh);
+        geometry::SilhouetteExtractor extractor(topology);
+        const geometry::SilhouetteFrame& f = extractor.update(scene.light, scene.bounds(), settings);
+        for (const auto& e : f.edges)
+            edges.emplace_back(topology.positions()[e.v0], topology.positions()[e.v1]);
+    }
+    std::vector<double> sum(r.visibility.data.size(), 0.0);
+    for (std::size_t i = 0; i < sum.size(); ++i) {
+        if (!std::isfinite(r.visibility.data[i])) continue;
+        const glm::vec3 p = testutil::pixelPosition(r.position, i);
+        for (const auto& [e0, e1] : edges) sum[i] += geometry::edgeCoverage(p, e0, e1, scene.light);
+    }
+    return sum;
+}
+
+struct ModelCheck {
+    std::size_t pixels = 0, wrong = 0, penumbra = 0;
+    double maxErr = 0.0;
+};
+
+ModelCheck checkAgainstModel(const std::string& sceneFile, int size, float tolerance) {
+    const auto scene = geometry::loadScene(testutil::dataPath(sceneFile));
+    const Rendered hard = testutil::render(scene, "hard", size);
+    const Rendered additive = testutil::render(scene, "wedges-additive", size);
+    const std::vector<double> sum = cpuCoverageSum(scene, additive);
+    ModelCheck c;
+    std::vector<float> expected(sum.size(), std::nanf(""));
+    for (std::size_t i = 0; i < sum.size(); ++i) {
+        const float v = additive.visibility.data[i];
+        if (!std::isfinite(v)) continue;
+        ++c.pixels;
+        const double e = std::clamp(double(hard.visibility.data[i]) - sum[i], 0.0, 1.0);
+        expected[i] = float(e);
+        if (e > 0.01 && e < 0.99) ++c.penumbra;
+        const double err = std::abs(v - e);
+        c.maxErr = std::max(c.maxErr, err);
+        if (err > tolerance) {
+            ++c.wrong;
+            const glm::vec3 p = testutil::pixelPosition(additive.position, i);
+            std::printf("  pixel %zu (x %zu, y %zu) at (%.4f %.4f %.4f): GPU %.4f, model %.4f "
+                        "(hard %.0f, coverage sum %.4f)\n",
+                        i, i % size, i / size, p.x, p.y, p.z, v, e, hard.visibility.data[i],
+                        sum[i]);
+        }
+    }
+    if (c.wrong > 0) testutil::writeComparisonImages("additive-model-" + sceneFile, additive.visibility,
+                                                     expected);
+    return c;
+}
+
+class AdditiveWedges : public GlTest {};
+
+// Float (GPU) against double (CPU) coverage: a few 1e-5 per edge at these scales; a pixel whose
+// sum is off by more than 2e-3 has a missed or extra wedge, not rounding.
+constexpr float kModelTolerance = 2e-3f;
+
+TEST_F(AdditiveWedges, GpuEqualsCpuModelOnOverlappingPlates) {
+    const ModelCheck c = checkAgainstModel("overlap.json", 128, kModelTolerance);
+    std::printf("  overlap.json: %zu pixels, %zu in penumbra, max |GPU - model| %.2e\n", c.pixels,
+                c.penumbra, c.maxErr);
+    EXPECT_GT(c.penumbra, 500u); // the test sees a real penumbra
+    EXPECT_EQ(c.wrong, 0u);
+}
+
+TEST_F(AdditiveWedges, GpuEqualsCpuModelOnTheDemo) {
+    const ModelCheck c = checkAgainstModel("demo.json", 128, kModelTolerance);
+    std::printf("  demo.json: %zu pixels, %zu in penumbra, max |GPU - model| %.2e\n", c.pixels,
+                c.penumbra, c.maxErr);
+    EXPECT_GT(c.penumbra, 500u);
+    // Measured: 1 pixel (0.185 off), on a box face in its own hard shadow whose plane contains
+    // one of the silhouette edges and cuts the light: there P lies on the plane through the
+    // edge, its projection of the edge degenerates to the line where that plane meets the
+    // light's, and float and double resolve the sign of the cross product differently. A pixel
+    // with a missing or extra wedge would show along a whole penumbra, not alone.
+    EXPECT_LE(c.wrong, 3u);
+}
+
+geometry::ErrorStats againstReference(const std::string& sceneFile, const std::string& method,
+                                      int size = 128, int samples = 256) {
+    const auto scene = geometry::loadScene(testutil::dataPath(sceneFile));
+    const Rendered ref = testutil::render(scene, "reference", size, samples);
+    const Rendered r = testutil::render(scene, method, size);
+    const auto e = geometry::compareVisibility(r.visibility.data, ref.visibility.data);
+    std::printf("  %s %s vs reference N=%d at %d²: mean %.4f, p99 %.4f, max %.4f, %.2f%% > 0.05\n",
+                sceneFile.c_str(), method.c_str(), samples, size, e.meanAbs, e.p99, e.max,
+                e.badPixelPct);
+    return e;
+}
+
+TEST_F(AdditiveWedges, OneParallelPlateMatchesTheReference) {
+    const auto e = againstReference("parallel-square.json", "wedges-additive");
+    EXPECT_LE(e.meanAbs, 0.01);
+    EXPECT_LE(e.p99, 0.05);
+    // The hard shadow of the same view is far off: the test measures the penumbra.
+    EXPECT_GT(againstReference("parallel-square.json", "hard").meanAbs, 10 * e.meanAbs);
+}
+
+// Renders V and checks it is finite and within [0, 1] on every surface pixel.
+void expectValidVisibility(const geometry::Scene& scene, int size = 64) {
+    const Rendered r = testutil::render(scene, "wedges-additive", size);
+    std::size_t surface = 0;
+    for (float v : r.visibility.data) {
+        if (std::isnan(v)) continue; // no surface
+        ++surface;
+        ASSERT_TRUE(std::isfinite(v));
+        ASSERT_GE(v, 0.0f);
+        ASSERT_LE(v, 1.0f);
+    }
+    EXPECT_GT(surface, 0u);
+}
+
+geometry::Scene sceneFromJson(const std::string& json) {
+    return geometry::parseScene(json, testutil::dataPath("."), "test scene");
+}
+
+constexpr const char* kPlateAndFloor = R"(
+    {"name": "floor", "type": "quad", "center": [0, 0, 0], "u": [3, 0, 0], "v": [0, 0, -3]},
+    {"name": "plate", "type": "quad", "center": [0, 1, 0], "u": [0.5, 0, 0], "v": [0, 0, -0.5]},
+    {"name": "box", "type": "box", "center": [1.2, 0.6, 0.3], "size": [0.4, 0.4, 0.4]})";
+
+TEST_F(AdditiveWedges, CameraInsideAWedge) {
+    // Just below the plate's edge, looking down at the floor: inside that edge's wedge.
+    expectValidVisibility(sceneFromJson(std::string(R"({
+        "camera": {"eye": [0.5, 0.8, 0.0], "target": [0.6, 0, 0.2], "up": [0, 0, -1], "fov_y_deg": 60},
+        "light": {"center": [0, 3, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]},
+        "objects": [)") + kPlateAndFloor + "]}"));
+}
+
+TEST_F(AdditiveWedges, CameraInsideAVolume) {
+    expectValidVisibility(sceneFromJson(std::string(R"({
+        "camera": {"eye": [0.0, 0.5, 0.0], "target": [1.5, 0, 0.5], "up": [0, 1, 0], "fov_y_deg": 70},
+        "light": {"center": [0, 3, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]},
+        "objects": [)") + kPlateAndFloor + "]}"));
+}
+
+TEST_F(AdditiveWedges, LightCloseToAnOccluder) {
+    expectValidVisibility(sceneFromJson(std::string(R"({
+        "camera": {"eye": [0, 4, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 50},
+        "light": {"center": [0, 1.02, 0], "u": [0.4, 0, 0], "v": [0, 0, 0.4]},
+        "objects": [)") + kPlateAndFloor + "]}"));
+}
+
+TEST_F(AdditiveWedges, EdgeTouchingTheLightsPlane) {
+    // A wall whose top edge lies in the light's plane, beside the light: its wedges are
+    // unbounded (no finite hull); they take the full-screen path.
+    const auto scene = sceneFromJson(R"({
+        "camera": {"eye": [0, 4, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 60},
+        "light": {"center": [0, 2, 0], "u": [0.3, 0, 0], "v": [0, 0, 0.3]},
+        "objects": [
+            {"name": "floor", "type": "quad", "center": [0, 0, 0], "u": [3, 0, 0], "v": [0, 0, -3]},
+            {"name": "wall", "type": "quad", "center": [1, 1, 0], "u": [0, 1, 0], "v": [0, 0, -1]}
+        ]})");
+    expectValidVisibility(scene);
+    const Rendered r = testutil::render(scene, "wedges-additive", 64);
+    double fullscreen = -1;
+    for (const auto& c : r.stats.counters)
+        if (c.name == "wedges_fullscreen") fullscreen = c.value;
+    EXPECT_GT(fullscreen, 0.0);
+}
+
+} // namespace
