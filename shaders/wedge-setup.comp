@@ -27,8 +27,8 @@ void main() {
     w.e0 = vec4(weldedPositions[edge.v0].xyz, 1.0);
     w.e1 = vec4(weldedPositions[edge.v1].xyz, 1.0);
     w.group = edge.group;
-    w.pad0 = 0u;
-    w.pad1 = 0u;
+    w.eyeInside = 0u;
+    w.pad = 0u;
     GpuGroup g = groups[edge.group];
     if (boxOutsideFrustum(g.influenceMin.xyz, g.influenceMax.xyz)) {
         w.kind = WEDGE_CULLED;
@@ -44,6 +44,17 @@ void main() {
             w.planes[k] = h.planes[k];
             w.rays[k] = vec4(h.rays[k], 0.0);
         }
+    }
+    if (w.kind == WEDGE_BOUNDED) {
+        // Conservative: a camera within float slack of the hull counts as inside (drawing by
+        // exit faces is right either way; by entry faces only from outside).
+        vec3 eye = frame.eye.xyz;
+        float slack = 1e-4 * (1.0 + length(eye - w.e0.xyz));
+        bool inside = true;
+        for (int k = 0; k < 4; ++k)
+            inside = inside && dot(w.planes[k].xyz, eye) + w.planes[k].w <= slack;
+        w.eyeInside = inside ? 1u : 0u;
+        if (inside) atomicAdd(wedgeStats[WEDGE_STAT_EYE_INSIDE], 1u);
     }
     wedges[i] = w;
     atomicAdd(wedgeStats[w.kind], 1u);

@@ -1,10 +1,13 @@
-// Wedge pass, vertex pulling: 24 vertices per wedge (gl_VertexID / 24 = the edge's index).
-// - WEDGE_BOUNDED: the 8 triangles of its conservative hull, outward wound, w = 0 at infinity;
-//   the pass culls front faces, so each pixel whose eye ray meets the hull gets exactly one
-//   fragment (the ray leaves a convex polyhedron through one back face), camera inside or not;
-// - WEDGE_FULLSCREEN: one clockwise (back-facing) triangle over the screen rectangle of its
-//   group's influence bounds (all of the screen if they reach behind the camera);
-// - otherwise every vertex at one point: nothing is rasterised.
+// Wedge pass, vertex pulling: 24 vertices per wedge (gl_VertexID / 24 = the edge's index), in
+// two draws (uPass) so that every pixel is processed once per wedge:
+// - WEDGE_PASS_ENTRY: bounded hulls with the camera outside: the 8 triangles of the hull,
+//   outward wound, w = 0 at infinity; the pass culls back faces, so a pixel whose eye ray meets
+//   the hull gets one fragment where it enters (a convex polyhedron), depth-tested against the
+//   surface (hulls behind the visible surface, the common case in levels, cost nothing);
+// - WEDGE_PASS_EXIT: bounded hulls around the camera, by their back faces (the one face each
+//   ray leaves through), and full-screen wedges: one clockwise (back-facing) triangle at
+//   infinite depth over the screen rectangle of the group's influence bounds;
+// - anything else: every vertex at one point, nothing is rasterised.
 #include "lib/Bindings.h"
 #include "lib/WedgeHull.glsl"
 
@@ -20,6 +23,10 @@ flat out vec4 vE0;
 flat out vec4 vE1;
 flat out vec4 vPlanes[4];
 flat out uint vBounded;
+
+#define WEDGE_PASS_ENTRY 0u
+#define WEDGE_PASS_EXIT 1u
+layout(location = 0) uniform uint uPass;
 
 // The NDC rectangle of a box, or [-1, 1]^2 when part of it is behind the eye.
 vec4 screenRect(vec3 lo, vec3 hi) {
@@ -43,19 +50,21 @@ void main() {
     vE1 = wedge.e1;
     for (int i = 0; i < 4; ++i) vPlanes[i] = wedge.planes[i];
     vBounded = wedge.kind == WEDGE_BOUNDED ? 1u : 0u;
-    if (wedge.kind == WEDGE_BOUNDED) {
+    bool entry = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside == 0u;
+    bool exit = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside != 0u;
+    if ((uPass == WEDGE_PASS_ENTRY && entry) || (uPass == WEDGE_PASS_EXIT && exit)) {
         int corner = wedgeHullCorner(k);
         vec4 world = corner == 0   ? vec4(wedge.e0.xyz, 1.0)
                      : corner == 1 ? vec4(wedge.e1.xyz, 1.0)
                                    : vec4(wedge.rays[corner - 2].xyz, 0.0);
         gl_Position = frame.viewProj * world;
-    } else if (wedge.kind == WEDGE_FULLSCREEN && k < 3) {
+    } else if (uPass == WEDGE_PASS_EXIT && wedge.kind == WEDGE_FULLSCREEN && k < 3) {
         GpuGroup g = groups[wedge.group];
         vec4 r = screenRect(g.influenceMin.xyz, g.influenceMax.xyz);
         vec2 size = max(r.zw - r.xy, vec2(0.0));
         // (x0, y0), (x0, y0 + 2h), (x0 + 2w, y0): clockwise, covers the rectangle.
         vec2 p = r.xy + vec2(k == 2 ? 2.0 * size.x : 0.0, k == 1 ? 2.0 * size.y : 0.0);
-        gl_Position = vec4(p, 0.5, 1.0);
+        gl_Position = vec4(p, 0.0, 1.0); // depth 0: infinitely far, behind every surface
     } else {
         gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
     }

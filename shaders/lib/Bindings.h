@@ -26,8 +26,10 @@
                             // the group's screen rectangle
 #define WEDGE_DEGENERATE 2u // zero-length edge: changes nothing, draws nothing
 #define WEDGE_CULLED 3u     // its group's influence misses the view frustum: draws nothing
-// Counters in the wedge-stats buffer: one per kind, then pixels clamped by the resolve.
+// Counters in the wedge-stats buffer: one per kind, then pixels clamped by the resolve, then
+// bounded wedges around the camera.
 #define WEDGE_STAT_CLAMPED 4
+#define WEDGE_STAT_EYE_INSIDE 5
 #define WEDGE_STAT_COUNT 8
 
 #define CAP_FLIPPED 0x80000000u // light-oriented winding is (a, c, b) (geometry kTriangleFlipped)
@@ -90,8 +92,8 @@ struct GpuWedge {
     vec4 rays[4];   // xyz: the hull's directions at infinity g1..g4
     uint kind;      // WEDGE_*
     uint group;
-    uint pad0;
-    uint pad1;
+    uint eyeInside; // 1: the camera may be inside the hull (drawn by its exit faces)
+    uint pad;
 };
 
 #ifdef __cplusplus

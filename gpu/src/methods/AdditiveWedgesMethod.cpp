@@ -44,6 +44,7 @@ public:
         ctx.addCounter("wedges_fullscreen", c.fullscreen);
         ctx.addCounter("wedges_degenerate", c.degenerate);
         ctx.addCounter("wedges_culled", c.culled);
+        ctx.addCounter("wedges_camera_inside", c.eyeInside);
         ctx.addCounter("groups_culled", countCulledGroups(ctx));
         ctx.addCounter("wedge_fragments", static_cast<double>(c.fragments));
         ctx.addCounter("pixels_clamped", c.clampedPixels);

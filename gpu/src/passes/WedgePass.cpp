@@ -44,17 +44,21 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
 void WedgePass::draw(const Targets& t, std::span<const CasterRange> runs) {
     // The set-up's buffer writes must be visible to the vertex and fragment shaders.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    applyState(kState);
     glBindFramebuffer(GL_FRAMEBUFFER, t.visibilityFbo.id());
     glViewport(0, 0, t.width, t.height);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glUseProgram(mDraw.id());
     glBindVertexArray(mVao.id());
     glBeginQuery(GL_SAMPLES_PASSED, mSamples.id());
-    for (const CasterRange& range : runs)
-        if (range.edgeCount > 0)
-            glDrawArrays(GL_TRIANGLES, static_cast<GLint>(24 * range.firstEdge),
-                         static_cast<GLsizei>(24 * range.edgeCount));
+    // Entry faces (uPass 0), then exit faces (uPass 1): wedge.vert.
+    for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
+        applyState(drawPass == 0 ? kEntryState : kExitState);
+        glUniform1ui(0, drawPass);
+        for (const CasterRange& range : runs)
+            if (range.edgeCount > 0)
+                glDrawArrays(GL_TRIANGLES, static_cast<GLint>(24 * range.firstEdge),
+                             static_cast<GLsizei>(24 * range.edgeCount));
+    }
     glEndQuery(GL_SAMPLES_PASSED);
     mSampled = true;
 }
@@ -80,6 +84,7 @@ WedgeCounts WedgePass::counts() {
     c.degenerate = s[WEDGE_DEGENERATE];
     c.culled = s[WEDGE_CULLED];
     c.clampedPixels = s[WEDGE_STAT_CLAMPED];
+    c.eyeInside = s[WEDGE_STAT_EYE_INSIDE];
     if (mSampled) {
         GLuint64 samples = 0;
         glGetQueryObjectui64v(mSamples.id(), GL_QUERY_RESULT, &samples);

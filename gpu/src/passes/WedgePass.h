@@ -21,34 +21,43 @@ namespace gpu {
 
 struct WedgeCounts {
     std::uint32_t bounded = 0, fullscreen = 0, degenerate = 0, culled = 0;
+    std::uint32_t eyeInside = 0; // bounded wedges drawn by their exit faces
     std::uint32_t clampedPixels = 0;
     std::uint64_t fragments = 0; // fragments that passed the hull test with non-zero coverage
 };
 
 class WedgePass {
 public:
-    // Back faces only (front faces culled): the hull's exit point along each eye ray. The
-    // depth test keeps exits at or behind the G-buffer surface (reversed Z: LEQUAL), pushed
-    // slightly farther by the polygon offset (conservative): where the whole hull lies in front
-    // of the surface, P cannot be inside it. The fragment shader decides the rest from P itself.
-    // V - coverage by reverse subtraction (dst - src) into the float visibility target;
+    // Entry draw (camera outside the hull): front faces, kept where the hull's entry is at or
+    // in front of the G-buffer surface (reversed Z: GEQUAL), pulled slightly nearer by the
+    // polygon offset (conservative). Exit draw (camera inside, and full-screen wedges): back
+    // faces, kept where the exit is at or behind the surface (LEQUAL), pushed slightly farther.
+    // Both: V - coverage by reverse subtraction (dst - src) into the float visibility target;
     // depth clamp so that hull faces at infinity and before the near plane still rasterise.
-    static constexpr PipelineState kState{
+    static constexpr PipelineState kEntryState{
         .depthTest = true,
-        .depthFunc = GL_LEQUAL,
+        .depthFunc = GL_GEQUAL,
         .depthWrite = false,
         .colorWrite = true,
         .cull = true,
-        .cullFace = GL_FRONT,
+        .cullFace = GL_BACK,
         .blend = true,
         .blendSrc = GL_ONE,
         .blendDst = GL_ONE,
         .blendEquation = GL_FUNC_REVERSE_SUBTRACT,
         .polygonOffset = true,
-        .polygonOffsetFactor = -1.0f, // reversed Z: negative = farther
-        .polygonOffsetUnits = -4.0f,
+        .polygonOffsetFactor = 1.0f, // reversed Z: positive = nearer
+        .polygonOffsetUnits = 4.0f,
         .depthClamp = true,
     };
+    static constexpr PipelineState kExitState = [] {
+        PipelineState s = kEntryState;
+        s.depthFunc = GL_LEQUAL;
+        s.cullFace = GL_FRONT;
+        s.polygonOffsetFactor = -1.0f; // farther
+        s.polygonOffsetUnits = -4.0f;
+        return s;
+    }();
 
     explicit WedgePass(const ShaderLoader& shaders);
 
