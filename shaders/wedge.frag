@@ -26,8 +26,8 @@ void main() {
         for (int i = 0; i < 4; ++i)
             if (dot(vPlanes[i].xyz, p) + vPlanes[i].w > slack) discard;
     }
-    float c = edgeCoverage(p, vE0.xyz, vE1.xyz, frame.lightCenter.xyz, frame.lightU.xyz,
-                           frame.lightV.xyz);
+    float c = edgeCoverage(p, vE0.xyz, vE1.xyz, frame.lightCenter.xyz, frame.lightN.xyz,
+                           frame.lightUStar.xyz, frame.lightVStar.xyz);
     if (c == 0.0) discard;
     oCoverage = c;
 }

@@ -126,6 +126,12 @@ struct Renderer::Impl {
         u.lightU = glm::vec4(scene.light.u, 0.0f);
         u.lightV = glm::vec4(scene.light.v, 0.0f);
         u.params = glm::vec4(s.ambient, weight, s.exposure, 0.0f);
+        const glm::vec3 lu = scene.light.u, lv = scene.light.v;
+        const glm::vec3 n = glm::normalize(glm::cross(lu, lv));
+        const glm::vec3 a = glm::cross(lv, n), b = glm::cross(n, lu);
+        u.lightN = glm::vec4(n, 0.0f);
+        u.lightUStar = glm::vec4(a / glm::dot(lu, a), 0.0f);
+        u.lightVStar = glm::vec4(b / glm::dot(lv, b), 0.0f);
         frameUbo.upload(&u, sizeof(u));
         glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, frameUbo.id());
     }

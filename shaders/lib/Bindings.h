@@ -61,6 +61,11 @@ PENUMBRA_UBO_BEGIN(FrameUniforms, BINDING_FRAME_UBO)
     vec4 lightU;      // xyz half-axis u
     vec4 lightV;      // xyz half-axis v
     vec4 params;      // x: ambient term, y: accumulation weight, z: exposure, w: unused
+    // The light's frame, derived once per frame (geometry/Wedge.cpp makeFrame): unit normal
+    // along cross(u, v), and the dual basis s = dot(lightUStar, y - c), t = dot(lightVStar, ...).
+    vec4 lightN;
+    vec4 lightUStar;
+    vec4 lightVStar;
 PENUMBRA_UBO_END(FrameUniforms, frame)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
@@ -100,7 +105,7 @@ struct GpuWedge {
 static_assert(sizeof(GpuWedge) == 176, "GpuWedge must match std430");
 static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
-static_assert(sizeof(FrameUniforms) == 64 + 5 * 16, "FrameUniforms must match std140");
+static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 } // namespace gpu::shader
 #endif
 

@@ -47,10 +47,9 @@ float coverageSegment(vec2 a, vec2 b, vec3 h0, vec3 h1, vec3 h2, bool inSquare) 
     return p.x * q.y - p.y * q.x;
 }
 
-float edgeCoverage(vec3 p, vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
-    vec3 n = normalize(cross(u, v));
-    vec3 a = cross(v, n), b = cross(n, u);
-    vec3 uStar = a / dot(u, a), vStar = b / dot(v, b); // dual basis: s = dot(uStar, y - c)
+// c: the light's centre; n: its unit normal; uStar, vStar: the dual basis of its half-axes
+// (s = dot(uStar, y - c), t = dot(vStar, y - c); FrameUniforms carries all three).
+float edgeCoverage(vec3 p, vec3 e0, vec3 e1, vec3 c, vec3 n, vec3 uStar, vec3 vStar) {
     vec3 pc = p - c, x0 = e0 - c, x1 = e1 - c;
     float hp = dot(n, pc);
     if (!(abs(hp) > 0.0)) return 0.0; // on the light's plane (or NaN): nothing between
