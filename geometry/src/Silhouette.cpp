@@ -17,6 +17,12 @@
 // - A group's silhouette edges are the boundary of its oriented 2-chain, so in-degree equals
 //   out-degree at every vertex by construction; chaining only has to choose a pairing at
 //   vertices where several loops touch.
+// - The one-sided rule for closed meshes counts only the triangles a segment from the light
+//   centre enters through; a segment can only leave the mesh without entering it first when it
+//   starts inside. So the rule holds while the winding number of the mesh at the light centre is
+//   0 and nowhere negative (every component outward). Per frame, a bounding-box test settles the
+//   usual case (the light outside the box); otherwise a ray from the centre counts signed
+//   crossings, skipping clusters whose bounds it misses.
 #include <geometry/Silhouette.h>
 
 #include <algorithm>
@@ -134,6 +140,7 @@ bool segmentHitsTriangle(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
 } // namespace
 
 void SilhouetteFrame::clear() {
+    oneSided = lightInside = false;
     triangles.clear();
     edges.clear();
     loops.clear();
@@ -160,6 +167,15 @@ struct SilhouetteExtractor::Scratch {
     std::vector<std::uint32_t> generalOffsets;  // uses of 3+-use edges
     std::vector<std::uint32_t> generalUses;     // local triangle | kSignBit
     double positionRadius = 0.0;                // max |p|, for the float facing error bound
+    Aabb meshBounds;
+    double meshScale = 0.0;     // diagonal of meshBounds
+    bool closedOutward = false; // closed, and no component encloses negative volume
+
+    // Whether the light centre is inside the closed mesh, for the last centre asked about.
+    enum class Containment : std::uint8_t { Outside, Inside, Unsure };
+    bool haveContainment = false;
+    glm::vec3 containmentLight{0.0f};
+    Containment containment = Containment::Unsure;
 
     // --- Per frame, sized once ---
     std::vector<std::int8_t> orient;         // +1, -1 (two-sided) or 0 (not participating);
@@ -184,6 +200,9 @@ struct SilhouetteExtractor::Scratch {
     WedgeRays rays;                      // the wedge just built
 
     void build(const Topology& topology);
+    void buildOrientation(const Topology& topology);
+    Containment lightContainment(const Topology& topology, const glm::vec3& light);
+    Containment rayContainment(const Topology& topology, const glm::dvec3& light) const;
     void classify(const Topology& topology, const glm::vec3& light, bool oneSided);
     void mergeGroups();
 
@@ -371,6 +390,158 @@ void SilhouetteExtractor::Scratch::build(const Topology& topology) {
     s.outHead.assign(positions.size(), kNone);
     s.inHead.assign(positions.size(), kNone);
     s.outDegree.assign(positions.size(), 0);
+
+    s.meshBounds = Aabb{};
+    for (const glm::vec3& p : positions)
+        s.meshBounds.extend(p);
+    s.meshScale = s.meshBounds.empty() ? 0.0 : glm::length(glm::dvec3(s.meshBounds.extent()));
+    s.buildOrientation(topology);
+    s.haveContainment = false;
+}
+
+// closedOutward: the mesh is closed and each connected component encloses a non-negative
+// volume (signed volume of its triangles about the mesh centre), so the winding number is
+// nowhere negative (components are assumed not to intersect themselves). An inside-out
+// component (a room modelled as a closed box facing inwards) has winding -1 inside, and the
+// one-sided rule would miss its shadows on everything outside it; such meshes go two-sided.
+void SilhouetteExtractor::Scratch::buildOrientation(const Topology& topology) {
+    closedOutward = false;
+    if (topology.manifoldness() != Manifoldness::Closed) return;
+    const auto positions = topology.positions();
+    const auto triangles = topology.triangles();
+    const auto offsets = topology.edgeUseOffsets();
+    const auto uses = topology.edgeUses();
+    const auto triangleEdges = topology.triangleEdges();
+    const glm::dvec3 origin(meshBounds.center());
+    std::vector<std::uint8_t> seen(triangles.size(), 0);
+    std::vector<std::uint32_t> stack;
+    for (std::uint32_t seed = 0; seed < triangles.size(); ++seed) {
+        if (seen[seed]) continue;
+        seen[seed] = 1;
+        stack.assign(1, seed);
+        double volume = 0.0;
+        Aabb bounds;
+        while (!stack.empty()) {
+            const std::uint32_t t = stack.back();
+            stack.pop_back();
+            const glm::uvec3 tri = triangles[t];
+            const glm::dvec3 a = glm::dvec3(positions[tri.x]) - origin;
+            const glm::dvec3 b = glm::dvec3(positions[tri.y]) - origin;
+            const glm::dvec3 c = glm::dvec3(positions[tri.z]) - origin;
+            volume += glm::dot(a, glm::cross(b, c)) / 6.0;
+            for (int k = 0; k < 3; ++k) {
+                bounds.extend(positions[tri[k]]);
+                const std::uint32_t e = triangleEdges[t][k];
+                for (std::uint32_t u = offsets[e]; u < offsets[e + 1]; ++u) {
+                    const std::uint32_t other = uses[u].triangle;
+                    if (seen[other]) continue;
+                    seen[other] = 1;
+                    stack.push_back(other);
+                }
+            }
+        }
+        // Rounding (and flat, doubled sheets, which enclose nothing) stay within a tiny
+        // fraction of the component's size cubed; an inside-out solid does not.
+        const double size = glm::length(glm::dvec3(bounds.extent()));
+        if (volume < -1e-6 * size * size * size) return;
+    }
+    closedOutward = true;
+}
+
+namespace {
+
+// Generic directions for the containment rays (no axis-aligned or diagonal ties with
+// axis-aligned meshes); the next is tried when a ray passes too close to an edge.
+constexpr std::array<std::array<double, 3>, 4> kContainmentDirs = {{{0.3241, 0.8127, 0.4842},
+                                                                    {-0.7053, 0.2671, 0.6567},
+                                                                    {0.5512, -0.4117, -0.7257},
+                                                                    {-0.2089, -0.8736, 0.4395}}};
+
+// Whether the ray l + t d (t >= 0) meets the box grown by pad.
+bool rayMeetsBox(const glm::dvec3& l, const glm::dvec3& d, const Aabb& box, double pad) {
+    double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        const double lo = double(box.min[k]) - pad, hi = double(box.max[k]) + pad;
+        if (d[k] == 0.0) {
+            if (l[k] < lo || l[k] > hi) return false;
+            continue;
+        }
+        double a = (lo - l[k]) / d[k], b = (hi - l[k]) / d[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+} // namespace
+
+// Winding number of the closed mesh at the light centre by signed ray crossings: +1 for each
+// triangle the ray leaves through (along its normal), -1 for each it enters through. Unsure when
+// the centre lies on a triangle (within 1e-7 of the mesh size along the ray), or when every ray
+// tried passes within rounding distance of an edge or vertex.
+SilhouetteExtractor::Scratch::Containment
+SilhouetteExtractor::Scratch::rayContainment(const Topology& topology,
+                                             const glm::dvec3& l) const {
+    const auto positions = topology.positions();
+    const std::size_t clusterCount = clusterOffsets.size() - 1;
+    const double pad = 1e-6 * meshScale;
+    const double onSurface = 1e-7 * meshScale;
+    for (const auto& dirValues : kContainmentDirs) {
+        const glm::dvec3 d = glm::normalize(glm::dvec3(dirValues[0], dirValues[1], dirValues[2]));
+        int winding = 0;
+        bool tie = false;
+        for (std::size_t c = 0; c < clusterCount && !tie; ++c) {
+            if (!rayMeetsBox(l, d, clusterBounds[c], pad)) continue;
+            for (std::uint32_t t = clusterOffsets[c]; t < clusterOffsets[c + 1]; ++t) {
+                const glm::uvec3 tri = localTriangles[t];
+                const glm::dvec3 da = glm::dvec3(positions[tri.x]) - l;
+                const glm::dvec3 db = glm::dvec3(positions[tri.y]) - l;
+                const glm::dvec3 dc = glm::dvec3(positions[tri.z]) - l;
+                // The line l + t d passes through the triangle when these three agree in sign
+                // (signed volumes of d with each edge seen from l); their sum is dot(n, d).
+                const double pa = glm::dot(d, glm::cross(db, dc));
+                const double pb = glm::dot(d, glm::cross(dc, da));
+                const double pc = glm::dot(d, glm::cross(da, db));
+                const double r = std::max({glm::length(da), glm::length(db), glm::length(dc)});
+                const double tol = 1e-10 * r * r;
+                const double lo = std::min({pa, pb, pc}), hi = std::max({pa, pb, pc});
+                if (lo < -tol && hi > tol) continue; // clearly beside the triangle
+                const glm::dvec3 n = glm::cross(db - da, dc - da);
+                const double nd = glm::dot(n, d);
+                if (lo > tol || hi < -tol) {
+                    const double along = glm::dot(n, da) / nd; // ray parameter of the plane
+                    if (std::abs(along) <= onSurface) return Containment::Unsure;
+                    if (along > 0.0) winding += nd > 0.0 ? 1 : -1;
+                    continue;
+                }
+                // Near an edge or vertex, or in the triangle's plane: a tie unless the triangle
+                // lies wholly behind the centre.
+                const double back = -1e-9 * r;
+                if (glm::dot(da, d) < back && glm::dot(db, d) < back && glm::dot(dc, d) < back)
+                    continue;
+                tie = true;
+                break;
+            }
+        }
+        if (!tie) return winding != 0 ? Containment::Inside : Containment::Outside;
+    }
+    return Containment::Unsure;
+}
+
+SilhouetteExtractor::Scratch::Containment
+SilhouetteExtractor::Scratch::lightContainment(const Topology& topology, const glm::vec3& light) {
+    if (haveContainment && containmentLight == light) return containment;
+    const glm::dvec3 l(light);
+    const double pad = 1e-6 * meshScale;
+    bool inBox = !meshBounds.empty();
+    for (int k = 0; k < 3 && inBox; ++k)
+        inBox = l[k] >= double(meshBounds.min[k]) - pad && l[k] <= double(meshBounds.max[k]) + pad;
+    containment = inBox ? rayContainment(topology, l) : Containment::Outside;
+    containmentLight = light;
+    haveContainment = true;
+    return containment;
 }
 
 SilhouetteExtractor::SilhouetteExtractor(const Topology& topology)
@@ -845,8 +1016,19 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
     const auto positions = topo.positions();
     const auto topoEdges = topo.edges();
     const glm::vec3 lc = light.center;
-    const bool oneSided = settings.oneSidedClosed && topo.manifoldness() == Manifoldness::Closed;
+    // The one-sided rule only while it is right (see the top of this file); otherwise the
+    // two-sided rule, which holds for any mesh and any light position. (Reversing the one-sided
+    // rule would also do for a light inside an outward mesh that nothing nests in, but not where
+    // components overlap or nest, and it saves geometry only where the mesh is concave around
+    // the light.)
+    bool oneSided = false, lightInside = false;
+    if (settings.oneSidedClosed && topo.manifoldness() == Manifoldness::Closed) {
+        lightInside = s.lightContainment(topo, lc) != Scratch::Containment::Outside;
+        oneSided = !lightInside && s.closedOutward;
+    }
     SilhouetteFrame& frame = mFrame;
+    frame.oneSided = oneSided;
+    frame.lightInside = lightInside;
     frame.edges.clear();
     frame.loops.clear();
     frame.groups.clear();

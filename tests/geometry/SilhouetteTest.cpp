@@ -485,8 +485,11 @@ void runFullCheck(const Case& c, const SilhouetteSettings& settings, std::mt1993
     const Aabb box = boxAround(topo, 3.0f);
     const RectLight light = lightAt(c.light);
     const SilhouetteFrame& frame = extractor.update(light, box, settings);
+    // Every case here has the light outside the mesh.
     const bool oneSided =
         settings.oneSidedClosed && topo.manifoldness() == Manifoldness::Closed;
+    EXPECT_EQ(frame.oneSided, oneSided) << c.name;
+    EXPECT_FALSE(frame.lightInside) << c.name;
     checkFrame(topo, frame, c.light, oneSided, settings, c.name);
     if (settings.buildVolumes) checkVolumes(topo, frame, c.light, oneSided, box, volumePoints,
                                             rng, c.name);
@@ -512,7 +515,195 @@ std::uint32_t totalLoops(const SilhouetteFrame& frame) {
     return static_cast<std::uint32_t>(frame.loops.size());
 }
 
+// The union of the group volumes blocks exactly the points whose segment to the light centre
+// crosses the mesh, whichever rule the frame was classified with. Returns how many of the checked
+// points are blocked while lying outside the mesh's bounds (shadows cast on the rest of a scene).
+int checkBlocking(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
+                  const Aabb& box, int points, std::mt19937& rng, const std::string& what) {
+    SCOPED_TRACE(what);
+    const double far = 1e3 * (glm::length(box.extent()) + glm::length(glm::dvec3(light)));
+    const std::vector<glm::dvec3> volume =
+        truncate(groupVolumeVertices(topo, frame, light), light, far);
+    Aabb meshBounds;
+    for (const glm::vec3& p : topo.positions())
+        meshBounds.extend(p);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int checked = 0, blockedOutside = 0, wrong = 0;
+    for (int attempt = 0; checked < points && attempt < 10 * points; ++attempt) {
+        const glm::dvec3 p = glm::dvec3(box.min) + glm::dvec3(unit(rng), unit(rng), unit(rng)) *
+                                                       glm::dvec3(box.extent());
+        bool ok = true;
+        const int count = winding(volume, p, randomUnit(rng), ok);
+        const bool hit = segmentHitsAnyTriangle(topo, p, glm::dvec3(light), ok);
+        if (!ok) continue;
+        ++checked;
+        if ((count != 0) != hit) {
+            if (++wrong <= 5) {
+                ADD_FAILURE() << "P (" << p.x << ", " << p.y << ", " << p.z << "): count "
+                              << count << ", segment to the light "
+                              << (hit ? "blocked" : "free");
+            }
+        }
+        const bool outside = glm::any(glm::lessThan(glm::vec3(p), meshBounds.min)) ||
+                             glm::any(glm::greaterThan(glm::vec3(p), meshBounds.max));
+        blockedOutside += hit && outside;
+    }
+    EXPECT_EQ(checked, points);
+    EXPECT_EQ(wrong, 0) << "of " << checked << " points";
+    return blockedOutside;
+}
+
+// A closed mesh with every triangle reversed (inside out: winding -1 inside).
+MeshData insideOut(MeshData mesh) {
+    for (glm::uvec3& t : mesh.triangles)
+        std::swap(t.y, t.z);
+    return mesh;
+}
+
 // --- Tests ---------------------------------------------------------------------------------------
+
+// A closed mesh around the light shadows everything outside it. The one-sided rule would keep
+// only light-facing triangles, and from inside none of an outward mesh faces the light: nothing
+// would be cast (V = 1 on a floor under a lamp's closed shade).
+TEST(Silhouette, ClosedMeshAroundTheLightShadowsEverythingOutside) {
+    struct InsideCase {
+        std::string name;
+        MeshData mesh;
+        glm::vec3 light;
+    };
+    const std::vector<InsideCase> cases = {
+        {"cube", cube(), {0.1f, 0.2f, -0.15f}},
+        {"icosphere", makeIcosphere({0, 0, 0}, 1.0f, 3), {0.2f, -0.3f, 0.1f}},
+        // Inside the tube: rays from the light leave the tube and enter it again across the
+        // hole, so the volume needs the light-facing triangles too.
+        {"torus tube", torusMesh(2.0f, 0.5f, 32, 16), {2.05f, 0.1f, 0.05f}},
+        {"inside-out cube", insideOut(cube()), {0.1f, 0.2f, -0.15f}},
+    };
+    std::mt19937 rng(77);
+    for (const InsideCase& c : cases) {
+        SCOPED_TRACE(c.name);
+        const Topology topo(c.mesh);
+        ASSERT_EQ(topo.manifoldness(), Manifoldness::Closed);
+        SilhouetteExtractor extractor(topo);
+        const Aabb box = boxAround(topo, 3.0f);
+        for (const bool capVertices : {false, true}) {
+            const SilhouetteSettings settings{.capVertices = capVertices, .buildWedges = false};
+            const SilhouetteFrame& frame = extractor.update(lightAt(c.light, 0.05f), box, settings);
+            EXPECT_TRUE(frame.lightInside);
+            EXPECT_FALSE(frame.oneSided);
+            checkFrame(topo, frame, c.light, false, settings, c.name);
+            // About 97% of the box lies outside the mesh's bounds, all of it in shadow.
+            EXPECT_GT(checkBlocking(topo, frame, c.light, box, 300, rng, c.name), 200);
+        }
+        // A floor under the mesh: every point of it is in the volume (V = 0 under the lamp).
+        const SilhouetteFrame& frame = extractor.update(lightAt(c.light, 0.05f), box, {});
+        const double far = 1e4;
+        const std::vector<glm::dvec3> volume =
+            truncate(groupVolumeVertices(topo, frame, c.light), c.light, far);
+        int lit = 0, checked = 0;
+        for (int i = 0; i < 15; ++i) {
+            for (int j = 0; j < 15; ++j) {
+                const glm::dvec3 p(-3.0 + 6.0 * (i + 0.5) / 15.0, -2.5,
+                                   -3.0 + 6.0 * (j + 0.5) / 15.0);
+                bool ok = true;
+                const int count = winding(volume, p, randomUnit(rng), ok);
+                if (!ok) continue;
+                ++checked;
+                lit += count == 0;
+            }
+        }
+        EXPECT_GT(checked, 200);
+        EXPECT_EQ(lit, 0) << "floor points outside the volume";
+    }
+}
+
+TEST(Silhouette, ClosedMeshKeepsTheOneSidedRuleWhileTheLightIsOutside) {
+    std::mt19937 rng(78);
+    const std::vector<std::pair<std::string, MeshData>> meshes = {
+        {"cube", cube()},
+        {"icosphere", makeIcosphere({0, 0, 0}, 1.0f, 3)},
+        {"torus", torusMesh(2.0f, 0.5f, 32, 16)}};
+    // Outside the bounds (the box test decides), and inside the bounds but outside the mesh (the
+    // ray decides): the torus's hole, next to the icosphere within its box's corner.
+    const std::vector<std::pair<int, glm::vec3>> lights = {
+        {0, {3.0f, 4.0f, 2.5f}}, {1, {0.75f, 0.7f, 0.72f}}, {2, {0.3f, 0.2f, -0.1f}},
+        {2, {0.1f, 3.0f, 0.2f}}};
+    for (const auto& [index, l] : lights) {
+        const auto& [name, mesh] = meshes[index];
+        SCOPED_TRACE(name);
+        const Topology topo(mesh);
+        SilhouetteExtractor extractor(topo);
+        const Aabb box = boxAround(topo, 3.0f);
+        const SilhouetteSettings settings{.buildWedges = false};
+        const SilhouetteFrame& frame = extractor.update(lightAt(l, 0.05f), box, settings);
+        EXPECT_FALSE(frame.lightInside);
+        EXPECT_TRUE(frame.oneSided);
+        checkFrame(topo, frame, l, true, settings, name);
+        EXPECT_GT(checkBlocking(topo, frame, l, box, 300, rng, name), 0);
+    }
+}
+
+TEST(Silhouette, ContainmentEdgeCases) {
+    const Aabb box{{-5.0f, -5.0f, -5.0f}, {5.0f, 5.0f, 5.0f}};
+    // On the surface: too close to tell, treated as inside (two-sided, correct either way).
+    {
+        const Topology topo(cube());
+        SilhouetteExtractor extractor(topo);
+        const SilhouetteFrame& frame =
+            extractor.update(lightAt({1.0f, 0.3f, 0.2f}, 0.05f), box, {.buildWedges = false});
+        EXPECT_TRUE(frame.lightInside);
+        EXPECT_FALSE(frame.oneSided);
+        // Just outside, well clear of the rounding: outside again.
+        extractor.update(lightAt({1.01f, 0.3f, 0.2f}, 0.05f), box, {.buildWedges = false});
+        EXPECT_FALSE(extractor.frame().lightInside);
+        EXPECT_TRUE(extractor.frame().oneSided);
+    }
+    // An inside-out mesh never takes the one-sided rule: from outside it, it would shadow
+    // nothing inside it.
+    {
+        const Topology topo(insideOut(cube()));
+        SilhouetteExtractor extractor(topo);
+        const glm::vec3 l(3.0f, 4.0f, 2.5f);
+        const SilhouetteSettings settings{.buildWedges = false};
+        const SilhouetteFrame& frame = extractor.update(lightAt(l, 0.05f), box, settings);
+        EXPECT_FALSE(frame.lightInside);
+        EXPECT_FALSE(frame.oneSided);
+        checkFrame(topo, frame, l, false, settings, "inside-out cube");
+        std::mt19937 rng(79);
+        checkBlocking(topo, frame, l, Aabb{{-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}}, 300, rng,
+                      "inside-out cube");
+    }
+    // Two components, the light in one of them.
+    {
+        MeshData two = cube();
+        const MeshData other = makeIcosphere({4.0f, 0.0f, 0.0f}, 1.0f, 2);
+        const auto base = static_cast<std::uint32_t>(two.positions.size());
+        two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
+        for (const glm::uvec3& t : other.triangles)
+            two.triangles.push_back(t + glm::uvec3(base));
+        const Topology topo(two);
+        ASSERT_EQ(topo.manifoldness(), Manifoldness::Closed);
+        SilhouetteExtractor extractor(topo);
+        const glm::vec3 inSphere(4.1f, 0.2f, -0.1f), between(2.5f, 0.2f, 0.1f);
+        extractor.update(lightAt(inSphere, 0.05f), box, {.buildWedges = false});
+        EXPECT_TRUE(extractor.frame().lightInside);
+        std::mt19937 rng(80);
+        checkBlocking(topo, extractor.frame(), inSphere, box, 200, rng, "light in the sphere");
+        extractor.update(lightAt(between, 0.05f), box, {.buildWedges = false});
+        EXPECT_FALSE(extractor.frame().lightInside);
+        EXPECT_TRUE(extractor.frame().oneSided);
+        // Same centre, other settings: the same answer (the containment is kept per centre).
+        extractor.update(lightAt(between, 0.05f), box, {});
+        EXPECT_FALSE(extractor.frame().lightInside);
+        EXPECT_TRUE(extractor.frame().oneSided);
+        // Open meshes never report it.
+        const Topology open(cube(3));
+        SilhouetteExtractor openExtractor(open);
+        openExtractor.update(lightAt({0.1f, 0.2f, 0.3f}, 0.05f), box, {.buildWedges = false});
+        EXPECT_FALSE(openExtractor.frame().lightInside);
+        EXPECT_FALSE(openExtractor.frame().oneSided);
+    }
+}
 
 TEST(Silhouette, ClosedSphereHasOneGroupOneLoop) {
     const Topology topo(makeSphere({0, 0, 0}, 1.0f, 32));

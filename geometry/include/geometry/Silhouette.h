@@ -3,8 +3,10 @@
 //
 // - Classification: every triangle faces the light centre or not. Closed 2-manifolds use the
 //   classic one-sided rule (back-facing triangles take no part: a closed mesh already blocks
-//   with its front); open and non-manifold meshes use the two-sided rule of DESIGN.md §4
-//   (back-facing triangles are flipped and take part), as in geometry/ShadowVolume.h.
+//   with its front) while that is correct, i.e. while the light centre is outside the mesh;
+//   open and non-manifold meshes, and closed ones that contain the light centre (or are
+//   oriented inside out), use the two-sided rule of DESIGN.md §4 (back-facing triangles are
+//   flipped and take part), as in geometry/ShadowVolume.h. SilhouetteFrame reports the rule.
 // - Groups: connected components of participating triangles joined across edges where their
 //   orientations cancel (multiplicity 0). The edges with non-zero multiplicity *within the group*
 //   are its silhouette edges; chained, they form closed, oriented loops. Each group carries its
@@ -54,7 +56,7 @@ struct SilhouetteGroup {
 };
 
 struct SilhouetteSettings {
-    bool oneSidedClosed = true; // classic rule for closed meshes (see above)
+    bool oneSidedClosed = true; // classic rule for closed meshes while the light is outside
     bool buildVolumes = true;
     // Caps as vertices in volumeVertices (front caps, back caps, then sides), or, when false,
     // by reference only: the group's `triangles` entries (with kTriangleFlipped) are its caps,
@@ -71,6 +73,12 @@ struct SilhouetteSettings {
 inline constexpr std::uint32_t kTriangleFlipped = 1u << 31;
 
 struct SilhouetteFrame {
+    // The rule this frame was classified with: true for the one-sided rule (closed mesh, light
+    // centre outside it, SilhouetteSettings::oneSidedClosed), false for the two-sided rule.
+    bool oneSided = false;
+    // Closed mesh (with oneSidedClosed asked for) whose inside holds the light centre, or whose
+    // surface passes too close to the centre to tell: classified two-sided for that reason.
+    bool lightInside = false;
     std::vector<std::uint32_t> triangles; // topology triangle ids | kTriangleFlipped, grouped
     std::vector<SilhouetteEdge> edges;    // grouped, then by loop, in loop order
     std::vector<SilhouetteLoop> loops;
