@@ -21,8 +21,9 @@
 // - The light moves on a small circle every iteration so that the extractor's reuse of an
 //   unchanged frame never kicks in (checked: a reused frame aborts the benchmark).
 // - One thread: the step is single-threaded by design (one extractor per object; objects could
-//   run in parallel, a single object does not), so the benchmark thread is pinned to one CPU and
-//   runs with Threads(1).
+//   run in parallel, a single object does not: in the lean step only the classification and the
+//   per-cluster split, about a third of it on the levels, would spread over threads), so the
+//   benchmark thread is pinned to one CPU and runs with Threads(1).
 // - Meshes and their topology are built outside the timed loop and cached; only the most recent
 //   mesh is kept, as the 1M-triangle topologies take a few hundred MB each.
 #include <geometry/Primitives.h>
@@ -304,8 +305,8 @@ int pinToCurrentCpu() {
 } // namespace
 
 int main(int argc, char** argv) {
-    // Registered mesh by mesh (full, full with cap vertices, volumes, classify, topology) so the
-    // one-mesh cache is hit.
+    // Registered mesh by mesh (full, lean, full with cap vertices, volumes, classify, topology)
+    // so the one-mesh cache is hit.
     static const std::vector<MeshSpec> specs = meshSpecs();
     for (const MeshSpec& spec : specs) {
         const auto reg = [&](const char* kind, void (*fn)(benchmark::State&, const MeshSpec*)) {
