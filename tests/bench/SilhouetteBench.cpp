@@ -9,6 +9,10 @@
 //   triangle re-emitted as vertices, ~96 bytes per triangle per frame), for comparison.
 // - silhouette_volumes: the same without wedges; silhouette_classify: without volumes and wedges
 //   (classification, multiplicities, groups, loops). The differences show where the time goes.
+// - silhouette_lean: SilhouetteSettings::lean(), the per-frame step when the GPU builds volumes
+//   and wedges itself: groups, triangle ids, directed edges (not chained into loops) and cheap
+//   influence bounds per group (occluder box x light). The counter upload_bytes is what the
+//   frame holds for the GPU in each mode.
 // - topology_build: Topology construction (welding, edge CSR, OpenMesh), once per mesh; context
 //   only, never per frame.
 // - Meshes: UV spheres and icospheres at ~10k / ~100k / ~1M triangles, noisy icospheres (radial
@@ -17,8 +21,9 @@
 // - The light moves on a small circle every iteration so that the extractor's reuse of an
 //   unchanged frame never kicks in (checked: a reused frame aborts the benchmark).
 // - One thread: the step is single-threaded by design (one extractor per object; objects could
-//   run in parallel, a single object does not), so the benchmark thread is pinned to one CPU and
-//   runs with Threads(1).
+//   run in parallel, a single object does not: in the lean step only the classification and the
+//   per-cluster split, about a third of it on the levels, would spread over threads), so the
+//   benchmark thread is pinned to one CPU and runs with Threads(1).
 // - Meshes and their topology are built outside the timed loop and cached; only the most recent
 //   mesh is kept, as the 1M-triangle topologies take a few hundred MB each.
 #include <geometry/Primitives.h>
@@ -117,6 +122,18 @@ RectLight movedLight(const RectLight& base, std::int64_t i) {
     return light;
 }
 
+// Bytes of one frame's per-frame data for the GPU: triangle ids (4), edges (12), per group the
+// ranges and two boxes the GPU reads (4 x 4 + 2 x 24 = 64; SilhouetteGroup's other fields index
+// CPU-built arrays), and whatever the frame built on the CPU: loops, volume vertices, wedges
+// and their boundary vertices.
+std::size_t uploadBytes(const geometry::SilhouetteFrame& frame) {
+    return 4 * frame.triangles.size() + sizeof(geometry::SilhouetteEdge) * frame.edges.size() +
+           64 * frame.groups.size() + sizeof(geometry::SilhouetteLoop) * frame.loops.size() +
+           sizeof(glm::vec4) * frame.volumeVertices.size() +
+           sizeof(geometry::Wedge) * frame.wedges.wedges.size() +
+           sizeof(glm::vec4) * frame.wedges.vertices.size();
+}
+
 // `seconds`: wall time of the timed loop, measured by the caller (Google Benchmark 1.7 does not
 // expose it to the benchmark function).
 void setCounters(benchmark::State& state, const BenchMesh& m,
@@ -127,6 +144,7 @@ void setCounters(benchmark::State& state, const BenchMesh& m,
     state.counters["loops"] = double(frame.loops.size());
     state.counters["groups"] = double(frame.groups.size());
     state.counters["wedges"] = double(frame.wedges.wedges.size());
+    state.counters["upload_bytes"] = double(uploadBytes(frame));
     // A rate counter is multiplied by the iteration count and divided by the CPU time: triangles
     // per second, printed with an SI prefix ("250M/s" = 250 Mtri/s).
     state.counters["tri_rate"] =
@@ -191,6 +209,12 @@ void silhouetteClassify(benchmark::State& state, const MeshSpec* spec) {
     settings.buildVolumes = false;
     settings.buildWedges = false;
     runExtractor(state, *spec, settings);
+}
+
+// What a GPU that builds volumes and wedges from the directed edges needs (the target:
+// <= 1/4 of silhouette_full on the levels).
+void silhouetteLean(benchmark::State& state, const MeshSpec* spec) {
+    runExtractor(state, *spec, geometry::SilhouetteSettings::lean());
 }
 
 void topologyBuild(benchmark::State& state, const MeshSpec* spec) {
@@ -281,8 +305,8 @@ int pinToCurrentCpu() {
 } // namespace
 
 int main(int argc, char** argv) {
-    // Registered mesh by mesh (full, full with cap vertices, volumes, classify, topology) so the
-    // one-mesh cache is hit.
+    // Registered mesh by mesh (full, lean, full with cap vertices, volumes, classify, topology)
+    // so the one-mesh cache is hit.
     static const std::vector<MeshSpec> specs = meshSpecs();
     for (const MeshSpec& spec : specs) {
         const auto reg = [&](const char* kind, void (*fn)(benchmark::State&, const MeshSpec*)) {
@@ -291,6 +315,7 @@ int main(int argc, char** argv) {
                 ->Threads(1);
         };
         reg("silhouette_full", silhouetteFull);
+        reg("silhouette_lean", silhouetteLean);
         reg("silhouette_full_caps", silhouetteFullCaps);
         reg("silhouette_volumes", silhouetteVolumes);
         reg("silhouette_classify", silhouetteClassify);

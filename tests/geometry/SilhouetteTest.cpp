@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -254,20 +255,26 @@ void checkFrame(const Topology& topo, const SilhouetteFrame& frame, const glm::v
         }
         EXPECT_EQ(in, out) << "unbalanced vertex in group " << g;
 
-        // Loops of the group tile its edge range and close.
-        std::uint32_t covered = 0;
-        for (std::uint32_t l = group.firstLoop; l < group.firstLoop + group.loopCount; ++l) {
-            const SilhouetteLoop loop = frame.loops[l];
-            ASSERT_EQ(loop.firstEdge, group.firstEdge + covered);
-            ASSERT_GT(loop.edgeCount, 0u);
-            covered += loop.edgeCount;
-            for (std::uint32_t i = 0; i < loop.edgeCount; ++i) {
-                const SilhouetteEdge& a = frame.edges[loop.firstEdge + i];
-                const SilhouetteEdge& b = frame.edges[loop.firstEdge + (i + 1) % loop.edgeCount];
-                ASSERT_EQ(a.v1, b.v0) << "loop " << l << " breaks after edge " << i;
+        // Loops of the group tile its edge range and close (none without chaining).
+        if (settings.chainLoops) {
+            std::uint32_t covered = 0;
+            for (std::uint32_t l = group.firstLoop; l < group.firstLoop + group.loopCount; ++l) {
+                const SilhouetteLoop loop = frame.loops[l];
+                ASSERT_EQ(loop.firstEdge, group.firstEdge + covered);
+                ASSERT_GT(loop.edgeCount, 0u);
+                covered += loop.edgeCount;
+                for (std::uint32_t i = 0; i < loop.edgeCount; ++i) {
+                    const SilhouetteEdge& a = frame.edges[loop.firstEdge + i];
+                    const SilhouetteEdge& b =
+                        frame.edges[loop.firstEdge + (i + 1) % loop.edgeCount];
+                    ASSERT_EQ(a.v1, b.v0) << "loop " << l << " breaks after edge " << i;
+                }
             }
+            EXPECT_EQ(covered, group.edgeCount);
+        } else {
+            EXPECT_EQ(group.loopCount, 0u);
+            EXPECT_TRUE(frame.loops.empty());
         }
-        EXPECT_EQ(covered, group.edgeCount);
 
         // Front caps are light-oriented (as vertices, and as referenced triangles wound by their
         // flag), and the occluder bounds hold the group's triangles.
@@ -432,9 +439,9 @@ void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm:
 
 // Influence bounds are conservative: random points of the scene inside a group's wedge or volume
 // lie inside its influence bounds.
-void checkInfluence(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
-                    const Aabb& box, int points, std::mt19937& rng, bool wedges,
-                    const std::string& what) {
+int checkInfluence(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
+                   const Aabb& box, int points, std::mt19937& rng, bool wedges,
+                   const std::string& what, bool requireInside = true) {
     SCOPED_TRACE(what);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     int inside = 0;
@@ -469,7 +476,10 @@ void checkInfluence(const Topology& topo, const SilhouetteFrame& frame, const gl
                 << "P (" << p.x << ", " << p.y << ", " << p.z << ") outside the bounds";
         }
     }
-    EXPECT_GT(inside, 0) << "no sample inside any region: the check proved nothing";
+    if (requireInside) {
+        EXPECT_GT(inside, 0) << "no sample inside any region: the check proved nothing";
+    }
+    return inside;
 }
 
 struct Case {
@@ -485,8 +495,11 @@ void runFullCheck(const Case& c, const SilhouetteSettings& settings, std::mt1993
     const Aabb box = boxAround(topo, 3.0f);
     const RectLight light = lightAt(c.light);
     const SilhouetteFrame& frame = extractor.update(light, box, settings);
+    // Every case here has the light outside the mesh.
     const bool oneSided =
         settings.oneSidedClosed && topo.manifoldness() == Manifoldness::Closed;
+    EXPECT_EQ(frame.oneSided, oneSided) << c.name;
+    EXPECT_FALSE(frame.lightInside) << c.name;
     checkFrame(topo, frame, c.light, oneSided, settings, c.name);
     if (settings.buildVolumes) checkVolumes(topo, frame, c.light, oneSided, box, volumePoints,
                                             rng, c.name);
@@ -512,7 +525,322 @@ std::uint32_t totalLoops(const SilhouetteFrame& frame) {
     return static_cast<std::uint32_t>(frame.loops.size());
 }
 
+// The union of the group volumes blocks exactly the points whose segment to the light centre
+// crosses the mesh, whichever rule the frame was classified with. Returns how many of the checked
+// points are blocked while lying outside the mesh's bounds (shadows cast on the rest of a scene).
+int checkBlocking(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
+                  const Aabb& box, int points, std::mt19937& rng, const std::string& what) {
+    SCOPED_TRACE(what);
+    const double far = 1e3 * (glm::length(box.extent()) + glm::length(glm::dvec3(light)));
+    const std::vector<glm::dvec3> volume =
+        truncate(groupVolumeVertices(topo, frame, light), light, far);
+    Aabb meshBounds;
+    for (const glm::vec3& p : topo.positions())
+        meshBounds.extend(p);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int checked = 0, blockedOutside = 0, wrong = 0;
+    for (int attempt = 0; checked < points && attempt < 10 * points; ++attempt) {
+        const glm::dvec3 p = glm::dvec3(box.min) + glm::dvec3(unit(rng), unit(rng), unit(rng)) *
+                                                       glm::dvec3(box.extent());
+        bool ok = true;
+        const int count = winding(volume, p, randomUnit(rng), ok);
+        const bool hit = segmentHitsAnyTriangle(topo, p, glm::dvec3(light), ok);
+        if (!ok) continue;
+        ++checked;
+        if ((count != 0) != hit) {
+            if (++wrong <= 5) {
+                ADD_FAILURE() << "P (" << p.x << ", " << p.y << ", " << p.z << "): count "
+                              << count << ", segment to the light "
+                              << (hit ? "blocked" : "free");
+            }
+        }
+        const bool outside = glm::any(glm::lessThan(glm::vec3(p), meshBounds.min)) ||
+                             glm::any(glm::greaterThan(glm::vec3(p), meshBounds.max));
+        blockedOutside += hit && outside;
+    }
+    EXPECT_EQ(checked, points);
+    EXPECT_EQ(wrong, 0) << "of " << checked << " points";
+    return blockedOutside;
+}
+
+// A closed mesh with every triangle reversed (inside out: winding -1 inside).
+MeshData insideOut(MeshData mesh) {
+    for (glm::uvec3& t : mesh.triangles)
+        std::swap(t.y, t.z);
+    return mesh;
+}
+
+// --- Lean mode -----------------------------------------------------------------------------------
+
+bool inBox(const Aabb& b, const glm::vec3& p) {
+    return glm::all(glm::greaterThanEqual(p, b.min)) && glm::all(glm::lessThanEqual(p, b.max));
+}
+
+// Where the ray a + t d (t >= 0) leaves the box it starts in (t = 0 when it does not start in it).
+double exitParameter(const glm::dvec3& a, const glm::dvec3& d, const Aabb& box) {
+    double t = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] > 0.0) t = std::min(t, (double(box.max[k]) - a[k]) / d[k]);
+        if (d[k] < 0.0) t = std::min(t, (double(box.min[k]) - a[k]) / d[k]);
+    }
+    return std::max(t, 0.0);
+}
+
+// Influence bounds hold the exact regions, whether or not the frame built them: random points
+// a + t (a - y) of each group's exact wedges (a on a silhouette edge, y on the light) and volume
+// (a on a group triangle, y the light centre) that lie in the scene box, with t spread over
+// [0, 1e4] and half of them where the ray leaves the box (the extreme points), must lie in the
+// group's influence bounds. Returns how many points were checked.
+int checkExactInfluence(const Topology& topo, const SilhouetteFrame& frame, const RectLight& light,
+                        const Aabb& box, int perGroup, std::mt19937& rng,
+                        const std::string& what) {
+    SCOPED_TRACE(what);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto positions = topo.positions();
+    int checked = 0, outside = 0;
+    for (std::size_t g = 0; g < frame.groups.size(); ++g) {
+        const SilhouetteGroup& group = frame.groups[g];
+        // The occluder itself (t = 0), as far as it is in the scene.
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 corner(i & 1 ? group.occluderBounds.max.x : group.occluderBounds.min.x,
+                                   i & 2 ? group.occluderBounds.max.y : group.occluderBounds.min.y,
+                                   i & 4 ? group.occluderBounds.max.z : group.occluderBounds.min.z);
+            const glm::vec3 clamped = glm::clamp(corner, box.min, box.max);
+            if (corner == clamped) {
+                ++checked;
+                EXPECT_TRUE(inBox(group.influenceBounds, corner)) << "group " << g;
+            }
+        }
+        for (int i = 0; i < perGroup; ++i) {
+            glm::dvec3 a, y;
+            const bool wedge = group.edgeCount > 0 && i % 2 == 0;
+            if (wedge) {
+                const SilhouetteEdge& e = frame.edges[group.firstEdge + rng() % group.edgeCount];
+                a = glm::mix(glm::dvec3(positions[e.v0]), glm::dvec3(positions[e.v1]), unit(rng));
+                // Light corners and edges a quarter of the time each: where wedges are widest.
+                double su = 2.0 * unit(rng) - 1.0, sv = 2.0 * unit(rng) - 1.0;
+                if (i % 8 == 0) su = su < 0.0 ? -1.0 : 1.0;
+                if (i % 4 == 0) sv = sv < 0.0 ? -1.0 : 1.0;
+                y = glm::dvec3(light.center) + su * glm::dvec3(light.u) + sv * glm::dvec3(light.v);
+            } else {
+                const glm::uvec3 tri =
+                    topo.triangles()[frame.triangles[group.firstTriangle +
+                                                     rng() % group.triangleCount] &
+                                     ~kTriangleFlipped];
+                double u = unit(rng), v = unit(rng);
+                if (u + v > 1.0) {
+                    u = 1.0 - u;
+                    v = 1.0 - v;
+                }
+                const glm::dvec3 p0(positions[tri.x]), p1(positions[tri.y]), p2(positions[tri.z]);
+                a = p0 + u * (p1 - p0) + v * (p2 - p0);
+                y = glm::dvec3(light.center);
+            }
+            const glm::dvec3 d = a - y;
+            if (glm::length(d) == 0.0) continue;
+            double t = i % 4 < 2 ? 1e-3 * std::pow(1e7, unit(rng)) : exitParameter(a, d, box);
+            if (i % 4 >= 2) t *= 1.0 - 1e-6; // just inside the box (rounding)
+            const glm::vec3 p(a + t * d);
+            if (!inBox(box, p)) continue;
+            ++checked;
+            if (!inBox(group.influenceBounds, p) && ++outside <= 5) {
+                ADD_FAILURE() << "group " << g << (wedge ? " wedge" : " volume") << " point ("
+                              << p.x << ", " << p.y << ", " << p.z << ") outside ["
+                              << group.influenceBounds.min.x << ", "
+                              << group.influenceBounds.min.y << ", "
+                              << group.influenceBounds.min.z << "] - ["
+                              << group.influenceBounds.max.x << ", "
+                              << group.influenceBounds.max.y << ", "
+                              << group.influenceBounds.max.z << "]";
+            }
+        }
+    }
+    EXPECT_EQ(outside, 0) << "of " << checked << " points";
+    return checked;
+}
+
+// The same groups (in the same order), triangles, edge copies and occluder bounds.
+void expectSameGroups(const SilhouetteFrame& a, const SilhouetteFrame& b, const std::string& what) {
+    SCOPED_TRACE(what);
+    EXPECT_EQ(a.oneSided, b.oneSided);
+    EXPECT_EQ(a.lightInside, b.lightInside);
+    ASSERT_EQ(a.groups.size(), b.groups.size());
+    ASSERT_EQ(a.triangles.size(), b.triangles.size());
+    ASSERT_EQ(a.edges.size(), b.edges.size());
+    const auto edgeKey = [](const SilhouetteEdge& e) {
+        return std::array<std::uint32_t, 3>{e.edge, e.v0, e.v1};
+    };
+    for (std::size_t g = 0; g < a.groups.size(); ++g) {
+        const SilhouetteGroup& ga = a.groups[g];
+        const SilhouetteGroup& gb = b.groups[g];
+        ASSERT_EQ(ga.firstTriangle, gb.firstTriangle);
+        ASSERT_EQ(ga.triangleCount, gb.triangleCount);
+        ASSERT_EQ(ga.firstEdge, gb.firstEdge);
+        ASSERT_EQ(ga.edgeCount, gb.edgeCount);
+        EXPECT_EQ(ga.occluderBounds.min, gb.occluderBounds.min);
+        EXPECT_EQ(ga.occluderBounds.max, gb.occluderBounds.max);
+        std::vector<std::uint32_t> ta(a.triangles.begin() + ga.firstTriangle,
+                                      a.triangles.begin() + ga.firstTriangle + ga.triangleCount);
+        std::vector<std::uint32_t> tb(b.triangles.begin() + gb.firstTriangle,
+                                      b.triangles.begin() + gb.firstTriangle + gb.triangleCount);
+        std::sort(ta.begin(), ta.end());
+        std::sort(tb.begin(), tb.end());
+        EXPECT_TRUE(ta == tb) << "group " << g << " triangles differ";
+        std::vector<std::array<std::uint32_t, 3>> ea, eb;
+        for (std::uint32_t i = 0; i < ga.edgeCount; ++i) {
+            ea.push_back(edgeKey(a.edges[ga.firstEdge + i]));
+            eb.push_back(edgeKey(b.edges[gb.firstEdge + i]));
+        }
+        std::sort(ea.begin(), ea.end());
+        std::sort(eb.begin(), eb.end());
+        EXPECT_TRUE(ea == eb) << "group " << g << " edges differ";
+    }
+}
+
 // --- Tests ---------------------------------------------------------------------------------------
+
+// A closed mesh around the light shadows everything outside it. The one-sided rule would keep
+// only light-facing triangles, and from inside none of an outward mesh faces the light: nothing
+// would be cast (V = 1 on a floor under a lamp's closed shade).
+TEST(Silhouette, ClosedMeshAroundTheLightShadowsEverythingOutside) {
+    struct InsideCase {
+        std::string name;
+        MeshData mesh;
+        glm::vec3 light;
+    };
+    const std::vector<InsideCase> cases = {
+        {"cube", cube(), {0.1f, 0.2f, -0.15f}},
+        {"icosphere", makeIcosphere({0, 0, 0}, 1.0f, 3), {0.2f, -0.3f, 0.1f}},
+        // Inside the tube: rays from the light leave the tube and enter it again across the
+        // hole, so the volume needs the light-facing triangles too.
+        {"torus tube", torusMesh(2.0f, 0.5f, 32, 16), {2.05f, 0.1f, 0.05f}},
+        {"inside-out cube", insideOut(cube()), {0.1f, 0.2f, -0.15f}},
+    };
+    std::mt19937 rng(77);
+    for (const InsideCase& c : cases) {
+        SCOPED_TRACE(c.name);
+        const Topology topo(c.mesh);
+        ASSERT_EQ(topo.manifoldness(), Manifoldness::Closed);
+        SilhouetteExtractor extractor(topo);
+        const Aabb box = boxAround(topo, 3.0f);
+        for (const bool capVertices : {false, true}) {
+            const SilhouetteSettings settings{.capVertices = capVertices, .buildWedges = false};
+            const SilhouetteFrame& frame = extractor.update(lightAt(c.light, 0.05f), box, settings);
+            EXPECT_TRUE(frame.lightInside);
+            EXPECT_FALSE(frame.oneSided);
+            checkFrame(topo, frame, c.light, false, settings, c.name);
+            // About 97% of the box lies outside the mesh's bounds, all of it in shadow.
+            EXPECT_GT(checkBlocking(topo, frame, c.light, box, 300, rng, c.name), 200);
+        }
+        // A floor under the mesh: every point of it is in the volume (V = 0 under the lamp).
+        const SilhouetteFrame& frame = extractor.update(lightAt(c.light, 0.05f), box, {});
+        const double far = 1e4;
+        const std::vector<glm::dvec3> volume =
+            truncate(groupVolumeVertices(topo, frame, c.light), c.light, far);
+        int lit = 0, checked = 0;
+        for (int i = 0; i < 15; ++i) {
+            for (int j = 0; j < 15; ++j) {
+                const glm::dvec3 p(-3.0 + 6.0 * (i + 0.5) / 15.0, -2.5,
+                                   -3.0 + 6.0 * (j + 0.5) / 15.0);
+                bool ok = true;
+                const int count = winding(volume, p, randomUnit(rng), ok);
+                if (!ok) continue;
+                ++checked;
+                lit += count == 0;
+            }
+        }
+        EXPECT_GT(checked, 200);
+        EXPECT_EQ(lit, 0) << "floor points outside the volume";
+    }
+}
+
+TEST(Silhouette, ClosedMeshKeepsTheOneSidedRuleWhileTheLightIsOutside) {
+    std::mt19937 rng(78);
+    const std::vector<std::pair<std::string, MeshData>> meshes = {
+        {"cube", cube()},
+        {"icosphere", makeIcosphere({0, 0, 0}, 1.0f, 3)},
+        {"torus", torusMesh(2.0f, 0.5f, 32, 16)}};
+    // Outside the bounds (the box test decides), and inside the bounds but outside the mesh (the
+    // ray decides): the torus's hole, next to the icosphere within its box's corner.
+    const std::vector<std::pair<int, glm::vec3>> lights = {
+        {0, {3.0f, 4.0f, 2.5f}}, {1, {0.75f, 0.7f, 0.72f}}, {2, {0.3f, 0.2f, -0.1f}},
+        {2, {0.1f, 3.0f, 0.2f}}};
+    for (const auto& [index, l] : lights) {
+        const auto& [name, mesh] = meshes[index];
+        SCOPED_TRACE(name);
+        const Topology topo(mesh);
+        SilhouetteExtractor extractor(topo);
+        const Aabb box = boxAround(topo, 3.0f);
+        const SilhouetteSettings settings{.buildWedges = false};
+        const SilhouetteFrame& frame = extractor.update(lightAt(l, 0.05f), box, settings);
+        EXPECT_FALSE(frame.lightInside);
+        EXPECT_TRUE(frame.oneSided);
+        checkFrame(topo, frame, l, true, settings, name);
+        EXPECT_GT(checkBlocking(topo, frame, l, box, 300, rng, name), 0);
+    }
+}
+
+TEST(Silhouette, ContainmentEdgeCases) {
+    const Aabb box{{-5.0f, -5.0f, -5.0f}, {5.0f, 5.0f, 5.0f}};
+    // On the surface: too close to tell, treated as inside (two-sided, correct either way).
+    {
+        const Topology topo(cube());
+        SilhouetteExtractor extractor(topo);
+        const SilhouetteFrame& frame =
+            extractor.update(lightAt({1.0f, 0.3f, 0.2f}, 0.05f), box, {.buildWedges = false});
+        EXPECT_TRUE(frame.lightInside);
+        EXPECT_FALSE(frame.oneSided);
+        // Just outside, well clear of the rounding: outside again.
+        extractor.update(lightAt({1.01f, 0.3f, 0.2f}, 0.05f), box, {.buildWedges = false});
+        EXPECT_FALSE(extractor.frame().lightInside);
+        EXPECT_TRUE(extractor.frame().oneSided);
+    }
+    // An inside-out mesh never takes the one-sided rule: from outside it, it would shadow
+    // nothing inside it.
+    {
+        const Topology topo(insideOut(cube()));
+        SilhouetteExtractor extractor(topo);
+        const glm::vec3 l(3.0f, 4.0f, 2.5f);
+        const SilhouetteSettings settings{.buildWedges = false};
+        const SilhouetteFrame& frame = extractor.update(lightAt(l, 0.05f), box, settings);
+        EXPECT_FALSE(frame.lightInside);
+        EXPECT_FALSE(frame.oneSided);
+        checkFrame(topo, frame, l, false, settings, "inside-out cube");
+        std::mt19937 rng(79);
+        checkBlocking(topo, frame, l, Aabb{{-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}}, 300, rng,
+                      "inside-out cube");
+    }
+    // Two components, the light in one of them.
+    {
+        MeshData two = cube();
+        const MeshData other = makeIcosphere({4.0f, 0.0f, 0.0f}, 1.0f, 2);
+        const auto base = static_cast<std::uint32_t>(two.positions.size());
+        two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
+        for (const glm::uvec3& t : other.triangles)
+            two.triangles.push_back(t + glm::uvec3(base));
+        const Topology topo(two);
+        ASSERT_EQ(topo.manifoldness(), Manifoldness::Closed);
+        SilhouetteExtractor extractor(topo);
+        const glm::vec3 inSphere(4.1f, 0.2f, -0.1f), between(2.5f, 0.2f, 0.1f);
+        extractor.update(lightAt(inSphere, 0.05f), box, {.buildWedges = false});
+        EXPECT_TRUE(extractor.frame().lightInside);
+        std::mt19937 rng(80);
+        checkBlocking(topo, extractor.frame(), inSphere, box, 200, rng, "light in the sphere");
+        extractor.update(lightAt(between, 0.05f), box, {.buildWedges = false});
+        EXPECT_FALSE(extractor.frame().lightInside);
+        EXPECT_TRUE(extractor.frame().oneSided);
+        // Same centre, other settings: the same answer (the containment is kept per centre).
+        extractor.update(lightAt(between, 0.05f), box, {});
+        EXPECT_FALSE(extractor.frame().lightInside);
+        EXPECT_TRUE(extractor.frame().oneSided);
+        // Open meshes never report it.
+        const Topology open(cube(3));
+        SilhouetteExtractor openExtractor(open);
+        openExtractor.update(lightAt({0.1f, 0.2f, 0.3f}, 0.05f), box, {.buildWedges = false});
+        EXPECT_FALSE(openExtractor.frame().lightInside);
+        EXPECT_FALSE(openExtractor.frame().oneSided);
+    }
+}
 
 TEST(Silhouette, ClosedSphereHasOneGroupOneLoop) {
     const Topology topo(makeSphere({0, 0, 0}, 1.0f, 32));
@@ -625,6 +953,152 @@ TEST(Silhouette, WedgesFollowEdgesAndBoundsAreConservative) {
     }
 }
 
+// Lean mode: the same groups, triangles and directed edge copies as the full mode (its oracle),
+// no loops, volumes or wedges, and conservative cone bounds, on every kind of small mesh.
+TEST(Silhouette, LeanModeMatchesFullMode) {
+    constexpr SilhouetteSettings lean = SilhouetteSettings::lean();
+    static_assert(!lean.buildVolumes && !lean.buildWedges && !lean.chainLoops &&
+                  lean.influenceBounds == InfluenceBoundsMode::OccluderCone);
+    std::mt19937 rng(2027);
+    for (const Case& c : smallCases()) {
+        for (const float scale : {1.0f, 0.45f}) { // 0.45: light close, wide penumbrae
+            const glm::vec3 l = scale * c.light;
+            const Topology topo(c.mesh);
+            const Aabb box = boxAround(topo, 3.0f);
+            SilhouetteExtractor fullExtractor(topo), leanExtractor(topo);
+            const SilhouetteFrame& full = fullExtractor.update(lightAt(l), box, {});
+            const SilhouetteFrame& frame = leanExtractor.update(lightAt(l), box, lean);
+            const bool oneSided = frame.oneSided;
+            checkFrame(topo, frame, l, oneSided, lean, c.name);
+            expectSameGroups(full, frame, c.name);
+            EXPECT_TRUE(frame.loops.empty());
+            EXPECT_TRUE(frame.volumeVertices.empty());
+            EXPECT_TRUE(frame.wedges.wedges.empty());
+            EXPECT_GT(checkExactInfluence(topo, frame, lightAt(l), box, 400, rng, c.name), 200);
+            // The cone bounds hold the (tighter) bounds from the built wedges' rays.
+            for (std::size_t g = 0; g < frame.groups.size(); ++g) {
+                EXPECT_TRUE(inBox(frame.groups[g].influenceBounds,
+                                  full.groups[g].influenceBounds.min) &&
+                            inBox(frame.groups[g].influenceBounds,
+                                  full.groups[g].influenceBounds.max))
+                    << c.name << " group " << g;
+            }
+            if (HasFatalFailure()) return;
+        }
+    }
+}
+
+// Every mode combination with chaining off or cone bounds still builds correct volumes and
+// wedges (side quads and wedges do not need loops), and cone bounds contain the built wedges.
+TEST(Silhouette, UnchainedAndConeBoundsWithVolumesAndWedges) {
+    ASSERT_TRUE(wedgesAvailable());
+    std::mt19937 rng(2028);
+    for (const Case& c : smallCases()) {
+        runFullCheck(c, {.buildWedges = false, .chainLoops = false}, rng, 100);
+        constexpr auto cone = InfluenceBoundsMode::OccluderCone;
+        runFullCheck(c, {.chainLoops = false, .influenceBounds = cone}, rng, 100);
+        runFullCheck(c, {.capVertices = true, .influenceBounds = cone}, rng, 50);
+    }
+}
+
+// Cone bounds against random occluders, lights (near, inside and far from the occluders' boxes)
+// and scene boxes that cut through the occluders: the case where clipping rays to the box alone
+// would not be conservative.
+TEST(Silhouette, ConeBoundsAreConservativeUnderClipping) {
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<float> coord(-2.0f, 2.0f), size(0.05f, 1.0f);
+    int checked = 0, insideBuilt = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        MeshData mesh;
+        const int triangleCount = 1 + static_cast<int>(rng() % 6);
+        for (int i = 0; i < triangleCount; ++i) {
+            const glm::vec3 base(coord(rng), coord(rng), coord(rng));
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec3 offset(coord(rng), coord(rng), coord(rng));
+                mesh.positions.push_back(base + 0.5f * offset);
+            }
+            const auto v = static_cast<std::uint32_t>(3 * i);
+            mesh.triangles.emplace_back(v, v + 1, v + 2);
+        }
+        const Topology topo(mesh);
+        RectLight light;
+        light.center = {coord(rng), coord(rng), coord(rng)};
+        if (trial % 3 == 0) light.center *= 3.0f;
+        light.u = size(rng) * glm::normalize(glm::vec3(coord(rng), coord(rng), coord(rng)));
+        const glm::vec3 other(coord(rng), coord(rng), coord(rng));
+        light.v = size(rng) * glm::normalize(glm::cross(light.u, other));
+        // Around one of the vertices, so that it cuts through the occluders.
+        const glm::vec3 anchor = mesh.positions[rng() % mesh.positions.size()];
+        Aabb box;
+        box.extend(anchor - glm::abs(glm::vec3(coord(rng), coord(rng), coord(rng))));
+        box.extend(anchor + glm::abs(glm::vec3(coord(rng), coord(rng), coord(rng))));
+        SilhouetteExtractor extractor(topo);
+        const std::string what = "trial " + std::to_string(trial);
+        const SilhouetteFrame& frame = extractor.update(light, box, SilhouetteSettings::lean());
+        checked += checkExactInfluence(topo, frame, light, box, 300, rng, what);
+        for (const SilhouetteGroup& g : frame.groups) {
+            if (g.influenceBounds.empty()) continue;
+            EXPECT_TRUE(inBox(box, g.influenceBounds.min) && inBox(box, g.influenceBounds.max))
+                << what << ": bounds beyond the scene";
+        }
+        // With the wedges built (float planes, pushed outward): random points inside them.
+        SilhouetteSettings withWedges = SilhouetteSettings::lean();
+        withWedges.buildWedges = true;
+        withWedges.buildVolumes = true;
+        const SilhouetteFrame& built = extractor.update(light, box, withWedges);
+        if (!box.empty()) {
+            insideBuilt +=
+                checkInfluence(topo, built, light.center, box, 300, rng, true, what, false);
+        }
+        if (HasFatalFailure()) return;
+    }
+    EXPECT_GT(checked, 10000);
+    EXPECT_GT(insideBuilt, 1000);
+}
+
+TEST(Silhouette, LeanModeOnGameLevel) {
+    const std::filesystem::path level =
+        std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm1.glb";
+    ASSERT_TRUE(std::filesystem::exists(level))
+        << "missing " << level << " (../shared must be beside the repo)";
+    const Topology topo(loadGltf(level));
+    const Aabb box = boxAround(topo, 0.0f);
+    const RectLight light = lightAt(box.center() + glm::vec3(0.37f, 2.1f, -0.23f), 0.5f);
+    SilhouetteExtractor fullExtractor(topo), leanExtractor(topo);
+    const SilhouetteFrame& full = fullExtractor.update(light, box, {});
+    const SilhouetteFrame& frame = leanExtractor.update(light, box, SilhouetteSettings::lean());
+    checkFrame(topo, frame, light.center, false, SilhouetteSettings::lean(), "oa_dm1 lean");
+    expectSameGroups(full, frame, "oa_dm1");
+    std::mt19937 rng(5);
+    EXPECT_GT(checkExactInfluence(topo, frame, light, box, 40, rng, "oa_dm1"), 10000);
+    // Per-frame upload: triangle ids, edges and per group its ranges and two boxes.
+    const std::size_t bytes = 4 * frame.triangles.size() + 12 * frame.edges.size() +
+                              64 * frame.groups.size();
+    std::printf("[ level    ] oa_dm1 lean: %zu groups, %zu edges, %zu bytes per frame\n",
+                frame.groups.size(), frame.edges.size(), bytes);
+    EXPECT_LT(bytes, 2u << 20);
+}
+
+// Lights in the planes of triangles: the float classification leaves them to the exact test,
+// which must agree with classifyFacing (checkFrame compares triangle by triangle).
+TEST(Silhouette, LightInTrianglePlanes) {
+    for (const bool lean : {false, true}) {
+        const SilhouetteSettings settings =
+            lean ? SilhouetteSettings::lean() : SilhouetteSettings{.buildWedges = false};
+        for (const Case& c : {Case{"cube", cube(), {3.0f, 1.0f, 0.5f}},
+                              Case{"cube edge line", cube(), {1.0f, 1.0f, 4.0f}},
+                              Case{"open box", cube(3), {0.25f, 1.0f, 3.0f}},
+                              Case{"quad", makeQuad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}),
+                                   {2.0f, 0.0f, 0.3f}}}) {
+            const Topology topo(c.mesh);
+            SilhouetteExtractor extractor(topo);
+            const SilhouetteFrame& frame =
+                extractor.update(lightAt(c.light), boxAround(topo, 3.0f), settings);
+            checkFrame(topo, frame, c.light, frame.oneSided, settings, c.name);
+        }
+    }
+}
+
 TEST(Silhouette, ReusesAnUnchangedLight) {
     const Topology topo(torusMesh(2.0f, 0.5f, 24, 12));
     SilhouetteExtractor extractor(topo);
@@ -649,6 +1123,14 @@ TEST(Silhouette, ReusesAnUnchangedLight) {
     extractor.update(lightAt({0.5f, 4.0f, 0.31f}), boxAround(topo, 2.5f), {});
     EXPECT_FALSE(extractor.reused());
     extractor.update(lightAt({0.5f, 4.0f, 0.31f}), boxAround(topo, 2.5f), {.capVertices = true});
+    EXPECT_FALSE(extractor.reused());
+    extractor.update(lightAt({0.5f, 4.0f, 0.31f}), boxAround(topo, 2.5f),
+                     {.capVertices = true, .chainLoops = false});
+    EXPECT_FALSE(extractor.reused());
+    extractor.update(lightAt({0.5f, 4.0f, 0.31f}), boxAround(topo, 2.5f),
+                     {.capVertices = true,
+                      .chainLoops = false,
+                      .influenceBounds = InfluenceBoundsMode::OccluderCone});
     EXPECT_FALSE(extractor.reused());
     // Recomputing the first light gives the first result again (deterministic).
     const SilhouetteFrame& again = extractor.update(lightAt({0.5f, 4.0f, 0.3f}), box, settings);
