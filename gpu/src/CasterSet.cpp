@@ -19,16 +19,6 @@ std::size_t storageAlignment() {
 
 std::size_t alignUp(std::size_t x, std::size_t a) { return (x + a - 1) / a * a; }
 
-// The extractor's settings for the GPU path: the GPU extrudes sides and builds wedges from the
-// directed edges and draws caps from the triangle ids, so the CPU builds neither.
-geometry::SilhouetteSettings gpuSilhouetteSettings() {
-    geometry::SilhouetteSettings s;
-    s.buildVolumes = false;
-    s.capVertices = false;
-    s.buildWedges = false;
-    return s;
-}
-
 } // namespace
 
 CasterSet::CasterSet(const geometry::Scene& scene) {
@@ -66,7 +56,9 @@ const geometry::SilhouetteFrame& CasterSet::frame(std::size_t i) const {
 }
 
 void CasterSet::update(const geometry::RectLight& light, const geometry::Aabb& sceneBounds) {
-    static const geometry::SilhouetteSettings settings = gpuSilhouetteSettings();
+    // The GPU extrudes sides and builds wedges from the directed edges and draws caps from the
+    // triangle ids: the CPU builds no volumes, wedges or loops, and bounds groups cheaply.
+    static const geometry::SilhouetteSettings settings = geometry::SilhouetteSettings::lean();
     bool changed = false;
     mTotal = {};
     for (std::size_t i = 0; i < mExtractors.size(); ++i) {

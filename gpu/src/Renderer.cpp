@@ -210,6 +210,9 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     stats.volumeTriangles = 2 * static_cast<std::size_t>(m.casters.triangleCount()) +
                             2 * static_cast<std::size_t>(m.casters.edgeCount());
     stats.silhouetteUploadBytes = m.casters.uploadBytes();
+    std::size_t containing = 0; // closed casters around the light centre (drawn two-sided)
+    for (std::size_t c = 0; c < m.casters.size(); ++c) containing += m.casters.frame(c).lightInside;
+    ctx.addCounter("casters_containing_light", static_cast<double>(containing));
 
     method.execute(ctx);
     checkGl("visibility");

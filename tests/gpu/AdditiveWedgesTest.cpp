@@ -23,9 +23,7 @@ using testutil::Rendered;
 // Σ over the light centre's directed silhouette edges of edgeCoverage at every surface pixel
 // (the settings of the GPU path: gpu/src/CasterSet.cpp).
 std::vector<double> cpuCoverageSum(const geometry::Scene& scene, const Rendered& r) {
-    geometry::SilhouetteSettings settings;
-    settings.buildVolumes = false;
-    settings.buildWedges = false;
+    const geometry::SilhouetteSettings settings = geometry::SilhouetteSettings::lean();
     std::vector<std::pair<glm::vec3, glm::vec3>> edges;
     for (const auto& object : scene.objects) {
         if (object.method == geometry::ShadowMethod::None) continue;

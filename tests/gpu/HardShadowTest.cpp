@@ -173,3 +173,30 @@ TEST_F(HardShadow, OpenArenaLevelMatchesEmbree) {
 }
 
 } // namespace
+
+TEST_F(HardShadow, ClosedMeshAroundTheLightShadowsEverythingOutside) {
+    // A closed box around the light (a lamp shade without openings) above a floor: every floor
+    // point is in its shadow. The one-sided rule alone would see only back faces from inside
+    // and shadow nothing; the renderer must notice the light is inside and say so.
+    const auto scene = geometry::parseScene(R"({
+        "camera": {"eye": [0, 4, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 50},
+        "light": {"center": [0, 2, 0], "u": [0.2, 0, 0], "v": [0, 0, 0.2]},
+        "objects": [
+            {"name": "floor", "type": "quad", "center": [0, 0, 0], "u": [3, 0, 0], "v": [0, 0, -3]},
+            {"name": "shade", "type": "box", "center": [0, 2, 0], "size": [1, 1, 1]}
+        ]})", testutil::dataPath("."), "lamp shade");
+    const Rendered r = testutil::render(scene, "hard", 64);
+    std::size_t floor = 0, lit = 0;
+    for (std::size_t i = 0; i < r.visibility.data.size(); ++i) {
+        if (!std::isfinite(r.visibility.data[i])) continue;
+        if (std::fabs(testutil::pixelPosition(r.position, i).y) > 1e-3f) continue;
+        ++floor;
+        lit += r.visibility.data[i] > 0.0f;
+    }
+    EXPECT_GT(floor, 1000u);
+    EXPECT_EQ(lit, 0u);
+    double containing = -1;
+    for (const auto& c : r.stats.counters)
+        if (c.name == "casters_containing_light") containing = c.value;
+    EXPECT_EQ(containing, 1.0);
+}
