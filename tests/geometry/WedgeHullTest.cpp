@@ -68,9 +68,9 @@ enum class EdgeKind {
     Count
 };
 constexpr int kKinds = static_cast<int>(EdgeKind::Count);
-const char* kKindNames[kKinds] = {"generic",   "short",       "long",          "in-plane",
-                                  "crosses",   "toward-light", "toward-corner", "close",
-                                  "parallel",  "far-origin",  "touching"};
+const char* kKindNames[kKinds] = {"generic",  "short",        "long",          "in-plane",
+                                  "crosses",  "toward-light", "toward-corner", "close",
+                                  "parallel", "far-origin",   "touching"};
 
 struct Case {
     RectLight light;
@@ -207,7 +207,9 @@ double planeExcess(const WedgeHull& h, const dvec3& p) {
     return m;
 }
 
-double det3(const dvec3& a, const dvec3& b, const dvec3& c) { return glm::dot(a, glm::cross(b, c)); }
+double det3(const dvec3& a, const dvec3& b, const dvec3& c) {
+    return glm::dot(a, glm::cross(b, c));
+}
 
 // Homogeneous plane of the triangle (a, b, c) (points w = 1, directions w = 0), in double:
 // dot(plane, X) = -det[a; b; c; X], which is dot(n, X - a) with n = (b - a) x (c - a) for a
@@ -226,7 +228,8 @@ dvec4 homogeneousPlane(const dvec4& a, const dvec4& b, const dvec4& c) {
     };
     // det[a; b; c; X] expanded along the last row: sum_j X_j (-1)^(3 + j) minor_j.
     dvec4 cof;
-    for (int j = 0; j < 4; ++j) cof[j] = ((3 + j) % 2 == 0 ? 1.0 : -1.0) * minor(j);
+    for (int j = 0; j < 4; ++j)
+        cof[j] = ((3 + j) % 2 == 0 ? 1.0 : -1.0) * minor(j);
     return -cof;
 }
 
@@ -253,8 +256,9 @@ double triangleExcess(const std::array<dvec4, 8>& planes, const dvec3& p) {
 
 // Scale of the configuration: what the hull's pushes are relative to.
 double sceneScale(const Case& k) {
-    return glm::length(dvec3(k.e0)) + glm::length(dvec3(k.e1)) + glm::length(dvec3(k.light.center)) +
-           glm::length(dvec3(k.light.u)) + glm::length(dvec3(k.light.v));
+    return glm::length(dvec3(k.e0)) + glm::length(dvec3(k.e1)) +
+           glm::length(dvec3(k.light.center)) + glm::length(dvec3(k.light.u)) +
+           glm::length(dvec3(k.light.v));
 }
 
 // The light point at (s, t) for the 13 sample positions of a shadow-ray check: corners, points on
@@ -375,10 +379,11 @@ TEST(WedgeHullTest, ContainsEveryShadowRayAndEveryCoveredPoint) {
                 for (double tt : ts) {
                     const dvec3 p = a + tt * (a - y);
                     ASSERT_LE(planeExcess(h, p), 0.0)
-                        << "t " << tt << " lambda " << lambda << " s " << s << " t " << t
-                        << "\n" << describe(k);
+                        << "t " << tt << " lambda " << lambda << " s " << s << " t " << t << "\n"
+                        << describe(k);
                     ASSERT_TRUE(geometry::wedgeHullContains(h.planes, vec3(p)))
-                        << "float test, t " << tt << "\n" << describe(k);
+                        << "float test, t " << tt << "\n"
+                        << describe(k);
                     const double excess = triangleExcess(tri, p) / (scale + glm::length(p));
                     worstTriangle = std::max(worstTriangle, excess);
                     // The quads' two triangles are coplanar only up to the rounding of their
@@ -402,8 +407,7 @@ TEST(WedgeHullTest, ContainsEveryShadowRayAndEveryCoveredPoint) {
         }
     }
     for (int i = 0; i < kKinds; ++i) {
-        std::printf("[ hull     ] %-13s %4d of %4d bounded\n", kKindNames[i], bounded[i],
-                    total[i]);
+        std::printf("[ hull     ] %-13s %4d of %4d bounded\n", kKindNames[i], bounded[i], total[i]);
     }
     std::printf("[ hull     ] %ld shadow-ray points and %ld covered points inside; worst "
                 "triangle-plane excess %.3g of the scale\n",
@@ -423,14 +427,15 @@ TEST(WedgeHullTest, TrianglesAreOutwardAndMatchThePlanes) {
         if (h.kind != geometry::kWedgeHullBounded) continue;
         const double scale = sceneScale(k);
         // Interior point: the edge's midpoint moved along the cone's central direction.
-        const dvec3 centre = glm::normalize(dvec3(h.g[0]) + dvec3(h.g[1]) + dvec3(h.g[2]) +
-                                            dvec3(h.g[3]));
+        const dvec3 centre =
+            glm::normalize(dvec3(h.g[0]) + dvec3(h.g[1]) + dvec3(h.g[2]) + dvec3(h.g[3]));
         const dvec3 inside =
             0.5 * (dvec3(k.e0) + dvec3(k.e1)) + glm::length(dvec3(k.e1 - k.e0)) * centre;
         for (int t = 0; t < 8; ++t) {
             const int face = geometry::kWedgeHullTriangleFace[t];
             std::array<dvec4, 3> v;
-            for (int i = 0; i < 3; ++i) v[i] = dvec4(geometry::wedgeHullVertex(h, 3 * t + i));
+            for (int i = 0; i < 3; ++i)
+                v[i] = dvec4(geometry::wedgeHullVertex(h, 3 * t + i));
             const dvec4 pl = homogeneousPlane(v[0], v[1], v[2]);
             if (face == 4) {
                 EXPECT_GT(det3(dvec3(v[0]), dvec3(v[1]), dvec3(v[2])), 0.0) << describe(k);
@@ -467,16 +472,17 @@ namespace {
 // of the sector of the rays' parts ⟂ the edge (>= 180° when the edge's line meets the light's
 // projection along it), and the shortest such part.
 struct ExactSector {
-    double degrees;  // 360 when the parts do not lie in a half-plane
-    double minPerp;  // shortest part ⟂ the edge
-    double scale;    // |e0 - c| + |u| + |v|
+    double degrees; // 360 when the parts do not lie in a half-plane
+    double minPerp; // shortest part ⟂ the edge
+    double scale;   // |e0 - c| + |u| + |v|
     double len;
 };
 
 ExactSector exactSector(const Case& k) {
     const dvec3 e0(k.e0), e1(k.e1), c(k.light.center), u(k.light.u), v(k.light.v);
     const dvec3 a = glm::normalize(e1 - e0);
-    const dvec3 x = glm::normalize(glm::cross(std::abs(a.x) < 0.5 ? dvec3(1, 0, 0) : dvec3(0, 1, 0), a));
+    const dvec3 x =
+        glm::normalize(glm::cross(std::abs(a.x) < 0.5 ? dvec3(1, 0, 0) : dvec3(0, 1, 0), a));
     const dvec3 y = glm::cross(a, x);
     std::array<double, 4> angle;
     ExactSector out{0.0, 1e300, glm::length(e0 - c) + glm::length(u) + glm::length(v),
@@ -491,7 +497,8 @@ ExactSector exactSector(const Case& k) {
     // Smallest arc holding all four angles: 360° minus the largest gap between neighbours.
     std::sort(angle.begin(), angle.end());
     double gap = angle[0] + 2.0 * M_PI - angle[3];
-    for (int j = 0; j + 1 < 4; ++j) gap = std::max(gap, angle[j + 1] - angle[j]);
+    for (int j = 0; j + 1 < 4; ++j)
+        gap = std::max(gap, angle[j + 1] - angle[j]);
     out.degrees = (2.0 * M_PI - gap) * 180.0 / M_PI;
     if (gap <= M_PI) out.degrees = 360.0;
     return out;
@@ -519,9 +526,9 @@ TEST(WedgeHullTest, FullscreenOnlyWhereJustified) {
         const bool parallel = es.minPerp < 1.01 * 300.0 * (1e-6 * es.scale + 5e-7 * es.len);
         nearHalfSpace += halfSpace;
         nearParallel += parallel && !halfSpace;
-        EXPECT_TRUE(halfSpace || parallel)
-            << "sector " << es.degrees << "° min perp " << es.minPerp << " scale " << es.scale
-            << "\n" << describe(k);
+        EXPECT_TRUE(halfSpace || parallel) << "sector " << es.degrees << "° min perp " << es.minPerp
+                                           << " scale " << es.scale << "\n"
+                                           << describe(k);
     }
     for (int i = 0; i < kKinds; ++i) {
         if (total[i] == 0) continue;
@@ -529,10 +536,12 @@ TEST(WedgeHullTest, FullscreenOnlyWhereJustified) {
                     100.0 * fullscreen[i] / total[i]);
     }
     std::printf("[ hull     ] fullscreen: %d with a sector over 176.8°, %d with a ray nearly "
-                "along the edge\n", nearHalfSpace, nearParallel);
+                "along the edge\n",
+                nearHalfSpace, nearParallel);
     // Configurations that are not special are bounded nearly always.
-    for (EdgeKind kind : {EdgeKind::Generic, EdgeKind::Short, EdgeKind::Long, EdgeKind::CrossesPlane,
-                          EdgeKind::ParallelToSide, EdgeKind::FarFromOrigin}) {
+    for (EdgeKind kind :
+         {EdgeKind::Generic, EdgeKind::Short, EdgeKind::Long, EdgeKind::CrossesPlane,
+          EdgeKind::ParallelToSide, EdgeKind::FarFromOrigin}) {
         EXPECT_LT(fullscreen[static_cast<int>(kind)], 0.05 * total[static_cast<int>(kind)])
             << kKindNames[static_cast<int>(kind)];
     }
@@ -592,8 +601,8 @@ TEST(WedgeHullTest, LoosenessAgainstTheExactWedge) {
         if (s.near.empty() && s.far.empty()) continue;
         std::printf("[ hull     ] %-13s %5zu %5.2f %5.2f %5.2f    | %5zu %5.2f %5.2f %5.2f\n",
                     kKindNames[i], s.near.size(), quantile(s.near, 0.0), quantile(s.near, 0.1),
-                    quantile(s.near, 0.5), s.far.size(), quantile(s.far, 0.0),
-                    quantile(s.far, 0.1), quantile(s.far, 0.5));
+                    quantile(s.near, 0.5), s.far.size(), quantile(s.far, 0.0), quantile(s.far, 0.1),
+                    quantile(s.far, 0.5));
         allNear.insert(allNear.end(), s.near.begin(), s.near.end());
         allFar.insert(allFar.end(), s.far.begin(), s.far.end());
     }
@@ -676,11 +685,13 @@ TEST(WedgeHullTest, FloatCoverageMatchesDouble) {
             nonZero += exact != 0.0;
             errors.push_back(err);
             // Distance to the edge's segment, relative to the configuration's size.
-            const double lambda = std::clamp(glm::dot(q - e0, e1 - e0) / glm::dot(e1 - e0, e1 - e0), 0.0, 1.0);
+            const double lambda =
+                std::clamp(glm::dot(q - e0, e1 - e0) / glm::dot(e1 - e0, e1 - e0), 0.0, 1.0);
             const double rel = glm::length(q - (e0 + lambda * (e1 - e0))) / reach;
             const int bucket = std::clamp(static_cast<int>(std::floor(std::log10(rel))) + 3, 0, 4);
             worstByDistance[bucket] = std::max(worstByDistance[bucket], err);
-            worstByKind[static_cast<int>(k.kind)] = std::max(worstByKind[static_cast<int>(k.kind)], err);
+            worstByKind[static_cast<int>(k.kind)] =
+                std::max(worstByKind[static_cast<int>(k.kind)], err);
             if (err > worst) {
                 worst = err;
                 char buf[160];
@@ -699,8 +710,9 @@ TEST(WedgeHullTest, FloatCoverageMatchesDouble) {
                 "<1 %.2g, <10 %.2g, more %.2g\n",
                 worstByDistance[0], worstByDistance[1], worstByDistance[2], worstByDistance[3],
                 worstByDistance[4]);
-    std::printf("[ coverage ] %d points near the hard-shadow plane, %d on the other side in float\n",
-                nearHardPlane, sideFlips);
+    std::printf(
+        "[ coverage ] %d points near the hard-shadow plane, %d on the other side in float\n",
+        nearHardPlane, sideFlips);
     std::printf("[ coverage ] worst: %s\n", worstCase.c_str());
     for (int i = 0; i < kKinds; ++i)
         std::printf("[ coverage ] %-13s max %.2g\n", kKindNames[i], worstByKind[i]);
@@ -713,9 +725,9 @@ TEST(WedgeHullTest, FloatCoverageMatchesDouble) {
     // at z = 0) follows from heights of ~1e-5 known to ~6e-8 (the float normal), i.e. to ~1%.
     constexpr double kInPlaneTolerance = 1e-2;
     for (int i = 0; i < kKinds; ++i) {
-        EXPECT_LE(worstByKind[i],
-                  i == static_cast<int>(EdgeKind::NearlyInPlane) ? kInPlaneTolerance
-                                                                 : kCoverageTolerance)
+        EXPECT_LE(worstByKind[i], i == static_cast<int>(EdgeKind::NearlyInPlane)
+                                      ? kInPlaneTolerance
+                                      : kCoverageTolerance)
             << kKindNames[i];
     }
     EXPECT_LE(at(0.999), 1e-4); // the bulk is far below the bound (measured 4.1e-5)
