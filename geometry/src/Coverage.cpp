@@ -14,15 +14,19 @@ using std::abs;
 using std::max;
 using std::min;
 
-float coverageCross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+float coverageCross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
 
 // Restricts [lo, hi] to the l where f0 + l (f1 - f0) <= 0; false when that leaves nothing.
 bool coverageClipLe0(float f0, float f1, float& lo, float& hi) {
     if (f0 <= 0.0f && f1 <= 0.0f) return lo <= hi;
     if (f0 > 0.0f && f1 > 0.0f) return false;
     const float l = f0 / (f0 - f1);
-    if (f0 > 0.0f) lo = max(lo, l);
-    else hi = min(hi, l);
+    if (f0 > 0.0f)
+        lo = max(lo, l);
+    else
+        hi = min(hi, l);
     return lo <= hi;
 }
 
@@ -103,12 +107,14 @@ float edgeCoverage(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light) {
             if (fa >= 0.0f) next[nextCount++] = a;
             if ((fa >= 0.0f) != (fb >= 0.0f)) next[nextCount++] = a + (fa / (fa - fb)) * (b - a);
         }
-        for (int i = 0; i < nextCount; ++i) poly[i] = next[i];
+        for (int i = 0; i < nextCount; ++i)
+            poly[i] = next[i];
         count = nextCount;
         if (count < 3) return 0.0f;
     }
     float area2 = 0.0f;
-    for (int i = 0; i < count; ++i) area2 += coverageCross2(poly[i], poly[(i + 1) % count]);
+    for (int i = 0; i < count; ++i)
+        area2 += coverageCross2(poly[i], poly[(i + 1) % count]);
     const float fraction = 0.125f * abs(area2); // half the doubled area, over the light's 4
     return (hp > 0.0f ? sg : -sg) * fraction;
 }

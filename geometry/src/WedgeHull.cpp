@@ -36,7 +36,9 @@ constexpr float kWedgeHullAngleMax = 1.0e-2f;
 // hull would be nearly a half-space anyway, and the slope bounds lose accuracy as 1 / cos.
 constexpr float kWedgeHullMinHalfCos = 0.017452406f;
 
-float wedgeHullCross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+float wedgeHullCross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
 
 // Solid angle (steradians, up to a constant) of the directions over the sector from fw to bw
 // (counter-clockwise) that lie below the plane A = dot(P, h): with u(φ) the unit direction at
@@ -79,14 +81,16 @@ vec2 wedgeHullSide(const vec2 P[4], const float B[4], vec2 fw, vec2 bw, vec2 m, 
     }
     if (!found) { // (parallel rays only) the plane through the lowest ray along m
         float lo = 3.0e38f;
-        for (int k = 0; k < 4; ++k) lo = min(lo, B[k] / dot(P[k], m));
+        for (int k = 0; k < 4; ++k)
+            lo = min(lo, B[k] / dot(P[k], m));
         h = lo * m;
     }
     for (int pass = 0; pass < 2; ++pass) {
         const float nh = 1.0f + length(h);
         float tau = 0.0f;
         for (int k = 0; k < 4; ++k) {
-            const float margin = nh * (2.0f * rho + kWedgeHullAngleBase * (abs(B[k]) + length(P[k])));
+            const float margin =
+                nh * (2.0f * rho + kWedgeHullAngleBase * (abs(B[k]) + length(P[k])));
             tau = max(tau, (dot(P[k], h) - B[k] + margin) / dot(P[k], m));
         }
         h = h - tau * m;
@@ -112,9 +116,8 @@ WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
 
     // Orthonormal frame (x, y, a), cross(x, y) = a; 2D vectors below are in (x, y).
     const vec3 a = d / len;
-    const vec3 x = normalize(cross(abs(a.x) < 0.5f ? vec3(1.0f, 0.0f, 0.0f)
-                                                   : vec3(0.0f, 1.0f, 0.0f),
-                                   a));
+    const vec3 x =
+        normalize(cross(abs(a.x) < 0.5f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f), a));
     const vec3 y = cross(a, x);
 
     // Rays from e0 through the corners c_j = c + s u + t v, (s, t) = (-1, -1) (1, -1) (1, 1)
@@ -127,7 +130,8 @@ WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
     const float au = dot(u, a);
     const float av = dot(v, a);
     // Bound on the error of every P[j] and A[j] against the exact rays in this float frame.
-    const float rho = kWedgeHullRound * (length(k) + length(u) + length(v)) + kWedgeHullRoundLen * len;
+    const float rho =
+        kWedgeHullRound * (length(k) + length(u) + length(v)) + kWedgeHullRoundLen * len;
     vec2 P[4];
     float A[4];
     float minPerp = 3.0e38f;
