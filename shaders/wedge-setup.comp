@@ -37,12 +37,13 @@ void main() {
             w.rays[k] = vec4(0.0);
         }
     } else {
-        WedgeHull h = buildWedgeHull(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz,
-                                     frame.lightU.xyz, frame.lightV.xyz);
-        w.kind = h.kind;
+        WedgeHull h = wedgeHull(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz, frame.lightU.xyz,
+                                frame.lightV.xyz);
+        // kWedgeHull{Bounded, Fullscreen, Degenerate} are WEDGE_{BOUNDED, FULLSCREEN, DEGENERATE}
+        w.kind = uint(h.kind);
         for (int k = 0; k < 4; ++k) {
             w.planes[k] = h.planes[k];
-            w.rays[k] = vec4(h.rays[k], 0.0);
+            w.rays[k] = vec4(h.g[k], 0.0);
         }
     }
     if (w.kind == WEDGE_BOUNDED) {

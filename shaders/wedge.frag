@@ -4,6 +4,7 @@
 // V = V_hard(centre) - sum over the edges' coverage.
 #include "lib/Bindings.h"
 #include "lib/Coverage.glsl"
+#include "lib/WedgeHull.glsl"
 
 // The depth test (hull exit behind the surface) runs before the shader: no depth is written.
 layout(early_fragment_tests) in;
@@ -20,14 +21,17 @@ void main() {
     vec4 position = texelFetch(tPosition, ivec2(gl_FragCoord.xy), 0);
     if (position.w == 0.0) discard; // no surface
     vec3 p = position.xyz;
-    if (vBounded != 0u) {
-        // Float slack on the conservative side: the coverage below is exactly zero outside.
-        float slack = 1e-5 * (1.0 + length(p));
-        for (int i = 0; i < 4; ++i)
-            if (dot(vPlanes[i].xyz, p) + vPlanes[i].w > slack) discard;
-    }
-    float c = edgeCoverage(p, vE0.xyz, vE1.xyz, frame.lightCenter.xyz, frame.lightN.xyz,
-                           frame.lightUStar.xyz, frame.lightVStar.xyz);
+    // The hull's planes carry their own float margins (geometry/WedgeHull.h); the coverage
+    // below is zero outside the exact wedge anyway.
+    if (vBounded != 0u && !wedgeHullContains(vPlanes, p)) discard;
+    CoverageLight light;
+    light.c = frame.lightCenter.xyz;
+    light.u = frame.lightU.xyz;
+    light.v = frame.lightV.xyz;
+    light.n = frame.lightN.xyz;
+    light.uStar = frame.lightUStar.xyz;
+    light.vStar = frame.lightVStar.xyz;
+    float c = edgeCoverage(p, vE0.xyz, vE1.xyz, light);
     if (c == 0.0) discard;
     oCoverage = c;
 }

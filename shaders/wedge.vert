@@ -53,7 +53,7 @@ void main() {
     bool entry = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside == 0u;
     bool exit = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside != 0u;
     if ((uPass == WEDGE_PASS_ENTRY && entry) || (uPass == WEDGE_PASS_EXIT && exit)) {
-        int corner = wedgeHullCorner(k);
+        int corner = kWedgeHullIndex[k]; // 0 e0, 1 e1, 2..5 the rays g1..g4
         vec4 world = corner == 0   ? vec4(wedge.e0.xyz, 1.0)
                      : corner == 1 ? vec4(wedge.e1.xyz, 1.0)
                                    : vec4(wedge.rays[corner - 2].xyz, 0.0);
