@@ -182,14 +182,15 @@ TEST_F(AdditiveWedges, LightCloseToAnOccluder) {
 }
 
 TEST_F(AdditiveWedges, EdgeTouchingTheLightsPlane) {
-    // A wall whose top edge lies in the light's plane, beside the light: its wedges are
-    // unbounded (no finite hull); they take the full-screen path.
+    // A wall whose top edge lies in the light's plane and points at the light: seen along that
+    // edge the light surrounds its line, so its wedge has no bounded hull and takes the
+    // full-screen path.
     const auto scene = sceneFromJson(R"({
         "camera": {"eye": [0, 4, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 60},
         "light": {"center": [0, 2, 0], "u": [0.3, 0, 0], "v": [0, 0, 0.3]},
         "objects": [
             {"name": "floor", "type": "quad", "center": [0, 0, 0], "u": [3, 0, 0], "v": [0, 0, -3]},
-            {"name": "wall", "type": "quad", "center": [1, 1, 0], "u": [0, 1, 0], "v": [0, 0, -1]}
+            {"name": "wall", "type": "quad", "center": [1.5, 1, 0], "u": [0.5, 0, 0], "v": [0, 1, 0]}
         ]})");
     expectValidVisibility(scene);
     const Rendered r = testutil::render(scene, "wedges-additive", 64);
