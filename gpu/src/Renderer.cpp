@@ -220,6 +220,7 @@ class StencilVolumePass {
 public:
     explicit StencilVolumePass(const ShaderLoader& shaders)
         : mProgram(shaders.load({.stages = {{GL_VERTEX_SHADER, "volume.vert"},
+                                            {GL_GEOMETRY_SHADER, "volume.geom"},
                                             {GL_FRAGMENT_SHADER, "volume.frag"}},
                                  .label = "shadow-volume"})),
           mVao("shadow-volume") {
