@@ -10,6 +10,8 @@
 
 invariant gl_Position; // front caps must land where the G-buffer put the surface
 
+out float vFinite; // 1 for a point, 0 for a point at infinity (volume.geom)
+
 void main() {
     vec3 lc = frame.lightCenter.xyz;
     vec4 world;
@@ -26,5 +28,6 @@ void main() {
     vec3 x = weldedPositions[isQ ? e.v1 : e.v0].xyz;
     world = atInfinity ? vec4(x - lc, 0.0) : vec4(x, 1.0);
 #endif
+    vFinite = world.w;
     gl_Position = frame.viewProj * world;
 }

@@ -4,8 +4,11 @@
 
 layout(location = 0) in vec4 aPosition;
 
+out float vFinite; // 1 for a point, 0 for a point at infinity
+
 invariant gl_Position;
 
 void main() {
+    vFinite = aPosition.w;
     gl_Position = frame.viewProj * aPosition;
 }

@@ -137,6 +137,15 @@ float shortOfTarget(float eps, float length) {
     return 1.0f - std::max(1e-5f, length > 0.0f ? eps / length : 1.0f);
 }
 
+// tnear: hits closer to the origin than the offset itself are ignored. The offset moves the
+// origin along the surface's normal, i.e. parallel to a face meeting the surface at a concave
+// corner (a wall under a ceiling, a floor against a step): a G-buffer point on or within float
+// error of such a corner gets an origin lying in that face's plane, and the ray leaving it was
+// reported as blocked at t = 0 or within ~1e-5 of it (rows of V = 0 pixels along corners where
+// both GPU methods see the light). Geometry that close is contact geometry, below what the
+// offset resolves anyway; the surface's own plane is decided exactly by facesSample().
+float nearLimit(float eps, float length) { return length > 0.0f ? eps / length : 0.0f; }
+
 // Runs fn(begin, end, context) over [0, count) in chunks on `threads` threads; each thread owns
 // its RTCIntersectContext (Embree contexts are not shared between concurrent queries).
 template <class Fn>
@@ -221,7 +230,7 @@ int countUnoccluded(RTCScene scene, RTCIntersectContext& context, const RectLigh
             packet.dir_x[j] = dir.x;
             packet.dir_y[j] = dir.y;
             packet.dir_z[j] = dir.z;
-            packet.tnear[j] = 0.0f;
+            packet.tnear[j] = nearLimit(eps, glm::length(dir));
             packet.tfar[j] = shortOfTarget(eps, glm::length(dir));
             packet.time[j] = 0.0f;
             packet.mask[j] = 0xFFFFFFFFu;
@@ -246,7 +255,7 @@ RTCRay makeRay(const glm::vec3& origin, const glm::vec3& target, float eps) {
     ray.dir_x = dir.x;
     ray.dir_y = dir.y;
     ray.dir_z = dir.z;
-    ray.tnear = 0.0f;
+    ray.tnear = nearLimit(eps, glm::length(dir));
     ray.tfar = shortOfTarget(eps, glm::length(dir));
     ray.mask = 0xFFFFFFFFu;
     return ray;

@@ -8,6 +8,8 @@
 #include <geometry/RayTracer.h>
 
 #include <cmath>
+#include <optional>
+#include <ostream>
 
 namespace {
 
@@ -116,6 +118,9 @@ TEST_F(HardShadow, CameraInsideVolumeGivesSameVisibility) {
 struct EmbreeComparison {
     double meanAbs = 0.0;
     std::size_t pixels = 0, differing = 0;
+    // V = 0 in `hard` where Embree says 1 and both say 1 at all 8 neighbours: a black speck on
+    // a lit surface, the symptom of a broken stencil count (a boundary cannot pass there).
+    std::size_t isolatedBlack = 0;
 };
 
 EmbreeComparison compareWithEmbree(const geometry::Scene& scene, const Rendered& r,
@@ -130,15 +135,29 @@ EmbreeComparison compareWithEmbree(const geometry::Scene& scene, const Rendered&
     std::vector<float> expected(n);
     tracer.hardVisibility(scene.light.center, points, normals, {}, expected);
     EmbreeComparison c;
+    const int w = r.visibility.width, h = r.visibility.height;
+    const auto& v = r.visibility.data;
     for (std::size_t i = 0; i < n; ++i) {
-        if (!std::isfinite(r.visibility.data[i]) || !std::isfinite(expected[i])) continue;
+        if (!std::isfinite(v[i]) || !std::isfinite(expected[i])) continue;
         ++c.pixels;
-        const double d = std::fabs(r.visibility.data[i] - expected[i]);
+        const double d = std::fabs(v[i] - expected[i]);
         c.meanAbs += d;
-        c.differing += d > 0.5;
+        if (d <= 0.5) continue;
+        ++c.differing;
+        const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+        std::printf("  %s: pixel (%d, %d) hard %.0f Embree %.0f at (%.5f %.5f %.5f)\n",
+                    name.c_str(), x, y, v[i], expected[i], points[i].x, points[i].y, points[i].z);
+        if (v[i] != 0.0f || x == 0 || y == 0 || x == w - 1 || y == h - 1) continue;
+        bool litAround = true;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::size_t j = i + static_cast<std::size_t>(dy * w + dx);
+                if (j != i) litAround = litAround && v[j] == 1.0f && expected[j] == 1.0f;
+            }
+        c.isolatedBlack += litAround;
     }
     if (c.pixels) c.meanAbs /= static_cast<double>(c.pixels);
-    if (c.meanAbs >= 0.01) testutil::writeComparisonImages(name, r.visibility, expected);
+    if (c.differing > 0) testutil::writeComparisonImages(name, r.visibility, expected);
     return c;
 }
 
@@ -154,9 +173,11 @@ TEST_F(HardShadow, TwoSidedQuadMatchesEmbree) {
     const Rendered r = testutil::render(scene, "hard", 128);
     const auto c = compareWithEmbree(scene, r, "hard-quad");
     EXPECT_GT(c.pixels, 8000u);
-    // Tolerance: only pixels whose position lies within float rounding of the shadow boundary
-    // may differ (the rasteriser and Embree round differently there); 1% of pixels at most.
-    EXPECT_LT(c.meanAbs, 0.01) << c.differing << " of " << c.pixels << " pixels differ";
+    // Only pixels whose position lies within rounding (or the ray tracer's offset) of the
+    // shadow edge may differ.
+    EXPECT_LE(c.differing, 3u) << "of " << c.pixels << " pixels";
+    EXPECT_EQ(c.isolatedBlack, 0u);
+    std::printf("quad hard vs Embree: %zu of %zu pixels differ\n", c.differing, c.pixels);
 }
 
 TEST_F(HardShadow, OpenArenaLevelMatchesEmbree) {
@@ -164,13 +185,71 @@ TEST_F(HardShadow, OpenArenaLevelMatchesEmbree) {
     const Rendered r = testutil::render(scene, "hard", 128);
     const auto c = compareWithEmbree(scene, r, "hard-oa_dm1");
     EXPECT_GT(c.pixels, 4000u);
-    // Tolerance: the level is not closed (boundary and 3-5-triangle edges, T-junctions); pixels
-    // within float rounding of a shadow boundary, or seen through a crack between triangles, may
-    // differ. Measured here: see the test log; the bound is 1% of pixels.
-    EXPECT_LT(c.meanAbs, 0.01) << c.differing << " of " << c.pixels << " pixels differ";
+    // Residual: see LevelViews below (1 pixel here, on a corner).
+    EXPECT_LE(c.differing, 3u) << "of " << c.pixels << " pixels";
+    EXPECT_EQ(c.isolatedBlack, 0u);
     std::printf("oa_dm1 hard vs Embree: %zu of %zu pixels differ (mean |dV| %.5f)\n", c.differing,
                 c.pixels, c.meanAbs);
 }
+
+// Views of the shared levels at 256x192: framed from inside as `--scene level.glb` does, and
+// the first view of a player at a spawn point with a small light ahead.
+struct LevelView {
+    const char* name;
+    std::optional<testutil::SpawnView> spawn; // none: the framed view of `name`.glb
+};
+
+void PrintTo(const LevelView& v, std::ostream* os) { *os << v.name; }
+
+class HardShadowLevel : public HardShadow, public ::testing::WithParamInterface<LevelView> {};
+
+// Pixels differing from Embree, before -> after the volume depth clamp (shaders/volume.geom)
+// and the ray tracer's smaller offset and near limit (geometry/RayTracer.h): kaos2 16 -> 1,
+// oa_dm4 22 -> 2, oa_dm5 29 -> 2; at oa_dm4's spawn 2, pixel row 76 lands on the corner line
+// under a door lintel: with the light 3 m ahead, Embree made it black (24 -> 0), with the light
+// 6 m ahead the stencil did, which Embree's own error there hid (24 -> 0 once Embree is right).
+// What was wrong:
+// - side quads seen edge-on by the camera got extrapolated depths on the GPU (volume.geom), so
+//   closed volumes lost a face at some pixels: isolated or whole rows of black pixels on lit
+//   walls (kaos2: 5 isolated);
+// - Embree started rays inside the plane of a face meeting the surface at a concave corner and
+//   reported them blocked at t = 0; its 1e-4 * diagonal origin offset (6-9 mm) moved shadow
+//   edges by a pixel.
+// What remains (at most 2 pixels per view measured; the bound is 3): pixel centres within the
+// ray tracer's offset (1e-5 * diagonal, < 1 mm here) of a shadow edge, and G-buffer samples on
+// the edge between two faces or on a face seen edge-on, whose position lies on one face and
+// whose normal comes from the other: the stencil decides by position, Embree by the normal's
+// tangent plane.
+TEST_P(HardShadowLevel, MatchesEmbreeUpToBoundaryPixels) {
+    const LevelView& view = GetParam();
+    const geometry::Scene scene =
+        view.spawn ? testutil::spawnScene(*view.spawn)
+                   : geometry::loadScene(
+                         testutil::sharedPath(std::string("levels/") + view.name + ".glb"));
+    const Rendered r = testutil::render(scene, "hard", 256, 192, 1);
+    const auto c = compareWithEmbree(scene, r, std::string("hard-") + view.name);
+    std::printf("%s hard vs Embree: %zu of %zu pixels differ, %zu isolated black\n", view.name,
+                c.differing, c.pixels, c.isolatedBlack);
+    EXPECT_GT(c.pixels, 40000u);
+    EXPECT_LE(c.differing, 3u);
+    EXPECT_EQ(c.isolatedBlack, 0u);
+}
+
+// oa_dm4 spawn 2 (info_player_deathmatch): eye (-1.6256, -6.858, -13.0048), facing +z.
+constexpr glm::vec3 kOaDm4Spawn2{-1.6256f, -6.858f, -13.0048f};
+
+INSTANTIATE_TEST_SUITE_P(
+    Levels, HardShadowLevel,
+    ::testing::Values(
+        LevelView{"kaos2", std::nullopt}, LevelView{"oa_dm4", std::nullopt},
+        LevelView{"oa_dm5", std::nullopt},
+        LevelView{"oa_dm4_spawn2_near_light",
+                  testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f, 3.0f, 1.0f,
+                                      0.15f}},
+        LevelView{"oa_dm4_spawn2_far_light",
+                  testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f, 6.0f, 0.5f,
+                                      0.2f}}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 } // namespace
 

@@ -31,13 +31,14 @@ struct Rendered {
     gpu::FrameStats stats;
 };
 
-inline Rendered render(const geometry::Scene& scene, const std::string& method, int size,
-                       int samples = 256) {
+inline Rendered render(const geometry::Scene& scene, const std::string& method, int width,
+                       int height, int samples) {
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
     gpu::RenderSettings s;
     s.method = method;
-    s.width = s.height = size;
+    s.width = width;
+    s.height = height;
     s.samples = samples;
     Rendered r;
     r.stats = renderer.renderFrame(s);
@@ -45,6 +46,37 @@ inline Rendered render(const geometry::Scene& scene, const std::string& method, 
     r.position = renderer.position();
     r.normal = renderer.normal();
     return r;
+}
+
+inline Rendered render(const geometry::Scene& scene, const std::string& method, int size,
+                       int samples = 256) {
+    return render(scene, method, size, size, samples);
+}
+
+// A player's first view of a shared level: the glTF camera of one spawn point (eye and yaw
+// copied from the node `spawn N` of the .glb; yaw 0 looks along -z, glTF's camera axis), with
+// a small square light `ahead` metres in front of the eye and `up` metres above it.
+struct SpawnView {
+    const char* level; // file name under ../shared/levels
+    const char* name;  // for messages and image names
+    glm::vec3 eye;
+    float yawDeg;
+    float ahead, up, halfSize;
+};
+
+inline geometry::Scene spawnScene(const SpawnView& view) {
+    geometry::Scene scene = geometry::loadScene(sharedPath(std::string("levels/") + view.level));
+    const float yaw = glm::radians(view.yawDeg);
+    const glm::vec3 forward(-std::sin(yaw), 0.0f, -std::cos(yaw));
+    scene.camera.eye = view.eye;
+    scene.camera.target = view.eye + forward;
+    scene.camera.up = {0.0f, 1.0f, 0.0f};
+    scene.camera.fovYDeg = 73.7397953f; // the levels' camera: yfov 1.2870022 rad
+    scene.light.center = view.eye + view.ahead * forward + glm::vec3(0.0f, view.up, 0.0f);
+    scene.light.u = {view.halfSize, 0.0f, 0.0f};
+    scene.light.v = {0.0f, 0.0f, view.halfSize};
+    geometry::validateScene(scene); // the light must touch nothing
+    return scene;
 }
 
 inline glm::vec3 pixelPosition(const geometry::FloatImage& p, std::size_t i) {

@@ -13,7 +13,13 @@ namespace geometry {
 struct RayTraceSettings {
     int samples = 1024;       // stratified light samples per point (perfect squares stratify best)
     std::uint32_t seed = 1;   // per-point jitter is derived from this and the point index
-    float offsetScale = 1e-4f; // origin offset along the normal, times the scene bounds diagonal
+    // Origin offset along the normal (and the distance from the origin within which hits are
+    // ignored), times the scene bounds diagonal. It only has to clear the error of the surface
+    // points given: G-buffer positions lie within ~1e-5 m of their triangle's plane on the game
+    // levels (1e-6 of the view distance). Larger offsets bias the result: 1e-4 (6 mm on
+    // oa_dm4) moved contact shadows under 5 cm trims by up to 0.37 in V against the GPU
+    // reference, and shifted hard-shadow edges by a pixel on the levels.
+    float offsetScale = 1e-5f;
     int threads = 0;          // 0 = hardware concurrency
 };
 

@@ -9,7 +9,10 @@ namespace gpu {
 namespace {
 
 Program loadPulled(const ShaderLoader& shaders, const char* variant, const char* label) {
+    // volume.geom clamps each triangle's fragment depth to its own depth range (it explains
+    // the edge-on slivers that otherwise miscount).
     ProgramDesc desc{.stages = {{GL_VERTEX_SHADER, "volume-pulled.vert"},
+                                {GL_GEOMETRY_SHADER, "volume.geom"},
                                 {GL_FRAGMENT_SHADER, "volume.frag"}},
                      .label = label};
     if (variant) desc.defines.push_back(variant);
@@ -23,6 +26,7 @@ StencilVolumePass::StencilVolumePass(const ShaderLoader& shaders)
       mBackCaps(loadPulled(shaders, "CAP_BACK", "volume-back-caps")),
       mSides(loadPulled(shaders, nullptr, "volume-sides")),
       mVertices(shaders.load({.stages = {{GL_VERTEX_SHADER, "volume.vert"},
+                                         {GL_GEOMETRY_SHADER, "volume.geom"},
                                          {GL_FRAGMENT_SHADER, "volume.frag"}},
                               .label = "shadow-volume"})),
       mEmptyVao("volume-pulled"), mVao("shadow-volume") {
