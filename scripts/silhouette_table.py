@@ -86,7 +86,11 @@ def main(argv):
         ratio = f"{lean / full:.3f}" if lean is not None else "–"
         base = ""
         if base_rows is not None:
-            b = base_rows.get((mesh, tris), {}).get("silhouette_full")
+            # Levels are matched by name: builds may count their triangles differently
+            # (before or after welding drops degenerate ones).
+            same = [v for (m, t), v in base_rows.items() if m == mesh]
+            match = base_rows.get((mesh, tris)) or (same[0] if len(same) == 1 else {})
+            b = match.get("silhouette_full")
             base = (f" | {b:.2f}" if b is not None else " | –") + \
                 (f" | {lean / b:.3f}" if b is not None and lean is not None else " | –")
         per_mtri = f"{lean / (tris * 1e-6):.1f}" if lean is not None else "–"
