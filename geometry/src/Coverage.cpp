@@ -30,6 +30,44 @@ bool coverageClipLe0(float f0, float f1, float& lo, float& hi) {
     return lo <= hi;
 }
 
+// Restricts [lo, hi] to the l where a + l (b - a) lies in the half-plane dot(h, (x, y, 1)) >= 0
+// (closed, like the polygon clipping of the double version); false when that leaves nothing.
+bool coverageClipHalf(vec3 h, vec2 a, vec2 b, float& lo, float& hi) {
+    return coverageClipLe0(-dot(h, vec3(a, 1.0f)), -dot(h, vec3(b, 1.0f)), lo, hi);
+}
+
+// Twice the area of R (edgeCoverage) is the sum of cross(start, end) over the pieces of its
+// boundary (Green, the centre as origin). One piece: a + l (b - a), l in [lo, hi], between the
+// rays h0, h1.
+float coverageSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1) {
+    if (!coverageClipHalf(h0, a, b, lo, hi)) return 0.0f;
+    if (!coverageClipHalf(h1, a, b, lo, hi)) return 0.0f;
+    return coverageCross2(a + lo * (b - a), a + hi * (b - a));
+}
+
+// The piece of R's boundary along the light square's edge a -> b (counter-clockwise), where fa,
+// fb are the line's h2 at a and b (R: h2 >= 0). Where the edge crosses the line, the crossing is
+// kept as the start (leave) or end (enter) of the boundary's piece along the line: computed once
+// for both pieces, so that they meet exactly however obliquely the line crosses the edge.
+float coverageSquareEdge(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1, vec2& leave,
+                         vec2& enter) {
+    if (fa < 0.0f && fb < 0.0f) return 0.0f;
+    float lo = 0.0f;
+    float hi = 1.0f;
+    if (fa < 0.0f || fb < 0.0f) {
+        const float l = fa / (fa - fb);
+        const vec2 x = a + l * (b - a);
+        if (fa >= 0.0f) {
+            leave = x;
+            hi = l;
+        } else {
+            enter = x;
+            lo = l;
+        }
+    }
+    return coverageSegment(a, b, lo, hi, h0, h1);
+}
+
 // The edge point at parameter l, projected from p onto the light's plane, in homogeneous light
 // coordinates (s, t, w) (w = 0: at infinity). With x the edge point, z its height over p's
 // height and w = 1 - z, the projection is y = x - z p - (1 - z) c, computed as (x - c) - z (p - c)
@@ -84,37 +122,33 @@ float edgeCoverage(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light) {
     if (cr == 0.0f) return 0.0f; // projected edge through the centre (or empty)
     const float sg = cr > 0.0f ? 1.0f : -1.0f;
     const vec3 line = cross(q0, q1); // homogeneous line through q0, q1
-    // Half-planes dot(h, (x, y, 1)) >= 0 bounding the region beyond the projected edge.
-    vec3 halves[3];
-    halves[0] = vec3(-sg * q0.y, sg * q0.x, 0.0f); // left of the ray to q0
-    halves[1] = vec3(sg * q1.y, -sg * q1.x, 0.0f); // right of the ray to q1
-    halves[2] = -sg * line;                        // beyond q0 q1 from the centre
-    // Clip the light square [-1, 1]^2 by them (Sutherland-Hodgman; at most 4 + 3 vertices).
-    vec2 poly[8];
-    poly[0] = vec2(-1.0f, -1.0f);
-    poly[1] = vec2(1.0f, -1.0f);
-    poly[2] = vec2(1.0f, 1.0f);
-    poly[3] = vec2(-1.0f, 1.0f);
-    int count = 4;
-    for (int h = 0; h < 3; ++h) {
-        vec2 next[8];
-        int nextCount = 0;
-        for (int i = 0; i < count; ++i) {
-            const vec2 a = poly[i];
-            const vec2 b = poly[(i + 1) % count];
-            const float fa = dot(halves[h], vec3(a, 1.0f));
-            const float fb = dot(halves[h], vec3(b, 1.0f));
-            if (fa >= 0.0f) next[nextCount++] = a;
-            if ((fa >= 0.0f) != (fb >= 0.0f)) next[nextCount++] = a + (fa / (fa - fb)) * (b - a);
-        }
-        for (int i = 0; i < nextCount; ++i)
-            poly[i] = next[i];
-        count = nextCount;
-        if (count < 3) return 0.0f;
-    }
+    // R: the light points beyond q0 q1 from the centre, between the rays to q0 and q1; the
+    // half-planes dot(h, (x, y, 1)) >= 0 bounding it.
+    const vec3 h0 = vec3(-sg * q0.y, sg * q0.x, 0.0f); // left of the ray to q0
+    const vec3 h1 = vec3(sg * q1.y, -sg * q1.x, 0.0f); // right of the ray to q1
+    const vec3 h2 = -sg * line;                        // beyond q0 q1 from the centre
+    // h2 at the light's corners (s, t) = (-1, -1), (1, -1), (1, 1), (-1, 1), counter-clockwise;
+    // all negative: the light is wholly on the centre's side of the line.
+    const float f0 = dot(h2, vec3(-1.0f, -1.0f, 1.0f));
+    const float f1 = dot(h2, vec3(1.0f, -1.0f, 1.0f));
+    const float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
+    const float f3 = dot(h2, vec3(-1.0f, 1.0f, 1.0f));
+    if (f0 < 0.0f && f1 < 0.0f && f2 < 0.0f && f3 < 0.0f) return 0.0f;
+    // The area of R integrated along its boundary, counter-clockwise, without building the
+    // polygon (arrays with dynamic indices are slow on GPUs): the square's edges where h2 >= 0,
+    // then the line from where the square's boundary leaves R to where it enters it again, each
+    // between the rays. The boundary's pieces along the rays contribute nothing: they point at
+    // the origin.
+    vec2 leave = vec2(0.0f, 0.0f);
+    vec2 enter = vec2(0.0f, 0.0f);
     float area2 = 0.0f;
-    for (int i = 0; i < count; ++i)
-        area2 += coverageCross2(poly[i], poly[(i + 1) % count]);
+    area2 +=
+        coverageSquareEdge(vec2(-1.0f, -1.0f), vec2(1.0f, -1.0f), f0, f1, h0, h1, leave, enter);
+    area2 += coverageSquareEdge(vec2(1.0f, -1.0f), vec2(1.0f, 1.0f), f1, f2, h0, h1, leave, enter);
+    area2 += coverageSquareEdge(vec2(1.0f, 1.0f), vec2(-1.0f, 1.0f), f2, f3, h0, h1, leave, enter);
+    area2 +=
+        coverageSquareEdge(vec2(-1.0f, 1.0f), vec2(-1.0f, -1.0f), f3, f0, h0, h1, leave, enter);
+    area2 += coverageSegment(leave, enter, 0.0f, 1.0f, h0, h1);
     const float fraction = 0.125f * abs(area2); // half the doubled area, over the light's 4
     return (hp > 0.0f ? sg : -sg) * fraction;
 }

@@ -2,7 +2,8 @@
 // Akenine-Möller 2003, §3-4): the signed fraction of the light between the edge projected from p
 // and the light centre, zero outside the edge's exact wedge; V(p) = V_hard(p) - the sum over a
 // silhouette loop. Pure functions, no bindings. The arithmetic of the double
-// geometry::edgeCoverage (geometry/src/Wedge.cpp explains it), arranged for float; the float C++
+// geometry::edgeCoverage (geometry/src/Wedge.cpp explains it), arranged for float (and with the
+// area integrated along the boundary rather than a polygon clipped: no arrays); the float C++
 // twin is geometry/src/Coverage.cpp: same names, same statements in the same order (tests in
 // tests/geometry/WedgeHullTest.cpp compare it with the double version). Change both together.
 
@@ -31,6 +32,44 @@ bool coverageClipLe0(float f0, float f1, inout float lo, inout float hi) {
     else
         hi = min(hi, l);
     return lo <= hi;
+}
+
+// Restricts [lo, hi] to the l where a + l (b - a) lies in the half-plane dot(h, (x, y, 1)) >= 0
+// (closed, like the polygon clipping of the double version); false when that leaves nothing.
+bool coverageClipHalf(vec3 h, vec2 a, vec2 b, inout float lo, inout float hi) {
+    return coverageClipLe0(-dot(h, vec3(a, 1.0)), -dot(h, vec3(b, 1.0)), lo, hi);
+}
+
+// Twice the area of R (edgeCoverage) is the sum of cross(start, end) over the pieces of its
+// boundary (Green, the centre as origin). One piece: a + l (b - a), l in [lo, hi], between the
+// rays h0, h1.
+float coverageSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1) {
+    if (!coverageClipHalf(h0, a, b, lo, hi)) return 0.0;
+    if (!coverageClipHalf(h1, a, b, lo, hi)) return 0.0;
+    return coverageCross2(a + lo * (b - a), a + hi * (b - a));
+}
+
+// The piece of R's boundary along the light square's edge a -> b (counter-clockwise), where fa,
+// fb are the line's h2 at a and b (R: h2 >= 0). Where the edge crosses the line, the crossing is
+// kept as the start (leave) or end (enter) of the boundary's piece along the line: computed once
+// for both pieces, so that they meet exactly however obliquely the line crosses the edge.
+float coverageSquareEdge(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1,
+                         inout vec2 leave, inout vec2 enter) {
+    if (fa < 0.0 && fb < 0.0) return 0.0;
+    float lo = 0.0;
+    float hi = 1.0;
+    if (fa < 0.0 || fb < 0.0) {
+        float l = fa / (fa - fb);
+        vec2 x = a + l * (b - a);
+        if (fa >= 0.0) {
+            leave = x;
+            hi = l;
+        } else {
+            enter = x;
+            lo = l;
+        }
+    }
+    return coverageSegment(a, b, lo, hi, h0, h1);
 }
 
 // The edge point at parameter l projected from p onto the light's plane, homogeneous (s, t, w)
@@ -82,37 +121,31 @@ float edgeCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
     if (cr == 0.0) return 0.0; // projected edge through the centre (or empty)
     float sg = cr > 0.0 ? 1.0 : -1.0;
     vec3 line = cross(q0, q1); // homogeneous line through q0, q1
-    // Half-planes dot(h, (x, y, 1)) >= 0 bounding the region beyond the projected edge.
-    vec3 halves[3];
-    halves[0] = vec3(-sg * q0.y, sg * q0.x, 0.0); // left of the ray to q0
-    halves[1] = vec3(sg * q1.y, -sg * q1.x, 0.0); // right of the ray to q1
-    halves[2] = -sg * line;                       // beyond q0 q1 from the centre
-    // Clip the light square [-1, 1]^2 by them (Sutherland-Hodgman; at most 4 + 3 vertices).
-    vec2 poly[8];
-    poly[0] = vec2(-1.0, -1.0);
-    poly[1] = vec2(1.0, -1.0);
-    poly[2] = vec2(1.0, 1.0);
-    poly[3] = vec2(-1.0, 1.0);
-    int count = 4;
-    for (int h = 0; h < 3; ++h) {
-        vec2 next[8];
-        int nextCount = 0;
-        for (int i = 0; i < count; ++i) {
-            vec2 a = poly[i];
-            vec2 b = poly[(i + 1) % count];
-            float fa = dot(halves[h], vec3(a, 1.0));
-            float fb = dot(halves[h], vec3(b, 1.0));
-            if (fa >= 0.0) next[nextCount++] = a;
-            if ((fa >= 0.0) != (fb >= 0.0)) next[nextCount++] = a + (fa / (fa - fb)) * (b - a);
-        }
-        for (int i = 0; i < nextCount; ++i)
-            poly[i] = next[i];
-        count = nextCount;
-        if (count < 3) return 0.0;
-    }
+    // R: the light points beyond q0 q1 from the centre, between the rays to q0 and q1; the
+    // half-planes dot(h, (x, y, 1)) >= 0 bounding it.
+    vec3 h0 = vec3(-sg * q0.y, sg * q0.x, 0.0); // left of the ray to q0
+    vec3 h1 = vec3(sg * q1.y, -sg * q1.x, 0.0); // right of the ray to q1
+    vec3 h2 = -sg * line;                        // beyond q0 q1 from the centre
+    // h2 at the light's corners (s, t) = (-1, -1), (1, -1), (1, 1), (-1, 1), counter-clockwise;
+    // all negative: the light is wholly on the centre's side of the line.
+    float f0 = dot(h2, vec3(-1.0, -1.0, 1.0));
+    float f1 = dot(h2, vec3(1.0, -1.0, 1.0));
+    float f2 = dot(h2, vec3(1.0, 1.0, 1.0));
+    float f3 = dot(h2, vec3(-1.0, 1.0, 1.0));
+    if (f0 < 0.0 && f1 < 0.0 && f2 < 0.0 && f3 < 0.0) return 0.0;
+    // The area of R integrated along its boundary, counter-clockwise, without building the
+    // polygon (arrays with dynamic indices are slow on GPUs): the square's edges where h2 >= 0,
+    // then the line from where the square's boundary leaves R to where it enters it again, each
+    // between the rays. The boundary's pieces along the rays contribute nothing: they point at
+    // the origin.
+    vec2 leave = vec2(0.0, 0.0);
+    vec2 enter = vec2(0.0, 0.0);
     float area2 = 0.0;
-    for (int i = 0; i < count; ++i)
-        area2 += coverageCross2(poly[i], poly[(i + 1) % count]);
+    area2 += coverageSquareEdge(vec2(-1.0, -1.0), vec2(1.0, -1.0), f0, f1, h0, h1, leave, enter);
+    area2 += coverageSquareEdge(vec2(1.0, -1.0), vec2(1.0, 1.0), f1, f2, h0, h1, leave, enter);
+    area2 += coverageSquareEdge(vec2(1.0, 1.0), vec2(-1.0, 1.0), f2, f3, h0, h1, leave, enter);
+    area2 += coverageSquareEdge(vec2(-1.0, 1.0), vec2(-1.0, -1.0), f3, f0, h0, h1, leave, enter);
+    area2 += coverageSegment(leave, enter, 0.0, 1.0, h0, h1);
     float fraction = 0.125 * abs(area2); // half the doubled area, over the light's 4
     return (hp > 0.0 ? sg : -sg) * fraction;
 }

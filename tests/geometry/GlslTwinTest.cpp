@@ -128,7 +128,8 @@ TEST(GlslTwinTest, WedgeHullFunctionsMatchStatementForStatement) {
 TEST(GlslTwinTest, CoverageFunctionsMatchStatementForStatement) {
     expectSameFunctions(
         "geometry/src/Coverage.cpp", "shaders/lib/Coverage.glsl",
-        {"coverageCross2", "coverageClipLe0", "coverageProject", "coverageLight", "edgeCoverage"});
+        {"coverageCross2", "coverageClipLe0", "coverageClipHalf", "coverageSegment",
+         "coverageProject", "coverageLight", "edgeCoverage"});
 }
 
 TEST(GlslTwinTest, WedgeHullConstantsTableAndStructMatch) {

@@ -7,8 +7,10 @@
 // Differences from the double version, all for float: differences of positions are taken before
 // anything else (the scene may be far from the origin), the projection of an edge point is
 // computed from the light centre or from p, whichever is nearer (so that p close to the edge
-// does not cancel), the depths below p's level come from e - p rather than 1 - z, and the
-// light's frame is computed once (CoverageLight) rather than per call.
+// does not cancel), the depths below p's level come from e - p rather than 1 - z, the light's
+// frame is computed once (CoverageLight) rather than per call, and the area of the light square
+// clipped by three half-planes is integrated along its boundary instead of clipping a polygon
+// (no arrays, which are slow on GPUs; each vertex shared by two boundary pieces computed once).
 #pragma once
 
 #include <glm/glm.hpp>
