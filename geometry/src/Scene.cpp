@@ -264,8 +264,8 @@ std::string SceneParser::string(const Json& j, const std::string& path) const {
     return j.get<std::string>();
 }
 
-int SceneParser::optionalInt(const Json& j, const std::string& path, const char* key,
-                             int fallback, int lo, int hi) const {
+int SceneParser::optionalInt(const Json& j, const std::string& path, const char* key, int fallback,
+                             int lo, int hi) const {
     auto it = j.find(key);
     if (it == j.end()) return fallback;
     const std::string keyPath = path + "." + key;
@@ -364,8 +364,7 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
             }
         }
         // World = T * Rz * Ry * Rx * S.
-        const glm::mat4 m =
-            glm::scale(glm::translate(glm::mat4(1.0f), t) * rotationXyzDeg(r), s);
+        const glm::mat4 m = glm::scale(glm::translate(glm::mat4(1.0f), t) * rotationXyzDeg(r), s);
         try {
             obj.mesh = loadGltf(resolved, m);
         } catch (const InputError& e) {
@@ -416,9 +415,8 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         const int majorSegments = optionalInt(j, path, "major_segments", 48, 3, 4096);
         const int minorSegments = optionalInt(j, path, "minor_segments", 24, 3, 4096);
         const glm::vec3 r = optionalRotation(j, path);
-        obj.mesh = build([&] {
-            return makeTorus(c, float(major), float(minor), majorSegments, minorSegments);
-        });
+        obj.mesh = build(
+            [&] { return makeTorus(c, float(major), float(minor), majorSegments, minorSegments); });
         rotateAbout(obj.mesh, c, r);
     } else {
         fail(key("type"),
