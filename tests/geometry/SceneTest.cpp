@@ -367,8 +367,7 @@ TEST_F(SceneTest, RotatedBox) {
     EXPECT_NEAR(b.max.y, 1.1f, 1e-5f); // height unchanged
     EXPECT_NEAR(signedVolume(bar), 2.0 * 0.2 * 0.2, 1e-5);
     // A zero rotation is the axis-aligned box exactly.
-    EXPECT_EQ(s.objects[1].mesh.positions,
-              geometry::makeBox({0, 3, 0}, {2, 0.2f, 0.2f}).positions);
+    EXPECT_EQ(s.objects[1].mesh.positions, geometry::makeBox({0, 3, 0}, {2, 0.2f, 0.2f}).positions);
 }
 
 TEST_F(SceneTest, BadTorusAndRotation) {
@@ -395,8 +394,9 @@ TEST_F(SceneTest, BadTorusAndRotation) {
                 {"objects[0].minor_segments", "integer"});
     expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "rotate_deg": [0, 90]})"),
                 {"objects[0].rotate_deg", "expected 3 numbers"});
-    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "rotate_deg": [0,1e999,0]})"),
-                {"objects[0].rotate_deg[1]", "finite"});
+    expectError(
+        scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "rotate_deg": [0,1e999,0]})"),
+        {"objects[0].rotate_deg[1]", "finite"});
     // rotate_deg is a box key now, but still not a quad or sphere key.
     expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "rotate_deg": 45})"),
                 {"objects[0].rotate_deg", "expected 3 numbers"});
@@ -411,6 +411,23 @@ TEST_F(SceneTest, BadTorusAndRotation) {
                           "major_segments": 8})"),
                 {"objects[0].major_segments", "unknown key"});
     expectError(scene(R"({"type": "donut"})"), {"objects[0].type", "torus"});
+}
+
+// Every scene authored in data/ loads, keeps its light clear of all geometry and has a floor
+// receiver: renders and benchmarks read them by name.
+TEST(DataScenes, EveryDataSceneLoads) {
+    const fs::path dir = fs::path(PENUMBRA_SOURCE_DIR) / "data";
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().extension() != ".json") continue;
+        SCOPED_TRACE(entry.path().string());
+        geometry::Scene s;
+        ASSERT_NO_THROW(s = geometry::loadScene(entry.path()));
+        EXPECT_LT(s.light.normal().y, -0.99f) << "the light faces down onto the scene";
+        EXPECT_GT(s.light.center.y, s.bounds().max.y) << "the light is above every object";
+        ++count;
+    }
+    EXPECT_GE(count, 10);
 }
 
 TEST_F(SceneTest, UnsupportedExtension) {
