@@ -8,9 +8,13 @@
 //            "method" (auto | wedges | occlusion | none, default auto), plus per type:
 //     gltf   required: file              optional: translate = [0,0,0], rotate_deg = [0,0,0],
 //                                                  scale = 1 (number or [x,y,z], all > 0)
-//     box    required: center, size (all > 0)
+//     box    required: center, size (all > 0)   optional: rotate_deg = [0,0,0] (about center)
 //     quad   required: center, u, v (non-zero area)
-//     sphere required: center, radius (> 0)   optional: segments = 32 (integer >= 3)
+//     sphere required: center, radius (> 0)   optional: segments = 32 (integer in [3, 4096])
+//     torus  required: center, major_radius, minor_radius (major > minor > 0)
+//            optional: major_segments = 48, minor_segments = 24 (integers in [3, 4096]),
+//                      rotate_deg = [0,0,0] (about center; unrotated, the axis is +y)
+// rotate_deg is always Euler angles in degrees about fixed X, then Y, then Z (world = Rz Ry Rx).
 // Camera and light are required because a silently invented view or light would make renders and
 // benchmark numbers meaningless; "up" and the field of view have obvious conventional defaults.
 #include <geometry/Scene.h>
@@ -86,6 +90,24 @@ void checkCameraAndLight(const Camera& cam, const RectLight& light, Fail&& fail)
     }
 }
 
+// Euler rotation in degrees about fixed axes: X first, then Y, then Z (the usual reading of
+// "XYZ" in DCC tools), as a 4x4 so it composes with translation and scale.
+glm::mat4 rotationXyzDeg(const glm::vec3& deg) {
+    glm::mat4 m(1.0f);
+    m = glm::rotate(m, glm::radians(deg.z), glm::vec3(0, 0, 1));
+    m = glm::rotate(m, glm::radians(deg.y), glm::vec3(0, 1, 0));
+    m = glm::rotate(m, glm::radians(deg.x), glm::vec3(1, 0, 0));
+    return m;
+}
+
+// Rotates a mesh about `center`. A rotation keeps the winding outward (determinant +1).
+void rotateAbout(MeshData& mesh, const glm::vec3& center, const glm::vec3& deg) {
+    if (deg == glm::vec3(0.0f)) return; // keep unrotated shapes bit-exact
+    const glm::mat3 r(rotationXyzDeg(deg));
+    for (glm::vec3& p : mesh.positions)
+        p = center + r * (p - center);
+}
+
 class SceneParser {
 public:
     SceneParser(std::string origin, std::filesystem::path baseDir)
@@ -106,6 +128,11 @@ private:
     double number(const Json& j, const std::string& path) const;
     glm::vec3 vec3(const Json& j, const std::string& path) const;
     std::string string(const Json& j, const std::string& path) const;
+    // Optional integer key in [lo, hi]; `fallback` when absent.
+    int optionalInt(const Json& j, const std::string& path, const char* key, int fallback, int lo,
+                    int hi) const;
+    // Optional rotate_deg (finite Euler angles); zero when absent.
+    glm::vec3 optionalRotation(const Json& j, const std::string& path) const;
 
     Camera parseCamera(const Json& j) const;
     RectLight parseLight(const Json& j) const;
@@ -237,6 +264,24 @@ std::string SceneParser::string(const Json& j, const std::string& path) const {
     return j.get<std::string>();
 }
 
+int SceneParser::optionalInt(const Json& j, const std::string& path, const char* key, int fallback,
+                             int lo, int hi) const {
+    auto it = j.find(key);
+    if (it == j.end()) return fallback;
+    const std::string keyPath = path + "." + key;
+    const double v = number(*it, keyPath);
+    if (v != std::floor(v) || v < lo || v > hi) {
+        fail(keyPath, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                          "], got " + it->dump());
+    }
+    return int(v);
+}
+
+glm::vec3 SceneParser::optionalRotation(const Json& j, const std::string& path) const {
+    auto it = j.find("rotate_deg");
+    return it == j.end() ? glm::vec3(0.0f) : vec3(*it, path + ".rotate_deg");
+}
+
 Camera SceneParser::parseCamera(const Json& j) const {
     requireObject(j, "camera");
     checkKeys(j, "camera", {"eye", "target", "up", "fov_y_deg"});
@@ -304,8 +349,7 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         }
         const glm::vec3 t =
             j.contains("translate") ? vec3(j["translate"], key("translate")) : glm::vec3(0.0f);
-        const glm::vec3 r =
-            j.contains("rotate_deg") ? vec3(j["rotate_deg"], key("rotate_deg")) : glm::vec3(0.0f);
+        const glm::vec3 r = optionalRotation(j, path);
         glm::vec3 s(1.0f);
         if (auto it = j.find("scale"); it != j.end()) {
             if (it->is_array()) {
@@ -319,13 +363,8 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
                 fail(key("scale"), "must be > 0, got " + it->dump());
             }
         }
-        // World = T * Rz * Ry * Rx * S: Euler angles applied about X first, then Y, then Z
-        // (fixed axes), the usual reading of "XYZ" in DCC tools.
-        glm::mat4 m = glm::translate(glm::mat4(1.0f), t);
-        m = glm::rotate(m, glm::radians(r.z), glm::vec3(0, 0, 1));
-        m = glm::rotate(m, glm::radians(r.y), glm::vec3(0, 1, 0));
-        m = glm::rotate(m, glm::radians(r.x), glm::vec3(1, 0, 0));
-        m = glm::scale(m, s);
+        // World = T * Rz * Ry * Rx * S.
+        const glm::mat4 m = glm::scale(glm::translate(glm::mat4(1.0f), t) * rotationXyzDeg(r), s);
         try {
             obj.mesh = loadGltf(resolved, m);
         } catch (const InputError& e) {
@@ -333,13 +372,15 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         }
         if (obj.name.empty()) obj.name = resolved.filename().string();
     } else if (type == "box") {
-        checkKeys(j, path, {"type", "name", "method", "center", "size"});
+        checkKeys(j, path, {"type", "name", "method", "center", "size", "rotate_deg"});
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
         const glm::vec3 size = vec3(require(j, path, "size"), key("size"));
         if (!(size.x > 0.0f && size.y > 0.0f && size.z > 0.0f)) {
             fail(key("size"), "every component must be > 0, got " + fmt(size));
         }
+        const glm::vec3 r = optionalRotation(j, path);
         obj.mesh = build([&] { return makeBox(c, size); });
+        rotateAbout(obj.mesh, c, r);
     } else if (type == "quad") {
         checkKeys(j, path, {"type", "name", "method", "center", "u", "v"});
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
@@ -351,17 +392,35 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
         const double radius = number(require(j, path, "radius"), key("radius"));
         if (!(radius > 0.0)) fail(key("radius"), "must be > 0, got " + std::to_string(radius));
-        int segments = 32;
-        if (auto it = j.find("segments"); it != j.end()) {
-            const double s = number(*it, key("segments"));
-            if (s != std::floor(s) || s < 3 || s > 4096) {
-                fail(key("segments"), "expected an integer in [3, 4096], got " + it->dump());
-            }
-            segments = int(s);
-        }
+        const int segments = optionalInt(j, path, "segments", 32, 3, 4096);
         obj.mesh = build([&] { return makeSphere(c, float(radius), segments); });
+    } else if (type == "torus") {
+        checkKeys(j, path,
+                  {"type", "name", "method", "center", "major_radius", "minor_radius",
+                   "major_segments", "minor_segments", "rotate_deg"});
+        const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
+        const double major = number(require(j, path, "major_radius"), key("major_radius"));
+        const double minor = number(require(j, path, "minor_radius"), key("minor_radius"));
+        if (!(major > 0.0)) {
+            fail(key("major_radius"), "must be > 0, got " + std::to_string(major));
+        }
+        if (!(minor > 0.0)) {
+            fail(key("minor_radius"), "must be > 0, got " + std::to_string(minor));
+        }
+        // minor >= major is a horn or spindle torus through its own axis: not a closed manifold.
+        if (!(float(minor) < float(major))) {
+            fail(key("minor_radius"), "must be < major_radius (" + std::to_string(major) +
+                                          "), got " + std::to_string(minor));
+        }
+        const int majorSegments = optionalInt(j, path, "major_segments", 48, 3, 4096);
+        const int minorSegments = optionalInt(j, path, "minor_segments", 24, 3, 4096);
+        const glm::vec3 r = optionalRotation(j, path);
+        obj.mesh = build(
+            [&] { return makeTorus(c, float(major), float(minor), majorSegments, minorSegments); });
+        rotateAbout(obj.mesh, c, r);
     } else {
-        fail(key("type"), "unknown type \"" + type + "\" (expected gltf, box, quad or sphere)");
+        fail(key("type"),
+             "unknown type \"" + type + "\" (expected gltf, box, quad, sphere or torus)");
     }
     if (obj.name.empty()) obj.name = path + " (" + type + ")";
     return obj;

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <random>
 #include <string>
 #include <unistd.h>
@@ -303,6 +304,130 @@ TEST_F(SceneTest, InvalidCameraAndSizes) {
 TEST_F(SceneTest, DuplicateKey) {
     expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "size": [2,2,2]})"),
                 {"duplicate", "size"});
+}
+
+// Positive for outward counter-clockwise winding of a closed mesh.
+double signedVolume(const geometry::MeshData& m) {
+    double v = 0.0;
+    for (const glm::uvec3& t : m.triangles) {
+        const glm::dvec3 a(m.positions[t.x]), b(m.positions[t.y]), c(m.positions[t.z]);
+        v += glm::dot(a, glm::cross(b, c)) / 6.0;
+    }
+    return v;
+}
+
+TEST_F(SceneTest, TorusDefaultsAndRotation) {
+    const std::string json = scene(R"(
+        {"type": "torus", "center": [1, 2, 3], "major_radius": 0.6, "minor_radius": 0.2},
+        {"type": "torus", "center": [0, 1, 0], "major_radius": 0.6, "minor_radius": 0.2,
+         "major_segments": 12, "minor_segments": 5, "rotate_deg": [90, 0, 0], "name": "ring"})");
+    const geometry::Scene s = geometry::loadScene(write("scene.json", json));
+    ASSERT_EQ(s.objects.size(), 2u);
+
+    const geometry::MeshData& plain = s.objects[0].mesh;
+    EXPECT_EQ(s.objects[0].name, "objects[0] (torus)");
+    EXPECT_EQ(plain.triangles.size(), 2u * 48u * 24u); // default segments 48 x 24
+    EXPECT_EQ(plain.positions.size(), 48u * 24u);
+    // Axis +y: the tube spans y = 2 ± 0.2, the ring x = 1 ± 0.8.
+    const geometry::Aabb pb = plain.bounds();
+    EXPECT_NEAR(pb.max.y, 2.2f, 1e-5f);
+    EXPECT_NEAR(pb.min.y, 1.8f, 1e-5f);
+    EXPECT_NEAR(pb.max.x, 1.8f, 1e-5f);
+    EXPECT_NEAR(pb.min.x, 0.2f, 1e-5f);
+    // Outward winding; a polyhedron inscribed in the torus is a little smaller than 2 pi^2 R r^2.
+    const double exact = 2.0 * std::numbers::pi * std::numbers::pi * 0.6 * 0.2 * 0.2;
+    EXPECT_LT(signedVolume(plain), exact);
+    EXPECT_GT(signedVolume(plain), 0.98 * exact);
+
+    // Rotated 90° about x about its centre: the axis is now z, so the ring stands up in xy.
+    const geometry::MeshData& ring = s.objects[1].mesh;
+    EXPECT_EQ(s.objects[1].name, "ring");
+    EXPECT_EQ(ring.triangles.size(), 2u * 12u * 5u);
+    const geometry::Aabb rb = ring.bounds();
+    EXPECT_NEAR(rb.max.y, 1.8f, 1e-5f);
+    EXPECT_NEAR(rb.min.y, 0.2f, 1e-5f);
+    EXPECT_LT(rb.max.z, 0.2f + 1e-5f);
+    EXPECT_GT(rb.min.z, -0.2f - 1e-5f);
+    EXPECT_GT(signedVolume(ring), 0.0); // a rotation keeps the winding outward
+}
+
+TEST_F(SceneTest, RotatedBox) {
+    const std::string json = scene(R"(
+        {"type": "box", "center": [0, 1, 0], "size": [2, 0.2, 0.2], "rotate_deg": [0, 45, 0]},
+        {"type": "box", "center": [0, 3, 0], "size": [2, 0.2, 0.2], "rotate_deg": [0, 0, 0]})");
+    const geometry::Scene s = geometry::loadScene(write("scene.json", json));
+    ASSERT_EQ(s.objects.size(), 2u);
+    const geometry::MeshData& bar = s.objects[0].mesh;
+    ASSERT_EQ(bar.triangles.size(), 12u);
+    // A 2 x 0.2 bar turned 45° about y: its corners reach (1 + 0.1) / sqrt(2) in x and z.
+    const geometry::Aabb b = bar.bounds();
+    const float reach = 1.1f / std::sqrt(2.0f);
+    EXPECT_NEAR(b.max.x, reach, 1e-5f);
+    EXPECT_NEAR(b.min.z, -reach, 1e-5f);
+    EXPECT_NEAR(b.max.y, 1.1f, 1e-5f); // height unchanged
+    EXPECT_NEAR(signedVolume(bar), 2.0 * 0.2 * 0.2, 1e-5);
+    // A zero rotation is the axis-aligned box exactly.
+    EXPECT_EQ(s.objects[1].mesh.positions, geometry::makeBox({0, 3, 0}, {2, 0.2f, 0.2f}).positions);
+}
+
+TEST_F(SceneTest, BadTorusAndRotation) {
+    const std::string t = R"({"type": "torus", "center": [0,1,0], )";
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "tube": 1})"),
+                {"objects[0].tube", "unknown key"});
+    expectError(scene(t + R"("minor_radius": 0.1})"), {"objects[0].major_radius", "missing"});
+    expectError(scene(t + R"("major_radius": 0.5})"), {"objects[0].minor_radius", "missing"});
+    expectError(scene(t + R"("major_radius": 0, "minor_radius": 0.1})"),
+                {"objects[0].major_radius", "> 0"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": -0.1})"),
+                {"objects[0].minor_radius", "> 0"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.5})"),
+                {"objects[0].minor_radius", "< major_radius"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.7})"),
+                {"objects[0].minor_radius", "< major_radius"});
+    expectError(scene(t + R"("major_radius": "big", "minor_radius": 0.1})"),
+                {"objects[0].major_radius", "expected a number"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "major_segments": 2})"),
+                {"objects[0].major_segments", "[3, 4096]"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "minor_segments": 4097})"),
+                {"objects[0].minor_segments", "[3, 4096]"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "minor_segments": 8.5})"),
+                {"objects[0].minor_segments", "integer"});
+    expectError(scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "rotate_deg": [0, 90]})"),
+                {"objects[0].rotate_deg", "expected 3 numbers"});
+    expectError(
+        scene(t + R"("major_radius": 0.5, "minor_radius": 0.1, "rotate_deg": [0,1e999,0]})"),
+        {"objects[0].rotate_deg[1]", "finite"});
+    // rotate_deg is a box key now, but still not a quad or sphere key.
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "rotate_deg": 45})"),
+                {"objects[0].rotate_deg", "expected 3 numbers"});
+    expectError(scene(R"({"type": "quad", "center": [0,1,0], "u": [1,0,0], "v": [0,0,1],
+                          "rotate_deg": [0,45,0]})"),
+                {"objects[0].rotate_deg", "unknown key"});
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1,
+                          "rotate_deg": [0,45,0]})"),
+                {"objects[0].rotate_deg", "unknown key"});
+    // A torus key is unknown on a sphere.
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1,
+                          "major_segments": 8})"),
+                {"objects[0].major_segments", "unknown key"});
+    expectError(scene(R"({"type": "donut"})"), {"objects[0].type", "torus"});
+}
+
+// Every scene authored in data/ loads, keeps its light clear of all geometry and has a floor
+// receiver: renders and benchmarks read them by name.
+TEST(DataScenes, EveryDataSceneLoads) {
+    const fs::path dir = fs::path(PENUMBRA_SOURCE_DIR) / "data";
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().extension() != ".json") continue;
+        SCOPED_TRACE(entry.path().string());
+        geometry::Scene s;
+        ASSERT_NO_THROW(s = geometry::loadScene(entry.path()));
+        EXPECT_LT(s.light.normal().y, -0.99f) << "the light faces down onto the scene";
+        EXPECT_GT(s.light.center.y, s.bounds().max.y) << "the light is above every object";
+        ++count;
+    }
+    EXPECT_GE(count, 10);
 }
 
 TEST_F(SceneTest, UnsupportedExtension) {

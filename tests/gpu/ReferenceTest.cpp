@@ -6,6 +6,7 @@
 #include <geometry/Analytic.h>
 #include <geometry/ErrorStats.h>
 
+#include <cctype>
 #include <cmath>
 
 namespace {
@@ -82,11 +83,23 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(SceneCase{"parallel-square.json", {{-0.5f, 0.5f, -0.5f, 0.5f, 1.0f}}},
                       SceneCase{"overlap.json",
                                 {{-0.9f, 0.1f, -0.4f, 0.6f, 1.0f},
-                                 {0.1f, 0.8f, -0.45f, 0.25f, 2.0f}}}),
-    [](const auto& info) {
-        return std::filesystem::path(info.param.file).stem().string() == "overlap"
-                   ? std::string("Overlap")
-                   : std::string("ParallelSquare");
+                                 {0.1f, 0.8f, -0.45f, 0.25f, 2.0f}}},
+                      SceneCase{"plates-three.json",
+                                {{-0.8f, -0.1f, 0.0f, 0.7f, 0.6f},
+                                 {0.0f, 0.6f, -0.15f, 0.45f, 1.2f},
+                                 {-0.25f, 0.25f, -0.7f, -0.2f, 1.8f}}}),
+    [](const auto& info) { // "plates-three.json" -> "PlatesThree"
+        std::string name;
+        bool upper = true;
+        for (char c : std::filesystem::path(info.param.file).stem().string()) {
+            if (c == '-') {
+                upper = true;
+            } else {
+                name += upper ? char(std::toupper(static_cast<unsigned char>(c))) : c;
+                upper = false;
+            }
+        }
+        return name;
     });
 
 // Pixels where two visibility maps differ by more than `threshold`.
