@@ -128,12 +128,79 @@ geometry::ErrorStats againstReference(const std::string& sceneFile, const std::s
     return e;
 }
 
-TEST_F(AdditiveWedges, OneParallelPlateMatchesTheReference) {
-    const auto e = againstReference("parallel-square.json", "wedges-additive");
+// One occluder, one silhouette: additive wedges are exact up to the reference's sampling.
+class AdditiveOneOccluder : public GlTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(AdditiveOneOccluder, MatchesTheReference) {
+    const auto e = againstReference(GetParam(), "wedges-additive");
     EXPECT_LE(e.meanAbs, 0.01);
     EXPECT_LE(e.p99, 0.05);
+    EXPECT_LE(e.badPixelPct, 1.0); // measured 0, 0, 0.43 %
     // The hard shadow of the same view is far off: the test measures the penumbra.
-    EXPECT_GT(againstReference("parallel-square.json", "hard").meanAbs, 10 * e.meanAbs);
+    EXPECT_GT(againstReference(GetParam(), "hard").meanAbs, 10 * e.meanAbs);
+}
+
+// Measured (128², N = 256): plate 0.0004 / p99 0.008, tilted plate 0.0010 / 0.011, box 0.0015 /
+// 0.029 (the box's bottom edges: its own faces and the floor meet its penumbra).
+INSTANTIATE_TEST_SUITE_P(Scenes, AdditiveOneOccluder,
+                         ::testing::Values("parallel-square.json", "plate-tilted.json",
+                                           "box.json"));
+
+// Where additive wedges fail, measured and bounded (never loosened to pass): mean error against
+// the reference at 128², N = 256, with ~25% headroom for sampling and rasterisation; every one
+// stays better than hard shadows. Penumbrae of different silhouette groups overlap in all of
+// them; where their *hard* shadows overlap too, one group's negative coverage (inside its hard
+// shadow) adds light back inside the other's umbra: light leaks (plates-three, diamonds).
+struct OverlapCase {
+    const char* scene;
+    double measuredMean; // additive vs reference
+    double measuredP99;
+    double measuredBadPct; // % of pixels off by more than 0.05
+};
+
+class AdditiveOverlap : public GlTest, public ::testing::WithParamInterface<OverlapCase> {};
+
+TEST_P(AdditiveOverlap, ErrorIsAsMeasured) {
+    const OverlapCase c = GetParam();
+    const auto e = againstReference(c.scene, "wedges-additive");
+    const auto hard = againstReference(c.scene, "hard");
+    EXPECT_LE(e.meanAbs, 1.25 * c.measuredMean + 0.001);
+    EXPECT_LE(e.p99, 1.25 * c.measuredP99 + 0.01);
+    EXPECT_LE(e.badPixelPct, 1.25 * c.measuredBadPct + 0.25);
+    EXPECT_LT(e.meanAbs, hard.meanAbs);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, AdditiveOverlap,
+    ::testing::Values(OverlapCase{"overlap.json", 0.0022, 0.029, 0.63},
+                      OverlapCase{"plates-three.json", 0.0459, 0.711, 17.40},
+                      OverlapCase{"bars-cross.json", 0.0068, 0.171, 2.31},
+                      OverlapCase{"spheres-nine.json", 0.0138, 0.277, 4.11},
+                      OverlapCase{"torus-box.json", 0.0066, 0.216, 1.76},
+                      OverlapCase{"diamonds.json", 0.0177, 0.504, 6.16}),
+    [](const auto& info) {
+        std::string name = info.param.scene;
+        name = name.substr(0, name.find('.'));
+        std::replace(name.begin(), name.end(), '-', '_');
+        return name;
+    });
+
+TEST_F(AdditiveWedges, OverlapIsWorseThanOneOccluder) {
+    // The failure is real, not noise: light leaks where hard shadows overlap.
+    EXPECT_GT(againstReference("plates-three.json", "wedges-additive").meanAbs, 0.03);
+}
+
+// Curved occluders: wedges from the light centre's silhouette (Assarsson & Akenine-Möller)
+// miss part of the penumbra where other light points see another silhouette. Measured (128²,
+// N = 256): sphere mean 0.0043, p99 0.10, max 0.43; torus 0.0054, 0.12, 0.49 — concentrated on
+// the occluders' own terminators; their floor shadows are close to exact.
+TEST_F(AdditiveWedges, CurvedOccludersApproximateAsMeasured) {
+    const auto sphere = againstReference("sphere.json", "wedges-additive");
+    const auto torus = againstReference("torus.json", "wedges-additive");
+    EXPECT_LE(sphere.meanAbs, 0.006);
+    EXPECT_LE(sphere.p99, 0.13);
+    EXPECT_LE(torus.meanAbs, 0.007);
+    EXPECT_LE(torus.p99, 0.15);
 }
 
 TEST_F(AdditiveWedges, OpenArenaLevelErrorIsMeasured) {
