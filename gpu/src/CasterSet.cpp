@@ -21,6 +21,21 @@ std::size_t alignUp(std::size_t x, std::size_t a) { return (x + a - 1) / a * a; 
 
 } // namespace
 
+void multiDrawElements(GLenum mode, std::span<const GLint> firsts, std::span<const GLsizei> counts,
+                       int perElement, std::vector<GLint>& firstScratch,
+                       std::vector<GLsizei>& countScratch) {
+    if (firsts.empty()) return;
+    firstScratch.resize(firsts.size());
+    countScratch.resize(counts.size());
+    for (std::size_t i = 0; i < firsts.size(); ++i) {
+        // gl_VertexID starts at `first`: the shaders index the frame's arrays with it.
+        firstScratch[i] = perElement * firsts[i];
+        countScratch[i] = perElement * counts[i];
+    }
+    glMultiDrawArrays(mode, firstScratch.data(), countScratch.data(),
+                      static_cast<GLsizei>(firsts.size()));
+}
+
 CasterSet::CasterSet(const geometry::Scene& scene) {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         if (scene.objects[i].method == geometry::ShadowMethod::None) continue;

@@ -25,6 +25,40 @@ struct CasterRange {
     std::uint32_t firstGroup = 0, groupCount = 0;       // groups[]
 };
 
+// Element ranges of the frame's cap triangles and directed edges that one pass draws together
+// (glMultiDrawArrays: one sub-draw per range; passes scale them by their vertices per element).
+struct DrawSet {
+    std::vector<GLint> triangleFirst;
+    std::vector<GLsizei> triangleCount;
+    std::vector<GLint> edgeFirst;
+    std::vector<GLsizei> edgeCount;
+
+    void add(std::uint32_t firstTriangle, std::uint32_t triangles, std::uint32_t firstEdge,
+             std::uint32_t edges) {
+        if (triangles > 0) {
+            triangleFirst.push_back(static_cast<GLint>(firstTriangle));
+            triangleCount.push_back(static_cast<GLsizei>(triangles));
+        }
+        if (edges > 0) {
+            edgeFirst.push_back(static_cast<GLint>(firstEdge));
+            edgeCount.push_back(static_cast<GLsizei>(edges));
+        }
+    }
+    void add(const CasterRange& r) { add(r.firstTriangle, r.triangleCount, r.firstEdge, r.edgeCount); }
+    void clear() {
+        triangleFirst.clear();
+        triangleCount.clear();
+        edgeFirst.clear();
+        edgeCount.clear();
+    }
+};
+
+// glMultiDrawArrays of `firsts`/`counts` elements of `perElement` vertices each (scratch:
+// reused vectors).
+void multiDrawElements(GLenum mode, std::span<const GLint> firsts, std::span<const GLsizei> counts,
+                       int perElement, std::vector<GLint>& firstScratch,
+                       std::vector<GLsizei>& countScratch);
+
 class CasterSet {
 public:
     // Objects whose method is not None, in scene order. Needs a current GL context.

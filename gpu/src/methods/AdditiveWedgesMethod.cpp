@@ -32,7 +32,9 @@ public:
         }
         {
             ScopedPass pass(&ctx.timers, "wedges");
-            mWedges.draw(t, runs);
+            DrawSet set;
+            for (const CasterRange& r : runs) set.add(r);
+            mWedges.draw(t.visibilityFbo, t, set);
         }
         {
             ScopedPass pass(&ctx.timers, "resolve");

@@ -34,25 +34,33 @@ StencilVolumePass::StencilVolumePass(const ShaderLoader& shaders)
 }
 
 void StencilVolumePass::drawCentre(const Targets& t, const CasterRange& range) {
-    glBindFramebuffer(GL_FRAMEBUFFER, t.visibilityFbo.id());
+    DrawSet set;
+    set.add(range);
+    drawCentre(t.visibilityFbo, t, set);
+}
+
+void StencilVolumePass::drawCentre(const Framebuffer& target, const Targets& t,
+                                   const DrawSet& set, const ScissorRect* scissor) {
+    PipelineState cap = kVolumeCapState, side = kVolumeState;
+    if (scissor) {
+        cap.scissor = side.scissor = true;
+        cap.scissorRect = side.scissorRect = *scissor;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, t.width, t.height);
     glBindVertexArray(mEmptyVao.id());
-    // gl_VertexID starts at `first`: the ranges index the frame's arrays directly.
-    const auto tri0 = static_cast<GLint>(3 * range.firstTriangle);
-    const auto triN = static_cast<GLsizei>(3 * range.triangleCount);
-    if (triN > 0) {
-        applyState(kVolumeCapState);
+    if (!set.triangleFirst.empty()) {
+        applyState(cap);
         glUseProgram(mFrontCaps.id());
-        glDrawArrays(GL_TRIANGLES, tri0, triN);
-        applyState(kVolumeState);
+        multiDrawElements(GL_TRIANGLES, set.triangleFirst, set.triangleCount, 3, mFirsts, mCounts);
+        applyState(side);
         glUseProgram(mBackCaps.id());
-        glDrawArrays(GL_TRIANGLES, tri0, triN);
+        multiDrawElements(GL_TRIANGLES, set.triangleFirst, set.triangleCount, 3, mFirsts, mCounts);
     }
-    if (range.edgeCount > 0) {
-        applyState(kVolumeState);
+    if (!set.edgeFirst.empty()) {
+        applyState(side);
         glUseProgram(mSides.id());
-        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(6 * range.firstEdge),
-                     static_cast<GLsizei>(6 * range.edgeCount));
+        multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 6, mFirsts, mCounts);
     }
 }
 

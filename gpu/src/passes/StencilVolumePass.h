@@ -9,6 +9,7 @@
 
 #include <geometry/ShadowVolume.h>
 #include <gpu/ShaderLoader.h>
+#include <gpu/State.h>
 
 #include "../CasterSet.h"
 #include "../Targets.h"
@@ -22,6 +23,10 @@ public:
     // Caps and sides of a range of the frame's silhouette groups for the light centre
     // (CasterSet::bind() and the frame uniforms are the caller's).
     void drawCentre(const Targets& t, const CasterRange& range);
+    // The same for any set of ranges (e.g. a batch of groups), into `target` (which must hold
+    // the shared depth-stencil attachment), optionally scissored.
+    void drawCentre(const Framebuffer& target, const Targets& t, const DrawSet& set,
+                    const ScissorRect* scissor = nullptr);
     // `frontCapVertices` leading vertices of `volume` are front caps (drawn with the cap offset).
     void drawVertices(const Targets& t, const geometry::ShadowVolumeGeometry& volume,
                       std::size_t frontCapVertices);
@@ -30,6 +35,8 @@ private:
     Program mFrontCaps, mBackCaps, mSides, mVertices;
     VertexArray mEmptyVao, mVao;
     Buffer mVertexBuffer;
+    std::vector<GLint> mFirsts;
+    std::vector<GLsizei> mCounts;
 };
 
 } // namespace gpu

@@ -29,7 +29,7 @@ void WedgePass::beginFrame(std::uint32_t edgeCount) {
     glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGES, mWedges.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_STATS, mStats.id());
-    mSampled = false;
+    mFragments = 0;
 }
 
 void WedgePass::setup(std::span<const CasterRange> runs) {
@@ -41,10 +41,12 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
     }
 }
 
-void WedgePass::draw(const Targets& t, std::span<const CasterRange> runs) {
+void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
+                     const ScissorRect* scissor) {
+    if (set.edgeFirst.empty()) return;
     // The set-up's buffer writes must be visible to the vertex and fragment shaders.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glBindFramebuffer(GL_FRAMEBUFFER, t.visibilityFbo.id());
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, t.width, t.height);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glUseProgram(mDraw.id());
@@ -52,15 +54,21 @@ void WedgePass::draw(const Targets& t, std::span<const CasterRange> runs) {
     glBeginQuery(GL_SAMPLES_PASSED, mSamples.id());
     // Entry faces (uPass 0), then exit faces (uPass 1): wedge.vert.
     for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
-        applyState(drawPass == 0 ? kEntryState : kExitState);
+        PipelineState state = drawPass == 0 ? kEntryState : kExitState;
+        if (scissor) {
+            state.scissor = true;
+            state.scissorRect = *scissor;
+        }
+        applyState(state);
         glUniform1ui(0, drawPass);
-        for (const CasterRange& range : runs)
-            if (range.edgeCount > 0)
-                glDrawArrays(GL_TRIANGLES, static_cast<GLint>(24 * range.firstEdge),
-                             static_cast<GLsizei>(24 * range.edgeCount));
+        multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
     }
     glEndQuery(GL_SAMPLES_PASSED);
-    mSampled = true;
+    // Read at once: a batched method draws many times a frame (the result is a sync point,
+    // which the frame's own readback makes anyway on llvmpipe).
+    GLuint64 samples = 0;
+    glGetQueryObjectui64v(mSamples.id(), GL_QUERY_RESULT, &samples);
+    mFragments += samples;
 }
 
 void WedgePass::resolve(const Targets& t) {
@@ -85,11 +93,7 @@ WedgeCounts WedgePass::counts() {
     c.culled = s[WEDGE_CULLED];
     c.clampedPixels = s[WEDGE_STAT_CLAMPED];
     c.eyeInside = s[WEDGE_STAT_EYE_INSIDE];
-    if (mSampled) {
-        GLuint64 samples = 0;
-        glGetQueryObjectui64v(mSamples.id(), GL_QUERY_RESULT, &samples);
-        c.fragments = samples;
-    }
+    c.fragments = mFragments;
     return c;
 }
 

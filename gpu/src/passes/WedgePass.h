@@ -65,7 +65,10 @@ public:
     // counters, binds both.
     void beginFrame(std::uint32_t edgeCount);
     void setup(std::span<const CasterRange> runs);
-    void draw(const Targets& t, std::span<const CasterRange> runs);
+    // Wedges of `set`'s edges into `target` (V there minus coverage; the target must hold the
+    // shared depth-stencil attachment), optionally scissored.
+    void draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
+              const ScissorRect* scissor = nullptr);
     void resolve(const Targets& t);
     // Reads the counters back (waits for the GPU).
     WedgeCounts counts();
@@ -75,8 +78,11 @@ private:
     VertexArray mVao;
     Buffer mWedges, mStats;
     std::size_t mWedgeCapacity = 0;
+    std::vector<GLint> mFirsts;
+    std::vector<GLsizei> mCounts;
+    std::uint64_t mFragments = 0;
     Query mSamples;
-    bool mSampled = false; // mSamples holds this frame's draw
+
 };
 
 } // namespace gpu
