@@ -61,5 +61,6 @@ std::unique_ptr<VisibilityMethod> createHardMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createReferenceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createRaytraceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createMultiplyWedgesMethod(const MethodResources&);
 
 } // namespace gpu

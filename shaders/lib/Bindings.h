@@ -38,6 +38,7 @@
 #define TEXUNIT_NORMAL 1
 #define TEXUNIT_ALBEDO 2
 #define TEXUNIT_VISIBILITY 3
+#define TEXUNIT_SILHOUETTE 4 // a batch's per-silhouette visibility (per-silhouette methods)
 
 #ifdef __cplusplus
 // C++ side: included through gpu/src/ShaderBindings.h, which includes glm first (the GLSL

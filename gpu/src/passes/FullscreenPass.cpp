@@ -11,8 +11,14 @@ FullscreenPass::FullscreenPass(const ShaderLoader& shaders, const char* fragment
                              .label = label})),
       mVao(label), mState(state) {}
 
-void FullscreenPass::execute(const Framebuffer& target, int width, int height) const {
-    applyState(mState);
+void FullscreenPass::execute(const Framebuffer& target, int width, int height,
+                             const ScissorRect* scissor) const {
+    PipelineState state = mState;
+    if (scissor) {
+        state.scissor = true;
+        state.scissorRect = *scissor;
+    }
+    applyState(state);
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, width, height);
     glUseProgram(mProgram.id());

@@ -11,7 +11,9 @@ class FullscreenPass {
 public:
     FullscreenPass(const ShaderLoader& shaders, const char* fragment, const char* label,
                    const PipelineState& state, std::vector<std::string> defines = {});
-    void execute(const Framebuffer& target, int width, int height) const;
+    // Optionally scissored to `scissor` (the pass's own state otherwise).
+    void execute(const Framebuffer& target, int width, int height,
+                 const ScissorRect* scissor = nullptr) const;
     const Program& program() const { return mProgram; }
 
 private:
@@ -34,8 +36,9 @@ public:
     };
     explicit AccumulatePass(const ShaderLoader& shaders)
         : mPass(shaders, "accumulate.frag", "accumulate", kState) {}
-    void execute(const Framebuffer& target, int width, int height) const {
-        mPass.execute(target, width, height);
+    void execute(const Framebuffer& target, int width, int height,
+                 const ScissorRect* scissor = nullptr) const {
+        mPass.execute(target, width, height, scissor);
     }
 
 private:

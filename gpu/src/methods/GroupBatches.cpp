@@ -1,0 +1,121 @@
+#include "GroupBatches.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gpu {
+
+namespace {
+
+struct GroupRect {
+    std::uint32_t caster, group;
+    int x0, y0, x1, y1; // pixels, inclusive-exclusive
+};
+
+// Screen rectangle of a world box; false when the box misses the frustum. Boxes reaching behind
+// the camera (or across its plane) take the whole screen.
+bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width, int height,
+                GroupRect& r) {
+    glm::vec2 lo(1e30f), hi(-1e30f);
+    bool behind = false;
+    // Frustum planes (as shaders/lib/Frustum.glsl): outside one plane with every corner = culled.
+    int outside[5] = {0, 0, 0, 0, 0};
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec3 p((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                          (c & 4) ? box.max.z : box.min.z);
+        const glm::vec4 clip = viewProj * glm::vec4(p, 1.0f);
+        outside[0] += clip.x < -clip.w;
+        outside[1] += clip.x > clip.w;
+        outside[2] += clip.y < -clip.w;
+        outside[3] += clip.y > clip.w;
+        outside[4] += clip.z > clip.w; // in front of the near plane (reversed Z)
+        if (clip.w <= 1e-6f) {
+            behind = true;
+            continue;
+        }
+        const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+        lo = glm::min(lo, ndc);
+        hi = glm::max(hi, ndc);
+    }
+    for (int k = 0; k < 5; ++k)
+        if (outside[k] == 8) return false;
+    if (behind) {
+        lo = glm::vec2(-1.0f);
+        hi = glm::vec2(1.0f);
+    }
+    lo = glm::clamp(lo, glm::vec2(-1.0f), glm::vec2(1.0f));
+    hi = glm::clamp(hi, glm::vec2(-1.0f), glm::vec2(1.0f));
+    // One pixel of margin on each side: rasterisation rounds, the rectangle must not.
+    r.x0 = std::max(0, static_cast<int>(std::floor((lo.x * 0.5f + 0.5f) * width)) - 1);
+    r.y0 = std::max(0, static_cast<int>(std::floor((lo.y * 0.5f + 0.5f) * height)) - 1);
+    r.x1 = std::min(width, static_cast<int>(std::ceil((hi.x * 0.5f + 0.5f) * width)) + 1);
+    r.y1 = std::min(height, static_cast<int>(std::ceil((hi.y * 0.5f + 0.5f) * height)) + 1);
+    return r.x1 > r.x0 && r.y1 > r.y0;
+}
+
+} // namespace
+
+GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t> casterSubset,
+                         const glm::mat4& viewProj, int width, int height, int tile) {
+    GroupBatches out;
+    std::vector<GroupRect> rects;
+    for (const std::uint32_t c : casterSubset) {
+        const auto& groups = casters.frame(c).groups;
+        for (std::uint32_t g = 0; g < groups.size(); ++g) {
+            GroupRect r{c, g, 0, 0, 0, 0};
+            if (screenRect(groups[g].influenceBounds, viewProj, width, height, r))
+                rects.push_back(r);
+            else
+                ++out.culledGroups;
+        }
+    }
+    out.drawnGroups = static_cast<std::uint32_t>(rects.size());
+    // Large rectangles first: they constrain the colouring most.
+    std::stable_sort(rects.begin(), rects.end(), [](const GroupRect& a, const GroupRect& b) {
+        return std::int64_t(a.x1 - a.x0) * (a.y1 - a.y0) > std::int64_t(b.x1 - b.x0) * (b.y1 - b.y0);
+    });
+    const int tilesX = (width + tile - 1) / tile, tilesY = (height + tile - 1) / tile;
+    std::vector<std::vector<bool>> occupied; // per batch, per tile
+    struct Bounds {
+        int x0 = 1 << 30, y0 = 1 << 30, x1 = 0, y1 = 0;
+    };
+    std::vector<Bounds> bounds;
+    for (const GroupRect& r : rects) {
+        const int tx0 = r.x0 / tile, ty0 = r.y0 / tile;
+        const int tx1 = (r.x1 - 1) / tile, ty1 = (r.y1 - 1) / tile;
+        std::size_t b = 0;
+        for (; b < occupied.size(); ++b) {
+            bool free = true;
+            for (int ty = ty0; ty <= ty1 && free; ++ty)
+                for (int tx = tx0; tx <= tx1 && free; ++tx)
+                    free = !occupied[b][static_cast<std::size_t>(ty * tilesX + tx)];
+            if (free) break;
+        }
+        if (b == occupied.size()) {
+            occupied.emplace_back(static_cast<std::size_t>(tilesX * tilesY), false);
+            out.batches.emplace_back();
+            bounds.emplace_back();
+        }
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx)
+                occupied[b][static_cast<std::size_t>(ty * tilesX + tx)] = true;
+        GroupBatch& batch = out.batches[b];
+        const CasterRange& range = casters.range(r.caster);
+        const geometry::SilhouetteGroup& g = casters.frame(r.caster).groups[r.group];
+        batch.set.add(range.firstTriangle + g.firstTriangle, g.triangleCount,
+                      range.firstEdge + g.firstEdge, g.edgeCount);
+        ++batch.groups;
+        batch.pixels += std::uint64_t(r.x1 - r.x0) * std::uint64_t(r.y1 - r.y0);
+        Bounds& u = bounds[b];
+        u.x0 = std::min(u.x0, r.x0);
+        u.y0 = std::min(u.y0, r.y0);
+        u.x1 = std::max(u.x1, r.x1);
+        u.y1 = std::max(u.y1, r.y1);
+    }
+    for (std::size_t b = 0; b < out.batches.size(); ++b)
+        out.batches[b].rect = ScissorRect{bounds[b].x0, bounds[b].y0, bounds[b].x1 - bounds[b].x0,
+                                          bounds[b].y1 - bounds[b].y0};
+    return out;
+}
+
+} // namespace gpu
