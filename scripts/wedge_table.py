@@ -15,6 +15,10 @@ def cpu_name():
     return platform.processor() or "unknown CPU"
 
 
+def fmt(value):
+    return "–" if value is None else f"{int(value)}"
+
+
 def main(root, methods):
     scenes = sorted(d for d in os.listdir(root) if os.path.isdir(os.path.join(root, d)))
     renderer = None
@@ -39,19 +43,20 @@ def main(root, methods):
             rows.append(
                 f"| {scene} | {m} | {r['frame_ms']:.1f} | {r['frame_ms'] / hard:.2f} | "
                 f"{int(r['wedges'])} | {int(c.get('wedges_culled', 0))} | "
-                f"{int(c.get('wedge_fragments', 0))} | {int(c.get('pixels_clamped', 0))} | "
+                f"{int(c.get('wedge_fragments', 0))} | {fmt(c.get('pixels_clamped'))} | "
+                f"{fmt(c.get('batches'))} | "
                 f"{e['mean_abs_err']:.4f} | {e['p99_err']:.3f} | {e['bad_pixel_pct']:.2f} | "
                 f"{passes} |")
         ref = reports.get("reference")
         if ref:
             rows.append(f"| {scene} | reference N={ref['parameters']['samples']} | "
-                        f"{ref['frame_ms']:.0f} | {ref['frame_ms'] / hard:.0f} | | | | | | | | |")
+                        f"{ref['frame_ms']:.0f} | {ref['frame_ms'] / hard:.0f} | | | | | | | | | |")
     print(f"Renderer: {renderer}; CPU: {cpu_name()} ({os.cpu_count()} cores). "
           "Frame ms are medians of 5 frames; x hard is the ratio to the hard frame of the same "
           "run; error against the GPU reference of the same view.\n")
     print("| scene | method | frame ms | x hard | wedges | culled | wedge fragments | "
-          "clamped px | mean err | p99 err | % > 0.05 | GPU ms per pass |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+          "clamped px | batches | mean err | p99 err | % > 0.05 | GPU ms per pass |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
     for row in rows:
         print(row)
 

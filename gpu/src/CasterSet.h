@@ -79,8 +79,6 @@ public:
     std::uint32_t edgeCount() const { return mTotal.edgeCount; }
     std::uint32_t groupCount() const { return mTotal.groupCount; }
     std::size_t uploadBytes() const { return mUploadBytes; }
-    // Welded vertex/triangle offset of caster i in the static buffers.
-    std::uint32_t vertexBase(std::size_t i) const { return mVertexBase[i]; }
 
     // Binds the static and per-frame arrays to their storage-buffer slots (Bindings.h).
     void bind() const;

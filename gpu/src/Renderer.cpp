@@ -179,11 +179,11 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     FrameStats stats;
     stats.triangles = m.triangles;
     const auto frameStart = Clock::now();
-    VisibilityMethod& method = m.method(info);
     if (m.targets.width != settings.width || m.targets.height != settings.height) {
         m.targets.resize(settings.width, settings.height);
         for (auto& [name, each] : m.methods) each->resize(settings.width, settings.height);
     }
+    VisibilityMethod& method = m.method(info); // a new one is sized on creation
 
     // Depth 0..1 with 1 at the near plane (reversed Z): float depth keeps precision far away.
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

@@ -23,8 +23,6 @@ public:
         const Targets& t = ctx.targets;
         const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
         drawHardVisibility(ctx, runs, mVolumes, mAccumulate);
-        std::uint32_t edges = 0;
-        for (const CasterRange& r : runs) edges += r.edgeCount;
         {
             ScopedPass pass(&ctx.timers, "wedge-setup");
             mWedges.beginFrame(ctx.casters.edgeCount());
@@ -41,14 +39,8 @@ public:
             mWedges.resolve(t);
         }
         const WedgeCounts c = mWedges.counts();
-        ctx.addCounter("wedges", edges);
-        ctx.addCounter("wedges_bounded", c.bounded);
-        ctx.addCounter("wedges_fullscreen", c.fullscreen);
-        ctx.addCounter("wedges_degenerate", c.degenerate);
-        ctx.addCounter("wedges_culled", c.culled);
-        ctx.addCounter("wedges_camera_inside", c.eyeInside);
+        addWedgeCounters(ctx, c, runs);
         ctx.addCounter("groups_culled", countCulledGroups(ctx));
-        ctx.addCounter("wedge_fragments", static_cast<double>(c.fragments));
         ctx.addCounter("pixels_clamped", c.clampedPixels);
     }
 

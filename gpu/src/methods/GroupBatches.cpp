@@ -1,5 +1,7 @@
 #include "GroupBatches.h"
 
+#include "MethodUtil.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -16,19 +18,13 @@ struct GroupRect {
 // the camera (or across its plane) take the whole screen.
 bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width, int height,
                 GroupRect& r) {
+    if (boxOutsideFrustum(box, viewProj)) return false;
     glm::vec2 lo(1e30f), hi(-1e30f);
     bool behind = false;
-    // Frustum planes (as shaders/lib/Frustum.glsl): outside one plane with every corner = culled.
-    int outside[5] = {0, 0, 0, 0, 0};
     for (int c = 0; c < 8; ++c) {
         const glm::vec3 p((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
                           (c & 4) ? box.max.z : box.min.z);
         const glm::vec4 clip = viewProj * glm::vec4(p, 1.0f);
-        outside[0] += clip.x < -clip.w;
-        outside[1] += clip.x > clip.w;
-        outside[2] += clip.y < -clip.w;
-        outside[3] += clip.y > clip.w;
-        outside[4] += clip.z > clip.w; // in front of the near plane (reversed Z)
         if (clip.w <= 1e-6f) {
             behind = true;
             continue;
@@ -37,8 +33,6 @@ bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width,
         lo = glm::min(lo, ndc);
         hi = glm::max(hi, ndc);
     }
-    for (int k = 0; k < 5; ++k)
-        if (outside[k] == 8) return false;
     if (behind) {
         lo = glm::vec2(-1.0f);
         hi = glm::vec2(1.0f);
@@ -105,16 +99,18 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
         batch.set.add(range.firstTriangle + g.firstTriangle, g.triangleCount,
                       range.firstEdge + g.firstEdge, g.edgeCount);
         ++batch.groups;
-        batch.pixels += std::uint64_t(r.x1 - r.x0) * std::uint64_t(r.y1 - r.y0);
         Bounds& u = bounds[b];
         u.x0 = std::min(u.x0, r.x0);
         u.y0 = std::min(u.y0, r.y0);
         u.x1 = std::max(u.x1, r.x1);
         u.y1 = std::max(u.y1, r.y1);
     }
-    for (std::size_t b = 0; b < out.batches.size(); ++b)
-        out.batches[b].rect = ScissorRect{bounds[b].x0, bounds[b].y0, bounds[b].x1 - bounds[b].x0,
-                                          bounds[b].y1 - bounds[b].y0};
+    for (std::size_t b = 0; b < out.batches.size(); ++b) {
+        GroupBatch& batch = out.batches[b];
+        batch.rect = ScissorRect{bounds[b].x0, bounds[b].y0, bounds[b].x1 - bounds[b].x0,
+                                 bounds[b].y1 - bounds[b].y0};
+        batch.pixels = std::uint64_t(batch.rect.width) * std::uint64_t(batch.rect.height);
+    }
     return out;
 }
 

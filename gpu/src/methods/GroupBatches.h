@@ -25,7 +25,7 @@ struct GroupBatch {
     DrawSet set;          // the batch's groups' cap triangles and edges
     ScissorRect rect;     // union of its groups' rectangles (pixels)
     std::uint32_t groups = 0;
-    std::uint64_t pixels = 0; // Σ of its groups' rectangle areas (pixels the batch blends)
+    std::uint64_t pixels = 0; // area of `rect`: the pixels the batch's scissored passes cover
 };
 
 struct GroupBatches {

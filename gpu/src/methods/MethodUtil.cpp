@@ -3,6 +3,7 @@
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
 #include "../passes/VolumeStates.h"
+#include "../passes/WedgePass.h"
 
 namespace gpu {
 
@@ -44,24 +45,38 @@ void drawHardVisibility(const FrameContext& ctx, std::span<const CasterRange> ru
     accumulate.execute(t.visibilityFbo, t.width, t.height);
 }
 
-std::uint32_t countCulledGroups(const FrameContext& ctx) {
-    // The planes of shaders/lib/Frustum.glsl: rows of viewProj combined.
-    const glm::mat4& m = ctx.viewProj;
+bool boxOutsideFrustum(const geometry::Aabb& box, const glm::mat4& m) {
     auto row = [&](int j) { return glm::vec4(m[0][j], m[1][j], m[2][j], m[3][j]); };
     const glm::vec4 planes[5] = {row(3) + row(0), row(3) - row(0), row(3) + row(1),
                                  row(3) - row(1), row(3) - row(2)};
+    for (const glm::vec4& p : planes) {
+        // The corner farthest along the plane's normal: if even it is outside, all are.
+        const glm::vec3 corner =
+            glm::mix(box.min, box.max, glm::step(glm::vec3(0.0f), glm::vec3(p)));
+        if (glm::dot(glm::vec3(p), corner) + p.w < 0.0f) return true;
+    }
+    return false;
+}
+
+std::uint32_t countCulledGroups(const FrameContext& ctx) {
     std::uint32_t culled = 0;
     for (const std::uint32_t c : ctx.casterSubset)
         for (const geometry::SilhouetteGroup& g : ctx.casters.frame(c).groups)
-            for (const glm::vec4& p : planes) {
-                const glm::vec3 corner = glm::mix(g.influenceBounds.min, g.influenceBounds.max,
-                                                  glm::step(glm::vec3(0.0f), glm::vec3(p)));
-                if (glm::dot(glm::vec3(p), corner) + p.w < 0.0f) {
-                    ++culled;
-                    break;
-                }
-            }
+            culled += boxOutsideFrustum(g.influenceBounds, ctx.viewProj);
     return culled;
+}
+
+void addWedgeCounters(const FrameContext& ctx, const WedgeCounts& c,
+                      std::span<const CasterRange> runs) {
+    std::uint32_t edges = 0;
+    for (const CasterRange& r : runs) edges += r.edgeCount;
+    ctx.addCounter("wedges", edges);
+    ctx.addCounter("wedges_bounded", c.bounded);
+    ctx.addCounter("wedges_fullscreen", c.fullscreen);
+    ctx.addCounter("wedges_degenerate", c.degenerate);
+    ctx.addCounter("wedges_culled", c.culled);
+    ctx.addCounter("wedges_camera_inside", c.eyeInside);
+    ctx.addCounter("wedge_fragments", static_cast<double>(c.fragments));
 }
 
 } // namespace gpu

@@ -27,8 +27,18 @@ class AccumulatePass;
 void drawHardVisibility(const FrameContext& ctx, std::span<const CasterRange> runs,
                         StencilVolumePass& volumes, const AccumulatePass& accumulate);
 
-// Groups of the casters in `ctx.casterSubset` whose influence bounds miss the view frustum
-// (the wedge set-up culls their wedges on the GPU by the same test).
+// Whether a world box lies wholly outside one plane of the view frustum of `viewProj` (reversed
+// Z, infinite far plane: the side planes and the near plane). The same test as
+// shaders/lib/Frustum.glsl, which culls wedges on the GPU.
+bool boxOutsideFrustum(const geometry::Aabb& box, const glm::mat4& viewProj);
+
+// Groups of the casters in `ctx.casterSubset` whose influence bounds miss the view frustum.
 std::uint32_t countCulledGroups(const FrameContext& ctx);
+
+struct WedgeCounts;
+// The wedge counters of the report (kinds, culled, around the camera, fragments) for the edges
+// of `runs`.
+void addWedgeCounters(const FrameContext& ctx, const WedgeCounts& counts,
+                      std::span<const CasterRange> runs);
 
 } // namespace gpu

@@ -86,16 +86,7 @@ public:
             }
             pixels += batch.pixels;
         }
-        const WedgeCounts c = mWedges.counts();
-        std::uint32_t edges = 0;
-        for (const CasterRange& r : runs) edges += r.edgeCount;
-        ctx.addCounter("wedges", edges);
-        ctx.addCounter("wedges_bounded", c.bounded);
-        ctx.addCounter("wedges_fullscreen", c.fullscreen);
-        ctx.addCounter("wedges_degenerate", c.degenerate);
-        ctx.addCounter("wedges_culled", c.culled);
-        ctx.addCounter("wedges_camera_inside", c.eyeInside);
-        ctx.addCounter("wedge_fragments", static_cast<double>(c.fragments));
+        addWedgeCounters(ctx, mWedges.counts(), runs);
         ctx.addCounter("groups_culled", batches.culledGroups);
         ctx.addCounter("groups_drawn", batches.drawnGroups);
         ctx.addCounter("batches", static_cast<double>(batches.batches.size()));

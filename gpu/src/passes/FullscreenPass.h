@@ -14,7 +14,6 @@ public:
     // Optionally scissored to `scissor` (the pass's own state otherwise).
     void execute(const Framebuffer& target, int width, int height,
                  const ScissorRect* scissor = nullptr) const;
-    const Program& program() const { return mProgram; }
 
 private:
     Program mProgram;

@@ -15,8 +15,7 @@ WedgePass::WedgePass(const ShaderLoader& shaders)
       mResolve(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-resolve.comp"}},
                              .label = "wedge-resolve"})),
       mVao("wedges"),
-      mStats({.size = WEDGE_STAT_COUNT * sizeof(std::uint32_t), .label = "wedge-stats"}),
-      mSamples(GL_SAMPLES_PASSED) {}
+      mStats({.size = WEDGE_STAT_COUNT * sizeof(std::uint32_t), .label = "wedge-stats"}) {}
 
 void WedgePass::beginFrame(std::uint32_t edgeCount) {
     const std::size_t needed = std::max<std::size_t>(edgeCount, 1);
@@ -29,7 +28,7 @@ void WedgePass::beginFrame(std::uint32_t edgeCount) {
     glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGES, mWedges.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_STATS, mStats.id());
-    mFragments = 0;
+    mQueriesUsed = 0;
 }
 
 void WedgePass::setup(std::span<const CasterRange> runs) {
@@ -39,19 +38,23 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
         glUniform2ui(0, range.firstEdge, range.edgeCount);
         glDispatchCompute((range.edgeCount + 63) / 64, 1, 1);
     }
+    // The set-up's buffer writes must be visible to the wedge draws' vertex and fragment shaders.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
                      const ScissorRect* scissor) {
     if (set.edgeFirst.empty()) return;
-    // The set-up's buffer writes must be visible to the vertex and fragment shaders.
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, t.width, t.height);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glUseProgram(mDraw.id());
     glBindVertexArray(mVao.id());
-    glBeginQuery(GL_SAMPLES_PASSED, mSamples.id());
+    // One query per draw call of the frame, all read in counts(): reading each at once would
+    // stall the pipeline once per batch.
+    if (mQueriesUsed == mQueries.size()) mQueries.emplace_back(GL_SAMPLES_PASSED);
+    const Query& query = mQueries[mQueriesUsed++];
+    glBeginQuery(GL_SAMPLES_PASSED, query.id());
     // Entry faces (uPass 0), then exit faces (uPass 1): wedge.vert.
     for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
         PipelineState state = drawPass == 0 ? kEntryState : kExitState;
@@ -64,11 +67,6 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
         multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
     }
     glEndQuery(GL_SAMPLES_PASSED);
-    // Read at once: a batched method draws many times a frame (the result is a sync point,
-    // which the frame's own readback makes anyway on llvmpipe).
-    GLuint64 samples = 0;
-    glGetQueryObjectui64v(mSamples.id(), GL_QUERY_RESULT, &samples);
-    mFragments += samples;
 }
 
 void WedgePass::resolve(const Targets& t) {
@@ -85,6 +83,7 @@ void WedgePass::resolve(const Targets& t) {
 
 WedgeCounts WedgePass::counts() {
     std::array<std::uint32_t, WEDGE_STAT_COUNT> s{};
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the set-up's and resolve's atomics
     glGetNamedBufferSubData(mStats.id(), 0, sizeof(s), s.data());
     WedgeCounts c;
     c.bounded = s[WEDGE_BOUNDED];
@@ -93,7 +92,11 @@ WedgeCounts WedgePass::counts() {
     c.culled = s[WEDGE_CULLED];
     c.clampedPixels = s[WEDGE_STAT_CLAMPED];
     c.eyeInside = s[WEDGE_STAT_EYE_INSIDE];
-    c.fragments = mFragments;
+    for (std::size_t q = 0; q < mQueriesUsed; ++q) {
+        GLuint64 samples = 0;
+        glGetQueryObjectui64v(mQueries[q].id(), GL_QUERY_RESULT, &samples);
+        c.fragments += samples;
+    }
     return c;
 }
 

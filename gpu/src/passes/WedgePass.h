@@ -1,9 +1,10 @@
 // Penumbra wedges on the GPU, from the frame's directed silhouette edges (CasterSet):
 // - setup(): a compute pass builds every wedge of a range of edges (conservative hull, kind,
 //   frustum culling by group; shaders/wedge-setup.comp) into a GPU-only buffer;
-// - draw(): one draw of 24 pulled vertices per wedge (shaders/wedge.vert), back faces only and
-//   no depth test, so that every pixel is processed once per wedge, camera inside a wedge or
-//   not; the fragment shader (shaders/wedge.frag) subtracts the edge's signed coverage from V;
+// - draw(): 24 pulled vertices per wedge (shaders/wedge.vert) in two draws: entry faces of
+//   hulls the camera is outside of (depth GEQUAL against the surface), exit faces of the others
+//   (LEQUAL), so that every pixel is processed once per wedge, camera inside a wedge or not;
+//   the fragment shader (shaders/wedge.frag) subtracts the edge's signed coverage from V;
 // - resolve(): V = clamp(V, 0, 1), counting the pixels the clamp touched.
 #pragma once
 
@@ -23,7 +24,10 @@ struct WedgeCounts {
     std::uint32_t bounded = 0, fullscreen = 0, degenerate = 0, culled = 0;
     std::uint32_t eyeInside = 0; // bounded wedges drawn by their exit faces
     std::uint32_t clampedPixels = 0;
-    std::uint64_t fragments = 0; // fragments that passed the hull test with non-zero coverage
+    // GL_SAMPLES_PASSED over the wedge draws. The shader discards fragments without a surface,
+    // outside the hull or with zero coverage; llvmpipe counts after the discard (then this is
+    // the fragments with non-zero coverage), a driver may count at the early depth test instead.
+    std::uint64_t fragments = 0;
 };
 
 class WedgePass {
@@ -80,8 +84,8 @@ private:
     std::size_t mWedgeCapacity = 0;
     std::vector<GLint> mFirsts;
     std::vector<GLsizei> mCounts;
-    std::uint64_t mFragments = 0;
-    Query mSamples;
+    std::vector<Query> mQueries; // GL_SAMPLES_PASSED, one per draw() this frame
+    std::size_t mQueriesUsed = 0;
 
 };
 
