@@ -1,4 +1,9 @@
-"""Markdown table of scripts/bench-wedges.sh runs: one row per scene and method."""
+"""Markdown table of scripts/bench-wedges.sh runs: one row per scene and method.
+
+Usage: wedge_table.py ROOT [ROOT ...] -- METHOD [METHOD ...]
+With several roots (repeated runs of the bench), the table is the first root's, and a second
+table gives each method's ratio to the hard frame in every run and the median: on a shared,
+noisy machine one run's ratio can be off by 2x."""
 import json
 import os
 import platform
@@ -61,5 +66,34 @@ def main(root, methods):
         print(row)
 
 
+def ratios(roots, methods):
+    import statistics
+    scenes = sorted(d for d in os.listdir(roots[0]) if os.path.isdir(os.path.join(roots[0], d)))
+    print("\nFrame time over the hard frame of the same run, per run, and the median:\n")
+    print("| scene | method | " + " | ".join(f"run {i + 1}" for i in range(len(roots))) +
+          " | median |")
+    print("|---|---|" + "---:|" * (len(roots) + 1))
+    for scene in scenes:
+        for m in methods:
+            if m == "hard":
+                continue
+            values = []
+            for root in roots:
+                try:
+                    h = json.load(open(os.path.join(root, scene, "hard", "report.json")))
+                    r = json.load(open(os.path.join(root, scene, m, "report.json")))
+                    values.append(r["frame_ms"] / h["frame_ms"])
+                except OSError:
+                    pass
+            if values:
+                print(f"| {scene} | {m} | " + " | ".join(f"{v:.2f}" for v in values) +
+                      f" | {statistics.median(values):.2f} |")
+
+
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2:])
+    args = sys.argv[1:]
+    split = args.index("--") if "--" in args else 1
+    roots, methods = args[:split], args[split + 1:] if "--" in args else args[1:]
+    main(roots[0], methods)
+    if len(roots) > 1:
+        ratios(roots, methods)
