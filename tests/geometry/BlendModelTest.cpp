@@ -9,6 +9,8 @@
 #include <geometry/Topology.h>
 #include <geometry/Wedge.h>
 
+#include "TestRandom.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,20 +27,7 @@ using geometry::MeshData;
 using geometry::RectLight;
 using glm::vec3;
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(std::uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return std::uniform_real_distribution<double>(lo, hi)(engine);
-    }
-    dvec3 direction() {
-        for (;;) {
-            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-            const double l = glm::length(v);
-            if (l > 0.1 && l <= 1.0) return v / l;
-        }
-    }
-};
+using testutil::Rng;
 
 // The scenes' light: horizontal, 1 x 1, at height 4 (visibilityParallelRects' convention).
 RectLight sceneLight() {

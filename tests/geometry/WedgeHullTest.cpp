@@ -12,6 +12,8 @@
 #include <geometry/Wedge.h>
 #include <geometry/WedgeHull.h>
 
+#include "TestRandom.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,26 +35,7 @@ using glm::dvec4;
 using glm::vec3;
 using glm::vec4;
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(std::uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return std::uniform_real_distribution<double>(lo, hi)(engine);
-    }
-    dvec3 direction() {
-        for (;;) {
-            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-            const double l = glm::length(v);
-            if (l > 0.1 && l <= 1.0) return v / l;
-        }
-    }
-    dvec3 inBall() {
-        for (;;) {
-            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-            if (glm::dot(v, v) <= 1.0) return v;
-        }
-    }
-};
+using testutil::Rng;
 
 enum class EdgeKind {
     Generic,        // both ends on one side of the light, anywhere over or beside it

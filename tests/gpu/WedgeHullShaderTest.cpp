@@ -6,6 +6,8 @@
 //   float C++ twins (geometry/WedgeHull.h, geometry/Coverage.h): same kinds, same hulls and
 //   coverage up to the driver's rounding, the same vertex table, and GPU hulls that contain every
 //   shadow ray through their edge.
+#include "TestRandom.h"
+
 #include "GlTestEnv.h"
 
 #include <geometry/Coverage.h>
@@ -135,20 +137,7 @@ struct CheckInput {
 };
 static_assert(sizeof(CheckInput) == 6 * 16, "CheckInput must match std430");
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(std::uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return std::uniform_real_distribution<double>(lo, hi)(engine);
-    }
-    dvec3 direction() {
-        for (;;) {
-            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-            const double l = glm::length(v);
-            if (l > 0.1 && l <= 1.0) return v / l;
-        }
-    }
-};
+using testutil::Rng;
 
 // Random light and edge (every fifth edge reaches into the light: Fullscreen), a point on a
 // shadow ray through the edge (so the coverage is mostly non-zero), and the ray's parameters.
