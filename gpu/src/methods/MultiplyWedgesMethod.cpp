@@ -59,7 +59,7 @@ public:
         }
         std::uint64_t pixels = 0;
         for (const GroupBatch& batch : batches.batches) {
-            PipelineState clearState = kVolumeStateForClear();
+            PipelineState clearState; // the defaults write colour and stencil: for the clears
             clearState.scissor = true;
             clearState.scissorRect = batch.rect;
             {
@@ -94,13 +94,6 @@ public:
     }
 
 private:
-    static PipelineState kVolumeStateForClear() {
-        PipelineState s;
-        s.stencilWriteMask = 0xFF;
-        s.colorWrite = true;
-        return s;
-    }
-
     StencilVolumePass mVolumes;
     AccumulatePass mAccumulate;
     WedgePass mWedges;
