@@ -3,6 +3,8 @@
 // spelling differs (0.0f, references for inout).
 #include <geometry/Coverage.h>
 
+#include "CoverageDetail.h"
+
 #include <cmath>
 
 namespace geometry {
@@ -13,6 +15,11 @@ using glm::vec3;
 using std::abs;
 using std::max;
 using std::min;
+
+} // namespace
+
+// The helpers are shared with the per-part twin (Parts.cpp), as Parts.glsl uses Coverage.glsl's.
+namespace coverage_detail {
 
 float coverageCross2(vec2 a, vec2 b) {
     return a.x * b.y - a.y * b.x;
@@ -82,7 +89,9 @@ vec3 coverageProject(float l, vec3 k0, vec3 k1, vec3 d0, vec3 d1, float z0, floa
     return vec3(dot(light.uStar, y), dot(light.vStar, y), w);
 }
 
-} // namespace
+} // namespace coverage_detail
+
+using namespace coverage_detail;
 
 CoverageLight coverageLight(vec3 c, vec3 u, vec3 v) {
     CoverageLight light;

@@ -161,3 +161,13 @@ TEST(GlslTwinTest, CoverageLightStructMatches) {
     EXPECT_EQ(f.size(), 6u);
     EXPECT_EQ(f, fields(withoutComments(readSource("shaders/lib/Coverage.glsl")), "CoverageLight"));
 }
+
+TEST(GlslTwinTest, PartsFunctionsAndStructMatch) {
+    expectSameFunctions("geometry/src/Parts.cpp", "shaders/lib/Parts.glsl",
+                        {"partsHalf", "partsAxisSide", "partsQuadrantArea", "partsEdgeBounds",
+                         "partsInside", "partsCornerWinding", "edgeParts4"});
+    const std::vector<std::string> f =
+        fields(withoutComments(readSource("geometry/include/geometry/Parts.h")), "EdgeParts4");
+    EXPECT_EQ(f, (std::vector<std::string>{"vec4 coverage", "vec4 bounds[4]", "vec3 windings[4]"}));
+    EXPECT_EQ(f, fields(withoutComments(readSource("shaders/lib/Parts.glsl")), "EdgeParts4"));
+}

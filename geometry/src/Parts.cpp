@@ -1,0 +1,166 @@
+// Float twin of shaders/lib/Parts.glsl (geometry/Parts.h): every statement below has its
+// counterpart there, in the same order and with the same names; only the C++ spelling differs
+// (0.0f, references for inout). Change both together.
+#include <geometry/Parts.h>
+
+#include "CoverageDetail.h"
+
+#include <cmath>
+
+namespace geometry {
+namespace {
+
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+using std::abs;
+using std::max;
+using std::min;
+using namespace coverage_detail;
+
+// A light-coordinate half-plane dot(h, (s, t, 1)) >= 0 in the part coordinates of the quadrant
+// with signs sg: the sign flips are exact.
+vec3 partsHalf(vec3 h, vec2 sg) {
+    return vec3(h.x * sg.x, h.y * sg.y, h.z);
+}
+
+// A side of the quadrant on an axis of the light (through the centre) adds no area to the
+// boundary integral (its points are collinear with the origin); only where the line q0 q1
+// crosses it matters: the start (leave) or end (enter) of the line's piece, as in
+// coverageSquareEdge.
+void partsAxisSide(vec2 a, vec2 b, float fa, float fb, vec2& leave, vec2& enter) {
+    if (fa < 0.0f && fb < 0.0f) return;
+    if (fa >= 0.0f && fb >= 0.0f) return;
+    float l = fa / (fa - fb);
+    vec2 x = a + l * (b - a);
+    if (fa >= 0.0f)
+        leave = x;
+    else
+        enter = x;
+}
+
+// |R_e ∩ [0, 1]^2| with R_e's half-planes h0, h1 (rays from the centre) and h2 (beyond the line)
+// in part coordinates: Green along the part's boundary counter-clockwise, as edgeCoverage does
+// along the light's; the two sides on the axes only place the line's piece.
+float partsQuadrantArea(vec3 h0, vec3 h1, vec3 h2) {
+    float f0 = h2.z; // at the centre (0, 0)
+    float f1 = dot(h2, vec3(1.0f, 0.0f, 1.0f));
+    float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
+    float f3 = dot(h2, vec3(0.0f, 1.0f, 1.0f));
+    if (f0 < 0.0f && f1 < 0.0f && f2 < 0.0f && f3 < 0.0f) return 0.0f;
+    vec2 leave = vec2(0.0f, 0.0f);
+    vec2 enter = vec2(0.0f, 0.0f);
+    float area2 = 0.0f;
+    partsAxisSide(vec2(0.0f, 0.0f), vec2(1.0f, 0.0f), f0, f1, leave, enter);
+    area2 += coverageSquareEdge(vec2(1.0f, 0.0f), vec2(1.0f, 1.0f), f1, f2, h0, h1, leave, enter);
+    area2 += coverageSquareEdge(vec2(1.0f, 1.0f), vec2(0.0f, 1.0f), f2, f3, h0, h1, leave, enter);
+    partsAxisSide(vec2(0.0f, 1.0f), vec2(0.0f, 0.0f), f3, f0, leave, enter);
+    area2 += coverageSegment(leave, enter, 0.0f, 1.0f, h0, h1);
+    return 0.5f * abs(area2);
+}
+
+// The segment a -> b (part homogeneous coordinates, w >= 0) clipped to the part [0, 1]^2 (the
+// half-planes x >= 0, y >= 0, w - x >= 0, w - y >= 0, closed), bounds of its finite end points;
+// (1, 1, 0, 0) when it misses.
+vec4 partsEdgeBounds(vec3 a, vec3 b) {
+    vec4 r = vec4(1.0f, 1.0f, 0.0f, 0.0f);
+    float lo = 0.0f;
+    float hi = 1.0f;
+    if (!coverageClipLe0(-a.x, -b.x, lo, hi)) return r;
+    if (!coverageClipLe0(-a.y, -b.y, lo, hi)) return r;
+    if (!coverageClipLe0(a.x - a.z, b.x - b.z, lo, hi)) return r;
+    if (!coverageClipLe0(a.y - a.z, b.y - b.z, lo, hi)) return r;
+    vec3 x0 = a + lo * (b - a);
+    vec3 x1 = a + hi * (b - a);
+    if (x0.z > 0.0f) {
+        vec2 y0 = vec2(x0.x / x0.z, x0.y / x0.z);
+        r = vec4(y0, y0);
+    }
+    if (x1.z > 0.0f) {
+        vec2 y1 = vec2(x1.x / x1.z, x1.y / x1.z);
+        r = r.x > r.z ? vec4(y1, y1)
+                      : vec4(min(r.x, y1.x), min(r.y, y1.y), max(r.z, y1.x), max(r.w, y1.y));
+    }
+    return r;
+}
+
+// Whether the corner c moved by ε d1 + ε² d2 (into the part) lies in dot(h, (x, y, 1)) >= 0:
+// the model's tie rule, so that two edges sharing a projected vertex never both count a corner
+// on their common ray, nor neither.
+bool partsInside(vec3 h, vec2 c, vec2 d1, vec2 d2) {
+    float f = dot(h, vec3(c, 1.0f));
+    if (f != 0.0f) return f > 0.0f;
+    float g1 = h.x * d1.x + h.y * d1.y;
+    if (g1 != 0.0f) return g1 > 0.0f;
+    return h.x * d2.x + h.y * d2.y > 0.0f;
+}
+
+// edgeSign when the corner c (moved as partsInside says) lies in R_e, else 0.
+float partsCornerWinding(vec3 h0, vec3 h1, vec3 h2, vec2 c, vec2 d1, vec2 d2, float edgeSign) {
+    if (!partsInside(h0, c, d1, d2)) return 0.0f;
+    if (!partsInside(h1, c, d1, d2)) return 0.0f;
+    if (!partsInside(h2, c, d1, d2)) return 0.0f;
+    return edgeSign;
+}
+
+} // namespace
+
+// All four quadrants for the directed edge e0 -> e1 seen from p; the projection is
+// edgeCoverage's, statement for statement.
+EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light) {
+    EdgeParts4 parts;
+    parts.coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    for (int q = 0; q < 4; ++q) {
+        parts.bounds[q] = vec4(1.0f, 1.0f, 0.0f, 0.0f);
+        parts.windings[q] = vec3(0.0f, 0.0f, 0.0f);
+    }
+    vec3 pc = p - light.c;
+    vec3 k0 = e0 - light.c;
+    vec3 k1 = e1 - light.c;
+    vec3 d0 = e0 - p;
+    vec3 d1 = e1 - p;
+    float hp = dot(light.n, pc);
+    if (!(abs(hp) > 0.0f)) return parts;
+    float z0 = dot(light.n, k0) / hp;
+    float z1 = dot(light.n, k1) / hp;
+    float w0 = -dot(light.n, d0) / hp;
+    float w1 = -dot(light.n, d1) / hp;
+    float lo = 0.0f;
+    float hi = 1.0f;
+    if (!coverageClipLe0(-z0, -z1, lo, hi)) return parts;
+    if (!coverageClipLe0(-w0, -w1, lo, hi)) return parts;
+    vec3 q0 = coverageProject(lo, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    vec3 q1 = coverageProject(hi, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    // The bounds need only the segment; the rest needs R_e to have area.
+    for (int q = 0; q < 4; ++q) {
+        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        parts.bounds[q] = partsEdgeBounds(partsHalf(q0, sq), partsHalf(q1, sq));
+    }
+    float cr = q0.x * q1.y - q0.y * q1.x;
+    if (cr == 0.0f) return parts;
+    float sg = cr > 0.0f ? 1.0f : -1.0f;
+    vec3 line = cross(q0, q1);
+    vec3 h0 = vec3(-sg * q0.y, sg * q0.x, 0.0f);
+    vec3 h1 = vec3(sg * q1.y, -sg * q1.x, 0.0f);
+    vec3 h2 = -sg * line;
+    float edgeSign = hp > 0.0f ? sg : -sg;
+    for (int q = 0; q < 4; ++q) {
+        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        vec3 g0 = partsHalf(h0, sq);
+        vec3 g1 = partsHalf(h1, sq);
+        vec3 g2 = partsHalf(h2, sq);
+        parts.coverage[q] = edgeSign * partsQuadrantArea(g0, g1, g2);
+        // Corners (1, 0), (1, 1), (0, 1); d1 towards the part's centroid, d2 along the side to
+        // the next corner counter-clockwise (the model's cornerWinding).
+        parts.windings[q] =
+            vec3(partsCornerWinding(g0, g1, g2, vec2(1.0f, 0.0f), vec2(-0.5f, 0.5f),
+                                    vec2(0.0f, 1.0f), edgeSign),
+                 partsCornerWinding(g0, g1, g2, vec2(1.0f, 1.0f), vec2(-0.5f, -0.5f),
+                                    vec2(-1.0f, 0.0f), edgeSign),
+                 partsCornerWinding(g0, g1, g2, vec2(0.0f, 1.0f), vec2(0.5f, -0.5f),
+                                    vec2(0.0f, -1.0f), edgeSign));
+    }
+    return parts;
+}
+
+} // namespace geometry

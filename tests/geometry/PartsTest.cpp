@@ -1,0 +1,236 @@
+// The float per-quadrant twin (geometry/Parts.h, shaders/lib/Parts.glsl) against the double model
+// (geometry/BlendModel.h: projectEdge, partCoverage, partEdgeBounds, cornerWinding, R = 4) on
+// random lights, edges and points, and against the float edgeCoverage (Σ over the quadrants / 4).
+// Max errors are printed.
+#include <geometry/BlendModel.h>
+#include <geometry/Coverage.h>
+#include <geometry/Parts.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace {
+
+using namespace geometry::blend;
+using geometry::RectLight;
+using glm::vec3;
+
+struct Rng {
+    std::mt19937_64 engine;
+    explicit Rng(std::uint64_t seed) : engine(seed) {}
+    double uniform(double lo, double hi) {
+        return std::uniform_real_distribution<double>(lo, hi)(engine);
+    }
+    dvec3 direction() {
+        for (;;) {
+            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+            const double l = glm::length(v);
+            if (l > 0.1 && l <= 1.0) return v / l;
+        }
+    }
+};
+
+struct Case {
+    RectLight light;
+    vec3 p, e0, e1;
+    double magnification = 1.0; // 1 / the nearest end's distance to p's level (relative to p's)
+};
+
+// A random light; p and the edge on the same side of it, the edge between them mostly (some
+// edges reach beyond p's level or through the light's plane: clipped).
+Case randomCase(Rng& rng) {
+    Case k;
+    k.light.center = vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3));
+    const dvec3 a = rng.direction();
+    const dvec3 b = glm::normalize(glm::cross(a, rng.direction()));
+    k.light.u = vec3(a * rng.uniform(0.2, 1.5));
+    k.light.v = vec3(b * rng.uniform(0.2, 1.5));
+    const LightFrame f = lightFrame(k.light);
+    auto at = [&](double s, double t, double h) { return f.c + s * f.u + t * f.v + h * f.n; };
+    const double side = rng.uniform(0, 1) < 0.5 ? -1.0 : 1.0;
+    const double hp = rng.uniform(1, 6);
+    k.p = vec3(at(rng.uniform(-3, 3), rng.uniform(-3, 3), side * hp));
+    // End points projecting near the light (exactly onto light point y where between the two).
+    auto end = [&] {
+        const dvec3 y = at(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5), 0.0);
+        const double lambda = rng.uniform(-0.1, 1.1);
+        k.magnification = std::max(k.magnification, 1.0 / std::max(std::abs(1.0 - lambda), 1e-4));
+        return vec3(y + lambda * (dvec3(k.p) - y));
+    };
+    k.e0 = end();
+    k.e1 = end();
+    return k;
+}
+
+// Distance (light coordinates, the double model's) of the light point of corner k of quadrant q
+// to the nearest boundary line of R_e: where float may decide the corner otherwise.
+double cornerMargin(const ProjectedEdge& edge, const Part& part, int k) {
+    const dvec3 y = part.fromPart * dvec3(part.corners[k], 1.0);
+    double m = 1e300;
+    for (const dvec3& h : edge.halves)
+        m = std::min(m, std::abs(glm::dot(h, y)) / glm::length(glm::dvec2(h)));
+    return m;
+}
+
+} // namespace
+
+TEST(PartsTest, FloatTwinMatchesTheDoubleModel) {
+    // Float keeps ~7 digits; the projected coordinates are of the light's size for ends at least
+    // p's height from p's level (measured: coverage 1.1e-5, bounds 1.6e-5 with ends within 0.9
+    // of the way to p; printed below as error / magnification).
+    constexpr double kCoverageTolerance = 1e-4; // of a quadrant's area
+    constexpr double kSumTolerance = 2e-6;      // Σ / 4 against the float edgeCoverage
+    constexpr double kBoundsTolerance = 1e-4;   // part coordinates
+    constexpr double kCornerMargin = 1e-4;      // corners farther from R_e's lines never flip
+    // The tolerances above are for ends at least p's height away from p's level; an end at
+    // 1 / m of it magnifies the projection's rounding m times: they scale with m up to this.
+    constexpr double kMaxMagnification = 1e3;
+    constexpr int kItems = 20000;
+    Rng rng(0x9a27);
+    double maxCoverage = 0.0, maxSum = 0.0, maxBounds = 0.0, maxCoverageRel = 0.0;
+    double maxBoundsRel = 0.0;
+    int nonZero = 0, nonEmpty = 0, emptinessFlips = 0, inside = 0, windingFlips = 0;
+    int windingFlipsFarFromLines = 0;
+    int degenerate = 0;
+    double maxDegenerateCoverage = 0.0;
+    for (int n = 0; n < kItems; ++n) {
+        const Case k = randomCase(rng);
+        const geometry::CoverageLight cl =
+            geometry::coverageLight(k.light.center, k.light.u, k.light.v);
+        const geometry::EdgeParts4 twin = geometry::edgeParts4(k.p, k.e0, k.e1, cl);
+        const ProjectedEdge edge =
+            projectEdge(lightFrame(k.light), dvec3(k.p), dvec3(k.e0), dvec3(k.e1));
+        const float cov = geometry::edgeCoverage(k.p, k.e0, k.e1, cl);
+        const double sum =
+            (double(twin.coverage[0]) + twin.coverage[1] + twin.coverage[2] + twin.coverage[3]) /
+            4.0;
+        maxSum = std::max(maxSum, std::abs(sum - double(cov)));
+        EXPECT_NEAR(sum, cov, kSumTolerance) << n;
+        for (int q = 0; q < 4; ++q) {
+            const Part part = radialPart(4, q);
+            const double exact = partCoverage(edge, part);
+            nonZero += exact != 0.0;
+            const double err = std::abs(double(twin.coverage[q]) - exact);
+            if (k.magnification > kMaxMagnification) {
+                // An end within 1e-3 of p's height of p: the projection itself is ill-conditioned
+                // in float (edgeCoverage's too); only measured.
+                ++degenerate;
+                maxDegenerateCoverage = std::max(maxDegenerateCoverage, err);
+                continue;
+            }
+            maxCoverage = std::max(maxCoverage, err);
+            maxCoverageRel = std::max(maxCoverageRel, err / k.magnification);
+            EXPECT_LE(err, kCoverageTolerance * k.magnification) << n << " quadrant " << q;
+
+            const Rect r = partEdgeBounds(edge, part);
+            const glm::vec4 b = twin.bounds[q];
+            const bool twinEmpty = b.x > b.z || b.y > b.w;
+            if (r.empty() != twinEmpty) {
+                // Only an edge grazing the part (its extent there below the tolerance).
+                ++emptinessFlips;
+                const double extent =
+                    twinEmpty ? std::max(r.width(), r.height()) : std::max(b.z - b.x, b.w - b.y);
+                EXPECT_LE(extent, kBoundsTolerance) << n << " quadrant " << q;
+            } else if (!r.empty()) {
+                ++nonEmpty;
+                const double d = std::max({std::abs(b.x - r.minX), std::abs(b.y - r.minY),
+                                           std::abs(b.z - r.maxX), std::abs(b.w - r.maxY)});
+                maxBounds = std::max(maxBounds, d);
+                maxBoundsRel = std::max(maxBoundsRel, d / k.magnification);
+                EXPECT_LE(d, kBoundsTolerance * k.magnification) << n << " quadrant " << q;
+            } else {
+                EXPECT_EQ(b, glm::vec4(1.0f, 1.0f, 0.0f, 0.0f));
+            }
+
+            for (int c = 1; c < 4; ++c) {
+                const int model = cornerWinding(edge, part, c);
+                const int got = static_cast<int>(twin.windings[q][c - 1]);
+                EXPECT_EQ(float(got), twin.windings[q][c - 1]);
+                inside += model != 0;
+                if (model == got) continue;
+                ++windingFlips;
+                if (!edge.region || cornerMargin(edge, part, c) > kCornerMargin * k.magnification) {
+                    ++windingFlipsFarFromLines;
+                    ADD_FAILURE() << n << " quadrant " << q << " corner " << c << ": model "
+                                  << model << " twin " << got;
+                }
+            }
+        }
+    }
+    std::printf("[ parts    ] %d edges: %d quadrant coverages non-zero, max |float - double| "
+                "%.2g; max |Σ/4 - edgeCoverage| %.2g\n",
+                kItems, nonZero, maxCoverage, maxSum);
+    std::printf("[ parts    ] %d quadrants with an end within 1e-3 of p's level: max coverage "
+                "error %.2g (not checked)\n",
+                degenerate, maxDegenerateCoverage);
+    std::printf("[ parts    ] max error / magnification: coverage %.2g, bounds %.2g\n",
+                maxCoverageRel, maxBoundsRel);
+    std::printf("[ parts    ] bounds: %d non-empty, max |diff| %.2g, %d emptiness flips; "
+                "corners: %d in R_e, %d flips (%d far from R_e's lines)\n",
+                nonEmpty, maxBounds, emptinessFlips, inside, windingFlips,
+                windingFlipsFarFromLines);
+    EXPECT_GT(nonZero, kItems);      // most edges cover some of several quadrants
+    EXPECT_GT(nonEmpty, kItems / 2); // and cross some quadrant
+    EXPECT_GT(inside, kItems / 4);   // corners in R_e are common
+    EXPECT_LE(emptinessFlips, kItems / 1000);
+    EXPECT_LE(windingFlips, kItems / 1000);
+}
+
+// Exact configurations (the light the unit square at the origin, p one unit below, edges half-way:
+// the projection is 2 x, exact in float): edges of a closed loop around a quadrant's corner and
+// loops whose projected vertices lie exactly on part corners and on the light's axes. The twin's
+// windings are the model's (its tie rule), and over a closed loop every corner's sum is within
+// [-1, 1].
+TEST(PartsTest, TiesOnCornersAndAxesAsTheModel) {
+    RectLight light;
+    light.center = vec3(0.0f);
+    light.u = vec3(1.0f, 0.0f, 0.0f);
+    light.v = vec3(0.0f, 1.0f, 0.0f);
+    const geometry::CoverageLight cl = geometry::coverageLight(light.center, light.u, light.v);
+    const LightFrame f = lightFrame(light);
+    const vec3 p(0.0f, 0.0f, -1.0f);
+    // Projected loops (light coordinates), counter-clockwise; vertices on corners and axes.
+    const std::vector<std::vector<glm::vec2>> loops = {
+        {{1, 0}, {1, 1}, {0, 1}, {0.5f, 0.5f}},         // corners of quadrant 0 as vertices
+        {{1, -1}, {1, 1}, {-1, 1}, {-1, -1}},           // the light's own outline
+        {{0.5f, -0.5f}, {1, 0}, {0.5f, 1.5f}, {-1, 0}}, // through (1, 0) and (-1, 0)
+        {{0.25f, 0.25f}, {1.5f, 0.25f}, {1.5f, 1.0f}, {0.25f, 1.0f}}, // a side through (1, 1)
+    };
+    int checked = 0;
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+        const auto& loop = loops[l];
+        for (int q = 0; q < 4; ++q) {
+            const Part part = radialPart(4, q);
+            std::array<int, 3> sumModel{}, sumTwin{};
+            std::array<float, 4> coverage{};
+            double coverageModel = 0.0;
+            for (std::size_t i = 0; i < loop.size(); ++i) {
+                const glm::vec2 a = loop[i], b = loop[(i + 1) % loop.size()];
+                const vec3 e0(0.5f * a.x, 0.5f * a.y, -0.5f), e1(0.5f * b.x, 0.5f * b.y, -0.5f);
+                const geometry::EdgeParts4 twin = geometry::edgeParts4(p, e0, e1, cl);
+                const ProjectedEdge edge = projectEdge(f, dvec3(p), dvec3(e0), dvec3(e1));
+                for (int c = 1; c < 4; ++c) {
+                    sumModel[c - 1] += cornerWinding(edge, part, c);
+                    sumTwin[c - 1] += static_cast<int>(twin.windings[q][c - 1]);
+                    EXPECT_EQ(float(cornerWinding(edge, part, c)), twin.windings[q][c - 1])
+                        << "loop " << l << " edge " << i << " quadrant " << q << " corner " << c;
+                    ++checked;
+                }
+                coverage[q] += twin.coverage[q];
+                coverageModel += partCoverage(edge, part);
+            }
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_LE(std::abs(sumTwin[c]), 1) << "loop " << l << " quadrant " << q;
+            }
+            EXPECT_EQ(sumModel, sumTwin);
+            EXPECT_NEAR(coverage[q], coverageModel, 1e-6) << "loop " << l << " quadrant " << q;
+        }
+    }
+    EXPECT_EQ(checked, 3 * 4 * 16);
+}

@@ -1,0 +1,225 @@
+// shaders/lib/Parts.glsl on the driver: a compute shader runs edgeParts4 over random lights,
+// edges and points and the results match the float C++ twin (geometry/Parts.h) up to the driver's
+// rounding (fused multiply-adds, its own division).
+#include "GlTestEnv.h"
+
+#include <geometry/Coverage.h>
+#include <geometry/Parts.h>
+#include <gpu/Objects.h>
+#include <gpu/ShaderLoader.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using glm::dvec3;
+using glm::vec3;
+using glm::vec4;
+
+// The compute shader as a file (the loader resolves `#include "lib/..."` in the shaders/ root).
+class ScratchFile {
+public:
+    ScratchFile(const std::string& name, const std::string& text) {
+        static std::atomic<int> counter{0};
+        mDir = fs::temp_directory_path() / ("penumbra-parts-shader-" + std::to_string(::getpid()) +
+                                            "-" + std::to_string(counter++));
+        fs::create_directories(mDir);
+        std::ofstream(mDir / name) << text;
+        mPath = (mDir / name).string();
+    }
+    ~ScratchFile() {
+        std::error_code ec;
+        fs::remove_all(mDir, ec);
+    }
+    const std::string& path() const { return mPath; }
+
+private:
+    fs::path mDir;
+    std::string mPath;
+};
+
+// vec4s per item: coverage, bounds[4], (windings[q], 0) for q = 0..3.
+constexpr int kStride = 9;
+
+const char* kPartsComp = R"(#include "lib/Coverage.glsl"
+#include "lib/Parts.glsl"
+layout(local_size_x = 64) in;
+struct PartsInput {
+    vec4 e0;
+    vec4 e1;
+    vec4 c;
+    vec4 u;
+    vec4 v;
+    vec4 p;
+};
+layout(std430, binding = 0) readonly buffer Inputs { PartsInput inputs[]; };
+layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
+uniform uint count;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    PartsInput x = inputs[i];
+    CoverageLight light = coverageLight(x.c.xyz, x.u.xyz, x.v.xyz);
+    EdgeParts4 parts = edgeParts4(x.p.xyz, x.e0.xyz, x.e1.xyz, light);
+    uint base = i * 9u;
+    outputs[base] = parts.coverage;
+    for (int q = 0; q < 4; ++q) {
+        outputs[base + 1u + uint(q)] = parts.bounds[q];
+        outputs[base + 5u + uint(q)] = vec4(parts.windings[q], 0.0);
+    }
+}
+)";
+
+struct PartsInput {
+    vec4 e0, e1, c, u, v, p;
+};
+static_assert(sizeof(PartsInput) == 6 * 16, "PartsInput must match std430");
+
+struct Rng {
+    std::mt19937_64 engine;
+    explicit Rng(std::uint64_t seed) : engine(seed) {}
+    double uniform(double lo, double hi) {
+        return std::uniform_real_distribution<double>(lo, hi)(engine);
+    }
+    dvec3 direction() {
+        for (;;) {
+            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+            const double l = glm::length(v);
+            if (l > 0.1 && l <= 1.0) return v / l;
+        }
+    }
+};
+
+// A random light; p and the edge on the same side of it, the edge mostly between them.
+// `magnification`: 1 / the nearest end's distance to p's level (relative to p's height).
+PartsInput randomInput(Rng& rng, double& magnification) {
+    magnification = 1.0;
+    const dvec3 c(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3));
+    const dvec3 a = rng.direction();
+    const dvec3 b = glm::normalize(glm::cross(a, rng.direction()));
+    const dvec3 u = a * rng.uniform(0.2, 1.5), v = b * rng.uniform(0.2, 1.5);
+    const dvec3 n = glm::normalize(glm::cross(u, v));
+    auto at = [&](double s, double t, double h) { return c + s * u + t * v + h * n; };
+    const double side = rng.uniform(0, 1) < 0.5 ? -1.0 : 1.0;
+    const double hp = rng.uniform(1, 6);
+    const dvec3 p = at(rng.uniform(-3, 3), rng.uniform(-3, 3), side * hp);
+    auto end = [&] { // projecting near the light (exactly onto y where between the two)
+        const dvec3 y = at(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5), 0.0);
+        const double lambda = rng.uniform(-0.1, 1.1);
+        magnification = std::max(magnification, 1.0 / std::max(std::abs(1.0 - lambda), 1e-4));
+        return y + lambda * (p - y);
+    };
+    const dvec3 e0 = end(), e1 = end();
+    return {vec4(vec3(e0), 1), vec4(vec3(e1), 1), vec4(vec3(c), 1),
+            vec4(vec3(u), 0),  vec4(vec3(v), 0),  vec4(vec3(p), 1)};
+}
+
+class PartsShaderTest : public GlTest {};
+
+TEST_F(PartsShaderTest, ComputeMatchesTheCppTwin) {
+    ScratchFile file("parts.comp", kPartsComp);
+    gpu::ShaderLoader loader(gpu::defaultShaderDir());
+    gpu::Program program =
+        loader.load({.stages = {{GL_COMPUTE_SHADER, file.path()}}, .label = "parts-check"});
+    ASSERT_TRUE(program);
+
+    Rng rng(0x5a17);
+    constexpr int kItems = 8000;
+    std::vector<PartsInput> inputs;
+    std::vector<double> magnification(kItems);
+    for (int n = 0; n < kItems; ++n)
+        inputs.push_back(randomInput(rng, magnification[n]));
+    inputs[0].e1 = inputs[0].e0; // a degenerate edge: nothing anywhere
+    gpu::Buffer in({.size = inputs.size() * sizeof(PartsInput),
+                    .data = inputs.data(),
+                    .label = "parts-check-in"});
+    gpu::Buffer out({.size = inputs.size() * kStride * sizeof(vec4), .label = "parts-check-out"});
+    glUseProgram(program.id());
+    glProgramUniform1ui(program.id(), program.uniformLocation("count"), kItems);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glDispatchCompute((kItems + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<vec4> gpu(static_cast<std::size_t>(kItems) * kStride);
+    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(vec4)),
+                            gpu.data());
+    glUseProgram(0);
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+    // The driver's rounding against the twin's: a few ulps of the inputs of the projection and
+    // the clip, below the float-vs-double tolerances of tests/geometry/PartsTest.cpp (1e-4),
+    // times the magnification of an end near p's level; ends within 1e-3 of it only counted.
+    constexpr double kTolerance = 1e-5;
+    constexpr double kMaxMagnification = 1e3;
+    int illConditioned = 0;
+    double maxCoverage = 0.0, maxBounds = 0.0; // over magnification
+    int nonZero = 0, nonEmpty = 0, emptinessFlips = 0, windingFlips = 0, inside = 0;
+    int coverageOff = 0, boundsOff = 0;
+    for (int n = 0; n < kItems; ++n) {
+        const PartsInput& x = inputs[n];
+        const vec4* g = gpu.data() + static_cast<std::size_t>(n) * kStride;
+        const geometry::CoverageLight light =
+            geometry::coverageLight(vec3(x.c), vec3(x.u), vec3(x.v));
+        const geometry::EdgeParts4 cpu =
+            geometry::edgeParts4(vec3(x.p), vec3(x.e0), vec3(x.e1), light);
+        if (magnification[n] > kMaxMagnification) {
+            ++illConditioned;
+            continue;
+        }
+        const double tolerance = kTolerance * magnification[n];
+        if (n == 0) {
+            EXPECT_EQ(g[0], vec4(0.0f));
+            for (int q = 0; q < 4; ++q)
+                EXPECT_EQ(g[1 + q], vec4(1.0f, 1.0f, 0.0f, 0.0f));
+        }
+        for (int q = 0; q < 4; ++q) {
+            nonZero += cpu.coverage[q] != 0.0f;
+            const double dc = std::abs(double(g[0][q]) - double(cpu.coverage[q]));
+            maxCoverage = std::max(maxCoverage, dc / magnification[n]);
+            coverageOff += dc > tolerance;
+
+            const vec4 b = g[1 + q], r = cpu.bounds[q];
+            const bool gpuEmpty = b.x > b.z || b.y > b.w, cpuEmpty = r.x > r.z || r.y > r.w;
+            if (gpuEmpty != cpuEmpty) {
+                ++emptinessFlips;
+            } else if (!cpuEmpty) {
+                ++nonEmpty;
+                const vec4 d = glm::abs(b - r);
+                const double m = std::max({d.x, d.y, d.z, d.w});
+                maxBounds = std::max(maxBounds, m / magnification[n]);
+                boundsOff += m > tolerance;
+            }
+
+            for (int c = 0; c < 3; ++c) {
+                inside += cpu.windings[q][c] != 0.0f;
+                windingFlips += g[5 + q][c] != cpu.windings[q][c];
+            }
+        }
+    }
+    std::printf("[ glsl     ] %d edges: coverage %d non-zero, max |gpu - cpu| / magnification %.2g "
+                "(%d over %.0e); "
+                "bounds %d non-empty, max %.2g (%d over), %d emptiness flips; corners %d in R_e, "
+                "%d flips; %d edges with an end within 1e-3 of p's level not compared\n",
+                kItems, nonZero, maxCoverage, coverageOff, kTolerance, nonEmpty, maxBounds,
+                boundsOff, emptinessFlips, inside, windingFlips, illConditioned);
+    EXPECT_GT(nonZero, kItems);
+    EXPECT_GT(nonEmpty, kItems / 2);
+    EXPECT_GT(inside, kItems / 4);
+    // A value within rounding of a threshold (a clip, a corner on R_e's line) may go either way.
+    EXPECT_LE(coverageOff, kItems / 1000);
+    EXPECT_LE(boundsOff, kItems / 1000);
+    EXPECT_LE(emptinessFlips, kItems / 1000);
+    EXPECT_LE(windingFlips, kItems / 1000);
+}
+
+} // namespace
