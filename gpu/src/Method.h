@@ -62,5 +62,6 @@ std::unique_ptr<VisibilityMethod> createReferenceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createRaytraceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createMultiplyWedgesMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createBlendWedgesMethod(const MethodResources&);
 
 } // namespace gpu

@@ -20,7 +20,7 @@ const std::array<MethodInfo, 9> kMethods = {{
     {"wedges-additive", "penumbra wedges, coverage summed (Assarsson & Akenine-Moller 2003)",
      false, createAdditiveWedgesMethod},
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
-     nullptr},
+     createBlendWedgesMethod},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},
     {"occlusion", "occlusion textures (Eisemann & Decoret 2006)", false, nullptr},

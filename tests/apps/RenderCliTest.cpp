@@ -167,7 +167,7 @@ TEST_F(RenderCli, UnknownMethod) {
 }
 
 TEST_F(RenderCli, MethodNotImplementedYetIsAClearError) {
-    expectRejected(write("s.json", kValidScene), "not implemented", "--method wedges-blend");
+    expectRejected(write("s.json", kValidScene), "not implemented", "--method occlusion");
 }
 
 TEST_F(RenderCli, BadSize) {

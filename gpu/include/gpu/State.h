@@ -27,7 +27,7 @@ struct ColorTargetState {
     bool writeR = true, writeG = true, writeB = true, writeA = true;
 };
 
-inline constexpr int kMaxColorTargets = 4;
+inline constexpr int kMaxColorTargets = 8;
 
 // Window-space rectangle (pixels, lower-left origin), used when PipelineState::scissor is set.
 struct ScissorRect {

@@ -26,4 +26,16 @@ void FullscreenPass::execute(const Framebuffer& target, int width, int height,
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+void FullscreenPass::execute(const Framebuffer& target, int width, int height,
+                             const PipelineState& state,
+                             const std::function<void()>& setUniforms) const {
+    applyState(state);
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+    glViewport(0, 0, width, height);
+    glUseProgram(mProgram.id());
+    if (setUniforms) setUniforms();
+    glBindVertexArray(mVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
 } // namespace gpu

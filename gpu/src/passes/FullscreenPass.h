@@ -5,6 +5,8 @@
 #include <gpu/ShaderLoader.h>
 #include <gpu/State.h>
 
+#include <functional>
+
 namespace gpu {
 
 class FullscreenPass {
@@ -14,6 +16,10 @@ public:
     // Optionally scissored to `scissor` (the pass's own state otherwise).
     void execute(const Framebuffer& target, int width, int height,
                  const ScissorRect* scissor = nullptr) const;
+    // With a state of the caller's (e.g. a stencil function chosen per draw) and a hook that
+    // sets uniforms once the program is bound.
+    void execute(const Framebuffer& target, int width, int height, const PipelineState& state,
+                 const std::function<void()>& setUniforms) const;
 
 private:
     Program mProgram;

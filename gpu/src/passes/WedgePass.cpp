@@ -6,11 +6,13 @@
 
 namespace gpu {
 
-WedgePass::WedgePass(const ShaderLoader& shaders)
-    : mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
+WedgePass::WedgePass(const ShaderLoader& shaders, Output output)
+    : mOutput(output), mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
                            .label = "wedge-setup"})),
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
-                                     {GL_FRAGMENT_SHADER, "wedge.frag"}},
+                                     {GL_FRAGMENT_SHADER, output == Output::Parts4
+                                                              ? "wedge-parts.frag"
+                                                              : "wedge.frag"}},
                           .label = "wedges"})),
       mResolve(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-resolve.comp"}},
                              .label = "wedge-resolve"})),
@@ -58,6 +60,14 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
     // Entry faces (uPass 0), then exit faces (uPass 1): wedge.vert.
     for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
         PipelineState state = drawPass == 0 ? kEntryState : kExitState;
+        if (mOutput == Output::Parts4) {
+            // Sums by ADD (coverage, corner windings: targets 0-3), bounds by MIN (4-7).
+            state.independentTargets = true;
+            for (int i = 0; i < 8; ++i)
+                state.targets[i] = ColorTargetState{
+                    .blend = true, .blendEquation = i < 4 ? GLenum(GL_FUNC_ADD) : GLenum(GL_MIN)};
+            for (int i = 0; i < 4; ++i) state.targets[i].blendDst = GL_ONE;
+        }
         if (scissor) {
             state.scissor = true;
             state.scissorRect = *scissor;

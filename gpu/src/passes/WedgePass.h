@@ -63,7 +63,12 @@ public:
         return s;
     }();
 
-    explicit WedgePass(const ShaderLoader& shaders);
+    // What the wedge fragments write: V minus coverage into one float target (additive,
+    // multiply), or the four quadrants' per-part sums and minima into 8 float targets
+    // (wedges-blend: shaders/wedge-parts.frag).
+    enum class Output { Subtract, Parts4 };
+
+    explicit WedgePass(const ShaderLoader& shaders, Output output = Output::Subtract);
 
     // Once per frame before setup(): sizes the wedge buffer for `edgeCount` edges, zeroes the
     // counters, binds both.
@@ -78,6 +83,7 @@ public:
     WedgeCounts counts();
 
 private:
+    Output mOutput;
     Program mSetup, mDraw, mResolve;
     VertexArray mVao;
     Buffer mWedges, mStats;
