@@ -13,7 +13,7 @@ bash scripts/build.sh >/dev/null
 render=build/bin/penumbra-render
 size=${SIZE:-512x512}
 samples=${SAMPLES:-256}
-methods=(${METHODS:-hard wedges-additive wedges-multiply})
+methods=(${METHODS:-hard wedges-additive wedges-multiply wedges-blend})
 if (($# == 0)); then
     set -- data/demo.json data/overlap.json data/plates-three.json data/bars-cross.json \
         data/spheres-nine.json data/torus-box.json ../shared/levels/kaos2.glb

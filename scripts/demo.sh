@@ -8,7 +8,7 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 render=build/bin/penumbra-render
 scene=data/demo.json
-methods=(hard wedges-additive wedges-multiply)
+methods=(hard wedges-additive wedges-multiply wedges-blend)
 echo "== reference: 256 stratified hard-shadow passes =="
 "$render" --scene "$scene" --method reference --samples 256 --size 512x512 --out out/demo-reference
 for m in "${methods[@]}"; do
