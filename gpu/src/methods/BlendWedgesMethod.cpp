@@ -19,7 +19,6 @@
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
-#include "../passes/VolumeStates.h"
 #include "../passes/WedgePass.h"
 #include "../ShaderBindings.h"
 #include "GroupBatches.h"
@@ -82,68 +81,45 @@ public:
         glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, 0, emptyRect);
         glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, 1, zero4);
 
-        auto t0 = Clock::now();
-        const GroupBatches batches = batchGroups(ctx.casters, ctx.casterSubset, ctx.viewProj,
-                                                 t.width, t.height);
-        ctx.addCpuTime("batching", msSince(t0));
-        const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
-        ctx.casters.bind();
-        {
-            ScopedPass pass(&ctx.timers, "wedge-setup");
-            mWedges.beginFrame(ctx.casters.edgeCount());
-            mWedges.setup(runs);
-        }
-        std::uint64_t pixels = 0;
-        for (const GroupBatch& batch : batches.batches) {
-            PipelineState clearState; // colour and stencil writes on, scissored
-            clearState.scissor = true;
-            clearState.scissorRect = batch.rect;
-            {
-                ScopedPass pass(&ctx.timers, "shadow-volume");
-                applyState(clearState);
-                const int zeroStencil = 0;
-                const float sums[4] = {0, 0, 0, 0}, bounds[4] = {1, 1, 0, 0};
-                glClearNamedFramebufferiv(mPartsFbo.id(), GL_STENCIL, 0, &zeroStencil);
-                for (int i = 0; i < 8; ++i)
-                    glClearNamedFramebufferfv(mPartsFbo.id(), GL_COLOR, i, i < 4 ? sums : bounds);
-                mVolumes.drawCentre(mPartsFbo, t, batch.set, &batch.rect);
-            }
-            {
-                ScopedPass pass(&ctx.timers, "wedges");
-                mWedges.draw(mPartsFbo, t, batch.set, &batch.rect);
-            }
-            {
-                ScopedPass pass(&ctx.timers, "blend");
-                for (int i = 0; i < 8; ++i) glBindTextureUnit(TEXUNIT_PARTS0 + i, mParts[i].id());
-                glBindTextureUnit(TEXUNIT_FINAL0, mFinal[0].id());
-                glBindTextureUnit(TEXUNIT_FINAL1, mFinal[1].id());
-                for (int occluded = 0; occluded < 2; ++occluded) {
-                    // The final state is read and written by this pass: every pixel once per
-                    // draw, after the barrier that makes the previous writes visible.
-                    glTextureBarrier();
-                    PipelineState state = occluded ? kBlendOccluded : kBlendLit;
-                    state.scissor = true;
-                    state.scissorRect = batch.rect;
-                    mBlend.execute(mFinalFbo, t.width, t.height, state,
-                                   [&] { glUniform1f(0, float(occluded)); });
-                }
-            }
-            pixels += batch.pixels;
-        }
+        const int zeroStencil = 0;
+        const float sums[4] = {0, 0, 0, 0}, bounds[4] = {1, 1, 0, 0};
+        runSilhouetteBatches(
+            ctx, mVolumes, mWedges, mPartsFbo,
+            {.clear =
+                 [&] {
+                     glClearNamedFramebufferiv(mPartsFbo.id(), GL_STENCIL, 0, &zeroStencil);
+                     for (int i = 0; i < 8; ++i)
+                         glClearNamedFramebufferfv(mPartsFbo.id(), GL_COLOR, i,
+                                                   i < 4 ? sums : bounds);
+                 },
+             .afterVolumes = {},
+             .combine = [&](const GroupBatch& batch) { blend(t, batch); }});
         {
             ScopedPass pass(&ctx.timers, "resolve");
             glTextureBarrier();
             glBindTextureUnit(TEXUNIT_FINAL1, mFinal[1].id());
             mResolve.execute(t.visibilityFbo, t.width, t.height);
         }
-        addWedgeCounters(ctx, mWedges.counts(), runs);
-        ctx.addCounter("groups_culled", batches.culledGroups);
-        ctx.addCounter("groups_drawn", batches.drawnGroups);
-        ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
-        ctx.addCounter("pixels_blended", static_cast<double>(pixels));
     }
 
 private:
+    // Each quadrant of the batch's silhouette state into the final state (blend-parts.frag).
+    void blend(const Targets& t, const GroupBatch& batch) {
+        for (int i = 0; i < 8; ++i) glBindTextureUnit(TEXUNIT_PARTS0 + i, mParts[i].id());
+        glBindTextureUnit(TEXUNIT_FINAL0, mFinal[0].id());
+        glBindTextureUnit(TEXUNIT_FINAL1, mFinal[1].id());
+        for (int occluded = 0; occluded < 2; ++occluded) {
+            // The final state is read and written by this pass: every pixel once per draw,
+            // after the barrier that makes the previous writes visible.
+            glTextureBarrier();
+            PipelineState state = occluded ? kBlendOccluded : kBlendLit;
+            state.scissor = true;
+            state.scissorRect = batch.rect;
+            mBlend.execute(mFinalFbo, t.width, t.height, state,
+                           [&] { glUniform1f(0, float(occluded)); });
+        }
+    }
+
     StencilVolumePass mVolumes;
     WedgePass mWedges;
     FullscreenPass mBlend, mResolve;

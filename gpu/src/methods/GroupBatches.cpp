@@ -2,6 +2,10 @@
 
 #include "MethodUtil.h"
 
+#include "../Method.h"
+#include "../passes/StencilVolumePass.h"
+#include "../passes/WedgePass.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -112,6 +116,49 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
         batch.pixels = std::uint64_t(batch.rect.width) * std::uint64_t(batch.rect.height);
     }
     return out;
+}
+
+void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, WedgePass& wedges,
+                          const Framebuffer& target, const BatchSteps& steps) {
+    const Targets& t = ctx.targets;
+    auto t0 = Clock::now();
+    const GroupBatches batches =
+        batchGroups(ctx.casters, ctx.casterSubset, ctx.viewProj, t.width, t.height);
+    ctx.addCpuTime("batching", msSince(t0));
+    const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
+    ctx.casters.bind();
+    {
+        ScopedPass pass(&ctx.timers, "wedge-setup");
+        wedges.beginFrame(ctx.casters.edgeCount());
+        wedges.setup(runs);
+    }
+    std::uint64_t pixels = 0;
+    for (const GroupBatch& batch : batches.batches) {
+        {
+            ScopedPass pass(&ctx.timers, "shadow-volume");
+            PipelineState clearState; // the defaults write colour and stencil
+            clearState.scissor = true;
+            clearState.scissorRect = batch.rect;
+            applyState(clearState);
+            steps.clear();
+            volumes.drawCentre(target, t, batch.set, &batch.rect);
+        }
+        if (steps.afterVolumes) steps.afterVolumes(batch);
+        {
+            ScopedPass pass(&ctx.timers, "wedges");
+            wedges.draw(target, t, batch.set, &batch.rect);
+        }
+        {
+            ScopedPass pass(&ctx.timers, "blend");
+            steps.combine(batch);
+        }
+        pixels += batch.pixels;
+    }
+    addWedgeCounters(ctx, wedges.counts(), runs);
+    ctx.addCounter("groups_culled", batches.culledGroups);
+    ctx.addCounter("groups_drawn", batches.drawnGroups);
+    ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
+    ctx.addCounter("pixels_blended", static_cast<double>(pixels));
 }
 
 } // namespace gpu

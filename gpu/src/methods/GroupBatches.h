@@ -16,10 +16,15 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
 namespace gpu {
+
+struct FrameContext;
+class StencilVolumePass;
+class WedgePass;
 
 struct GroupBatch {
     DrawSet set;          // the batch's groups' cap triangles and edges
@@ -37,5 +42,18 @@ struct GroupBatches {
 // `tile` pixels per grid cell.
 GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t> casterSubset,
                          const glm::mat4& viewProj, int width, int height, int tile = 16);
+
+// The frame of the per-silhouette methods (multiply, blend): batches; every wedge set up once;
+// then per batch, scissored to it: `clear` (the stencil and the method's per-silhouette targets
+// in `target`, state already scissored), the batch's groups' volumes into `target`'s stencil,
+// `afterVolumes`, their wedges into `target`, and `combine` (into the final buffer). Adds the
+// batch and wedge counters to the report.
+struct BatchSteps {
+    std::function<void()> clear;
+    std::function<void(const GroupBatch&)> afterVolumes; // may be empty
+    std::function<void(const GroupBatch&)> combine;
+};
+void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, WedgePass& wedges,
+                          const Framebuffer& target, const BatchSteps& steps);
 
 } // namespace gpu

@@ -46,51 +46,25 @@ public:
         const float one = 1.0f;
         glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &one);
 
-        auto t0 = Clock::now();
-        const GroupBatches batches = batchGroups(ctx.casters, ctx.casterSubset, ctx.viewProj,
-                                                 t.width, t.height);
-        ctx.addCpuTime("batching", msSince(t0));
-        const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
-        ctx.casters.bind();
-        {
-            ScopedPass pass(&ctx.timers, "wedge-setup");
-            mWedges.beginFrame(ctx.casters.edgeCount());
-            mWedges.setup(runs);
-        }
-        std::uint64_t pixels = 0;
-        for (const GroupBatch& batch : batches.batches) {
-            PipelineState clearState; // the defaults write colour and stencil: for the clears
-            clearState.scissor = true;
-            clearState.scissorRect = batch.rect;
-            {
-                ScopedPass pass(&ctx.timers, "shadow-volume");
-                applyState(clearState); // stencil and colour writes on, scissored
-                const int zeroStencil = 0;
-                const float zero = 0.0f;
-                glClearNamedFramebufferiv(mSilhouetteFbo.id(), GL_STENCIL, 0, &zeroStencil);
-                glClearNamedFramebufferfv(mSilhouetteFbo.id(), GL_COLOR, 0, &zero);
-                mVolumes.drawCentre(mSilhouetteFbo, t, batch.set, &batch.rect);
-            }
-            {
-                ScopedPass pass(&ctx.timers, "accumulate");
-                mAccumulate.execute(mSilhouetteFbo, t.width, t.height, &batch.rect);
-            }
-            {
-                ScopedPass pass(&ctx.timers, "wedges");
-                mWedges.draw(mSilhouetteFbo, t, batch.set, &batch.rect);
-            }
-            {
-                ScopedPass pass(&ctx.timers, "blend");
-                glBindTextureUnit(TEXUNIT_SILHOUETTE, mSilhouette.id());
-                mMultiply.execute(t.visibilityFbo, t.width, t.height, &batch.rect);
-            }
-            pixels += batch.pixels;
-        }
-        addWedgeCounters(ctx, mWedges.counts(), runs);
-        ctx.addCounter("groups_culled", batches.culledGroups);
-        ctx.addCounter("groups_drawn", batches.drawnGroups);
-        ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
-        ctx.addCounter("pixels_blended", static_cast<double>(pixels));
+        const int zeroStencil = 0;
+        const float zero = 0.0f;
+        runSilhouetteBatches(
+            ctx, mVolumes, mWedges, mSilhouetteFbo,
+            {.clear =
+                 [&] {
+                     glClearNamedFramebufferiv(mSilhouetteFbo.id(), GL_STENCIL, 0, &zeroStencil);
+                     glClearNamedFramebufferfv(mSilhouetteFbo.id(), GL_COLOR, 0, &zero);
+                 },
+             .afterVolumes =
+                 [&](const GroupBatch& batch) {
+                     ScopedPass pass(&ctx.timers, "accumulate");
+                     mAccumulate.execute(mSilhouetteFbo, t.width, t.height, &batch.rect);
+                 },
+             .combine =
+                 [&](const GroupBatch& batch) {
+                     glBindTextureUnit(TEXUNIT_SILHOUETTE, mSilhouette.id());
+                     mMultiply.execute(t.visibilityFbo, t.width, t.height, &batch.rect);
+                 }});
     }
 
 private:
