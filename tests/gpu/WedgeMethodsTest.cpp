@@ -393,6 +393,20 @@ TEST_F(AdditiveWedges, MultiplyStrayPixelsAreBounded) {
     EXPECT_LE(off, 3u);
 }
 
+// The model's groups of a scene (lean silhouettes, as the renderer extracts them).
+std::vector<geometry::blend::Group> modelGroups(const geometry::Scene& scene) {
+    std::vector<geometry::blend::Group> groups;
+    for (const auto& object : scene.objects) {
+        if (object.method == geometry::ShadowMethod::None) continue;
+        const geometry::Topology topology(object.mesh);
+        geometry::SilhouetteExtractor extractor(topology);
+        const auto& f =
+            extractor.update(scene.light, scene.bounds(), geometry::SilhouetteSettings::lean());
+        for (auto& g : geometry::blend::silhouetteGroups(f, topology)) groups.push_back(g);
+    }
+    return groups;
+}
+
 // The GPU's multiply against its CPU model at the G-buffer points of the same render:
 // V = Π over groups of clamp(V_hard,s - Σ_s edgeCoverage), V_hard,s from the group's own
 // z-fail count (geometry::blend::centreCount). This checks the batching, the per-batch
@@ -403,15 +417,7 @@ TEST_F(AdditiveWedges, MultiplyEqualsItsCpuModel) {
         const auto scene = geometry::loadScene(testutil::dataPath(sceneFile));
         const Rendered mul = testutil::render(scene, "wedges-multiply", 128);
         const auto light = geometry::blend::lightFrame(scene.light);
-        std::vector<geometry::blend::Group> groups;
-        for (const auto& object : scene.objects) {
-            if (object.method == geometry::ShadowMethod::None) continue;
-            const geometry::Topology topology(object.mesh);
-            geometry::SilhouetteExtractor extractor(topology);
-            const auto& f = extractor.update(scene.light, scene.bounds(),
-                                             geometry::SilhouetteSettings::lean());
-            for (auto& g : geometry::blend::silhouetteGroups(f, topology)) groups.push_back(g);
-        }
+        const std::vector<geometry::blend::Group> groups = modelGroups(scene);
         std::size_t pixels = 0, wrong = 0;
         double maxErr = 0.0;
         for (std::size_t i = 0; i < mul.visibility.data.size(); ++i) {
@@ -467,20 +473,6 @@ TEST_F(AdditiveWedges, PerSilhouetteMethodsOnALevelAreMeasured) {
 }
 
 // ---- wedges-blend: per-silhouette buffers blended with overlap correction ----------------------
-
-// The model's groups of a scene (lean silhouettes, as the renderer extracts them).
-std::vector<geometry::blend::Group> modelGroups(const geometry::Scene& scene) {
-    std::vector<geometry::blend::Group> groups;
-    for (const auto& object : scene.objects) {
-        if (object.method == geometry::ShadowMethod::None) continue;
-        const geometry::Topology topology(object.mesh);
-        geometry::SilhouetteExtractor extractor(topology);
-        const auto& f =
-            extractor.update(scene.light, scene.bounds(), geometry::SilhouetteSettings::lean());
-        for (auto& g : geometry::blend::silhouetteGroups(f, topology)) groups.push_back(g);
-    }
-    return groups;
-}
 
 // The GPU's blend against geometry::blend::blendVisibility (R = 4, Overlap::Paper, 8-bit
 // storage) at the G-buffer points of the same render. The blend is not associative (the final
