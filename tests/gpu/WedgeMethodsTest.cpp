@@ -250,6 +250,12 @@ void expectValidIn(const Rendered& r) {
 
 // Renders V with each wedge method and checks it is finite and within [0, 1] on every surface
 // pixel.
+double counter(const Rendered& r, const std::string& name) {
+    for (const auto& c : r.stats.counters)
+        if (c.name == name) return c.value;
+    return -1.0;
+}
+
 void expectValidVisibility(const geometry::Scene& scene, int size = 64) {
     for (const char* method : {"wedges-additive", "wedges-multiply", "wedges-blend"}) {
         SCOPED_TRACE(method);
@@ -280,6 +286,29 @@ TEST_F(AdditiveWedges, CameraInsideAVolume) {
         "camera": {"eye": [0.0, 0.5, 0.0], "target": [1.5, 0, 0.5], "up": [0, 1, 0], "fov_y_deg": 70},
         "light": {"center": [0, 3, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]},
         "objects": [)") + kPlateAndFloor + "]}"));
+}
+
+TEST_F(AdditiveWedges, PerSilhouetteUmbraWithoutWedgesIsDark) {
+    // The camera inside the plate's umbra (light and plate the same size: the umbra is the prism
+    // |x|, |z| <= 0.5 below the plate), looking straight down: no wedge lies between the camera
+    // and the floor, so no wedge marks these pixels; only the plate's volume reaches them, and
+    // the per-silhouette methods must still combine the group's full occlusion there.
+    const auto scene = sceneFromJson(std::string(R"({
+        "camera": {"eye": [0.0, 0.5, 0.0], "target": [0, 0, 0], "up": [0, 0, -1], "fov_y_deg": 20},
+        "light": {"center": [0, 3, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]},
+        "objects": [)") + kPlateAndFloor + "]}");
+    for (const char* method : {"wedges-multiply", "wedges-blend"}) {
+        SCOPED_TRACE(method);
+        const Rendered r = testutil::render(scene, method, 64);
+        expectValidIn(r);
+        double maxV = 0.0;
+        for (const float v : r.visibility.data)
+            if (std::isfinite(v)) maxV = std::max(maxV, double(v));
+        std::printf("  %s: max V %.4f, %.0f umbra pixels, %.0f touched\n", method, maxV,
+                    counter(r, "pixels_umbra"), counter(r, "pixels_blended"));
+        EXPECT_EQ(maxV, 0.0);
+        EXPECT_GT(counter(r, "pixels_umbra"), 0.5 * 64 * 64);
+    }
 }
 
 TEST_F(AdditiveWedges, LightCloseToAnOccluder) {
@@ -338,12 +367,6 @@ TEST_F(AdditiveWedges, MultiplyRemovesTheLightLeaksWhereHardShadowsOverlap) {
     }
 }
 
-double counter(const Rendered& r, const std::string& name) {
-    for (const auto& c : r.stats.counters)
-        if (c.name == name) return c.value;
-    return -1.0;
-}
-
 TEST_F(AdditiveWedges, MultiplyBatchesGroupsThatCannotInteract) {
     // Passes grow with the overlap depth, not the number of groups: eight small boxes far apart
     // under a small light have disjoint screen rectangles and share one batch; the floor's own
@@ -365,6 +388,14 @@ TEST_F(AdditiveWedges, MultiplyBatchesGroupsThatCannotInteract) {
                 counter(mul, "batches"));
     EXPECT_EQ(counter(mul, "groups_drawn"), 9.0);
     EXPECT_LE(counter(mul, "batches"), 3.0);
+    // Within a batch's rectangle only the pixels its wedges or volumes reach are combined (the
+    // stencil mark): far fewer than the rectangles hold, and some in the umbrae.
+    const double touched = counter(mul, "pixels_blended"), umbra = counter(mul, "pixels_umbra"),
+                 rects = counter(mul, "batch_rect_pixels");
+    std::printf("  combined: %.0f touched + %.0f umbra of %.0f rectangle pixels\n", touched,
+                umbra, rects);
+    EXPECT_GT(touched, 0.0);
+    EXPECT_LT(touched + umbra, 0.5 * rects);
     // And the batched result is the same as multiplying group by group would be: the additive
     // method is exact here (no two groups' penumbrae meet), so the two must agree.
     const Rendered add = testutil::render(scene, "wedges-additive", 128);

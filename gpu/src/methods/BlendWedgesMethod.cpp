@@ -7,8 +7,10 @@
 // - their wedges accumulate, per quadrant, the signed coverage and corner windings (ADD) and the
 //   clipped edge bounds (MIN) in 8 float targets (shaders/wedge-parts.frag): sums and minima need
 //   no read-modify-write, so any fragment order gives the same result;
-// - shaders/blend-parts.frag resolves each quadrant (vCoef = clamp(C + coverage), rectangle =
-//   edge bounds ∪ occluded corners), stores it at 8 bits and blends it into the final state,
+// - where they touched (the stencil mark), shaders/blend-parts.frag resolves each quadrant
+//   (vCoef = clamp(C + coverage), rectangle = edge bounds ∪ occluded corners), stores it at 8
+//   bits and blends it into the final state (in the groups' umbra, where no wedge reached, the
+//   same pass blends the full occlusion the empty sums resolve to with C = 1),
 //   packed 8-bit four to a 32-bit scalar (rectangles: min x | min y | max x | max y rounded
 //   outwards; vCoef), in two RGBA32UI targets read and written by the same pass: each pixel is
 //   written once per draw, after glTextureBarrier (DESIGN.md §4).
@@ -30,26 +32,14 @@ namespace gpu {
 
 namespace {
 
-// The blend pass writes the final state where the stencil says the group's centre is occluded
-// (count != 0) or not (== 0): one draw each.
-constexpr PipelineState blendState(GLenum stencilFunc) {
-    PipelineState s;
-    s.stencilTest = true;
-    s.stencilWriteMask = 0;
-    s.stencilFront = {.func = stencilFunc, .ref = 0};
-    s.stencilBack = {.func = stencilFunc, .ref = 0};
-    return s;
-}
-constexpr PipelineState kBlendLit = blendState(GL_EQUAL);
-constexpr PipelineState kBlendOccluded = blendState(GL_NOTEQUAL);
-
 constexpr std::uint32_t kEmptyRect8 = 0x0000FFFFu; // (1, 1, 0, 0): min 255, max 0
 
 class BlendWedgesMethod final : public VisibilityMethod {
 public:
     explicit BlendWedgesMethod(const MethodResources& r)
         : mVolumes(r.shaders), mWedges(r.shaders, WedgePass::Output::Parts4),
-          mBlend(r.shaders, "blend-parts.frag", "blend-parts", kBlendLit),
+          mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}),
+          mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
           mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{}) {}
 
     void resize(int width, int height) override {
@@ -81,19 +71,24 @@ public:
         glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, 0, emptyRect);
         glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, 1, zero4);
 
-        const int zeroStencil = 0;
         const float sums[4] = {0, 0, 0, 0}, bounds[4] = {1, 1, 0, 0};
+        for (int i = 0; i < 8; ++i)
+            glClearNamedFramebufferfv(mPartsFbo.id(), GL_COLOR, i, i < 4 ? sums : bounds);
         runSilhouetteBatches(
             ctx, mVolumes, mWedges, mPartsFbo,
-            {.clear =
-                 [&] {
-                     glClearNamedFramebufferiv(mPartsFbo.id(), GL_STENCIL, 0, &zeroStencil);
-                     for (int i = 0; i < 8; ++i)
-                         glClearNamedFramebufferfv(mPartsFbo.id(), GL_COLOR, i,
-                                                   i < 4 ? sums : bounds);
+            {.combine =
+                 [&](const GroupBatch&, const PipelineState& stencil, bool centreOccluded) {
+                     blend(t, stencil, centreOccluded);
                  },
-             .afterVolumes = {},
-             .combine = [&](const GroupBatch& batch) { blend(t, batch); }});
+             .reset =
+                 [&](const GroupBatch&, const PipelineState& stencil) {
+                     mReset.execute(mPartsFbo, t.width, t.height, stencil, [&] {
+                         float empty[8][4];
+                         for (int i = 0; i < 8; ++i)
+                             for (int c = 0; c < 4; ++c) empty[i][c] = i < 4 ? sums[c] : bounds[c];
+                         glUniform4fv(0, 8, &empty[0][0]);
+                     });
+                 }});
         {
             ScopedPass pass(&ctx.timers, "resolve");
             glTextureBarrier();
@@ -103,26 +98,22 @@ public:
     }
 
 private:
-    // Each quadrant of the batch's silhouette state into the final state (blend-parts.frag).
-    void blend(const Targets& t, const GroupBatch& batch) {
+    // Each quadrant of the batch's silhouette state into the final state (blend-parts.frag),
+    // where `stencil` selects.
+    void blend(const Targets& t, const PipelineState& stencil, bool centreOccluded) {
         for (int i = 0; i < 8; ++i) glBindTextureUnit(TEXUNIT_PARTS0 + i, mParts[i].id());
         glBindTextureUnit(TEXUNIT_FINAL0, mFinal[0].id());
         glBindTextureUnit(TEXUNIT_FINAL1, mFinal[1].id());
-        for (int occluded = 0; occluded < 2; ++occluded) {
-            // The final state is read and written by this pass: every pixel once per draw,
-            // after the barrier that makes the previous writes visible.
-            glTextureBarrier();
-            PipelineState state = occluded ? kBlendOccluded : kBlendLit;
-            state.scissor = true;
-            state.scissorRect = batch.rect;
-            mBlend.execute(mFinalFbo, t.width, t.height, state,
-                           [&] { glUniform1f(0, float(occluded)); });
-        }
+        // The final state is read and written by this pass: every pixel once per draw, after
+        // the barrier that makes the previous writes visible.
+        glTextureBarrier();
+        mBlend.execute(mFinalFbo, t.width, t.height, withStencil(PipelineState{}, stencil),
+                       [&] { glUniform1f(0, centreOccluded ? 1.0f : 0.0f); });
     }
 
     StencilVolumePass mVolumes;
     WedgePass mWedges;
-    FullscreenPass mBlend, mResolve;
+    FullscreenPass mBlend, mReset, mResolve;
     std::array<Texture, 8> mParts;
     Framebuffer mPartsFbo;
     std::array<Texture, 2> mFinal;

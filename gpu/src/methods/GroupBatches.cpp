@@ -4,6 +4,7 @@
 
 #include "../Method.h"
 #include "../passes/StencilVolumePass.h"
+#include "../passes/VolumeStates.h"
 #include "../passes/WedgePass.h"
 
 #include <algorithm>
@@ -118,6 +119,33 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
     return out;
 }
 
+namespace {
+
+// Stencil states of the steps after the wedges (VolumeStates.h: count in bits 0-6, wedge mark in
+// bit 7; the test is (ref & 0xFF) func (stencil & 0xFF)).
+constexpr PipelineState stencilSelect(GLenum func, GLint ref, GLenum op) {
+    PipelineState s;
+    s.stencilTest = true;
+    s.stencilWriteMask = 0xFF;
+    s.stencilFront = {.func = func, .ref = ref, .depthPass = op};
+    s.stencilBack = s.stencilFront;
+    return s;
+}
+constexpr GLint kMark = GLint(kStencilWedgeMark);
+constexpr PipelineState kTouchedLit = stencilSelect(GL_EQUAL, kMark, GL_KEEP); // == mark
+constexpr PipelineState kTouchedOccluded = stencilSelect(GL_LESS, kMark, GL_KEEP); // > mark
+constexpr PipelineState kTouchedReset = stencilSelect(GL_LEQUAL, kMark, GL_ZERO);  // >= mark
+// After the reset only the untouched pixels with a non-zero count are left.
+constexpr PipelineState kUmbra = stencilSelect(GL_NOTEQUAL, 0, GL_ZERO);
+
+PipelineState scissored(PipelineState s, const ScissorRect& rect) {
+    s.scissor = true;
+    s.scissorRect = rect;
+    return s;
+}
+
+} // namespace
+
 void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, WedgePass& wedges,
                           const Framebuffer& target, const BatchSteps& steps) {
     const Targets& t = ctx.targets;
@@ -131,34 +159,54 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
         ScopedPass pass(&ctx.timers, "wedge-setup");
         wedges.beginFrame(ctx.casters.edgeCount());
         wedges.setup(runs);
+        clearStencil(t);
     }
-    std::uint64_t pixels = 0;
+    // Occlusion queries per batch around its combine draws (touched, umbra), read at the end:
+    // reading each at once would stall the pipeline once per batch.
+    std::vector<Query> touched, umbra;
+    touched.reserve(batches.batches.size());
+    umbra.reserve(batches.batches.size());
+    std::uint64_t rectPixels = 0;
     for (const GroupBatch& batch : batches.batches) {
         {
             ScopedPass pass(&ctx.timers, "shadow-volume");
-            PipelineState clearState; // the defaults write colour and stencil
-            clearState.scissor = true;
-            clearState.scissorRect = batch.rect;
-            applyState(clearState);
-            steps.clear();
-            volumes.drawCentre(target, t, batch.set, &batch.rect);
+            volumes.drawCentre(t.visibilityFbo, t, batch.set, &batch.rect);
         }
-        if (steps.afterVolumes) steps.afterVolumes(batch);
         {
             ScopedPass pass(&ctx.timers, "wedges");
-            wedges.draw(target, t, batch.set, &batch.rect);
+            wedges.draw(target, t, batch.set, &batch.rect, /*markTouched=*/true);
         }
         {
             ScopedPass pass(&ctx.timers, "blend");
-            steps.combine(batch);
+            touched.emplace_back(GL_SAMPLES_PASSED);
+            glBeginQuery(GL_SAMPLES_PASSED, touched.back().id());
+            steps.combine(batch, scissored(kTouchedLit, batch.rect), false);
+            steps.combine(batch, scissored(kTouchedOccluded, batch.rect), true);
+            glEndQuery(GL_SAMPLES_PASSED);
+            steps.reset(batch, scissored(kTouchedReset, batch.rect));
+            umbra.emplace_back(GL_SAMPLES_PASSED);
+            glBeginQuery(GL_SAMPLES_PASSED, umbra.back().id());
+            steps.combine(batch, scissored(kUmbra, batch.rect), true);
+            glEndQuery(GL_SAMPLES_PASSED);
         }
-        pixels += batch.pixels;
+        rectPixels += batch.pixels;
     }
+    auto sum = [](const std::vector<Query>& queries) {
+        std::uint64_t total = 0;
+        for (const Query& q : queries) {
+            GLuint64 samples = 0;
+            glGetQueryObjectui64v(q.id(), GL_QUERY_RESULT, &samples);
+            total += samples;
+        }
+        return total;
+    };
     addWedgeCounters(ctx, wedges.counts(), runs);
     ctx.addCounter("groups_culled", batches.culledGroups);
     ctx.addCounter("groups_drawn", batches.drawnGroups);
     ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
-    ctx.addCounter("pixels_blended", static_cast<double>(pixels));
+    ctx.addCounter("batch_rect_pixels", static_cast<double>(rectPixels));
+    ctx.addCounter("pixels_blended", static_cast<double>(sum(touched)));
+    ctx.addCounter("pixels_umbra", static_cast<double>(sum(umbra)));
 }
 
 } // namespace gpu

@@ -44,15 +44,35 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
                          const glm::mat4& viewProj, int width, int height, int tile = 16);
 
 // The frame of the per-silhouette methods (multiply, blend): batches; every wedge set up once;
-// then per batch, scissored to it: `clear` (the stencil and the method's per-silhouette targets
-// in `target`, state already scissored), the batch's groups' volumes into `target`'s stencil,
-// `afterVolumes`, their wedges into `target`, and `combine` (into the final buffer). Adds the
-// batch and wedge counters to the report.
+// the stencil cleared once; then per batch, scissored to it:
+// 1. the batch's groups' z-fail volumes: the count in the stencil's low bits (VolumeStates.h);
+// 2. their wedges into `target` (the method's per-silhouette targets, holding their empty
+//    values everywhere), marking the touched pixels in the stencil (kStencilWedgeMark);
+// 3. `combine` where a wedge touched, once with the centre lit (count 0) and once occluded,
+//    under the stencil state given (the method adds its own blend state and program);
+// 4. `reset` where a wedge touched (the per-silhouette targets back to their empty values;
+//    the stencil to zero);
+// 5. `combine` with the centre occluded where no wedge touched (the group's umbra: its state
+//    there is the full occlusion), the stencil back to zero.
+// The stencil and the per-silhouette targets are thus clean again after every batch, touched
+// only where the batch drew: no per-batch clears. Where no group's wedge or volume reaches, the
+// final buffer is never touched. Adds the batch and wedge counters to the report
+// ("pixels_blended": pixels of steps 3 and 5 summed over batches, by occlusion queries).
 struct BatchSteps {
-    std::function<void()> clear;
-    std::function<void(const GroupBatch&)> afterVolumes; // may be empty
-    std::function<void(const GroupBatch&)> combine;
+    std::function<void(const GroupBatch&, const PipelineState& stencil, bool centreOccluded)>
+        combine;
+    std::function<void(const GroupBatch&, const PipelineState& stencil)> reset;
 };
+// `base` with the stencil test and scissor of `stencil` (a state given to combine or reset).
+inline PipelineState withStencil(PipelineState base, const PipelineState& stencil) {
+    base.stencilTest = stencil.stencilTest;
+    base.stencilWriteMask = stencil.stencilWriteMask;
+    base.stencilFront = stencil.stencilFront;
+    base.stencilBack = stencil.stencilBack;
+    base.scissor = stencil.scissor;
+    base.scissorRect = stencil.scissorRect;
+    return base;
+}
 void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, WedgePass& wedges,
                           const Framebuffer& target, const BatchSteps& steps);
 

@@ -8,7 +8,7 @@
 namespace gpu {
 
 void clearStencil(const Targets& t) {
-    applyState(kVolumeState); // stencil write mask on for the clear
+    applyState(PipelineState{}); // all stencil bits writable, no scissor
     const int zero = 0;
     glClearNamedFramebufferiv(t.visibilityFbo.id(), GL_STENCIL, 0, &zero);
 }

@@ -1,10 +1,12 @@
 // wedges-multiply: a visibility buffer per silhouette group, combined as V = Π V_s (the
 // independent-occluder combination; Forest et al. 2006 compare against it). Per batch of groups
-// whose screen rectangles do not overlap (GroupBatches.h), scissored to the batch:
-// - the groups' own z-fail volumes into the stencil, V_s = 1 where the count is zero;
-// - their wedges subtract their edges' coverage from V_s (exact for one group: the additive
-//   method's arithmetic, with no other group in the sum);
-// - the final V (cleared to 1) is multiplied by clamp(V_s).
+// whose screen rectangles do not overlap (GroupBatches.h: runSilhouetteBatches), scissored to
+// the batch:
+// - the groups' own z-fail volumes into the stencil (the centre's state);
+// - their wedges subtract their edges' coverage from the silhouette target (0 elsewhere);
+// - where they touched, the final V (cleared to 1) is multiplied by V_s = clamp(lit - Σ
+//   coverage) (exact for one group: the additive method's arithmetic, with no other group in
+//   the sum), and where only the volume reached (the group's umbra), by 0.
 // The wedges of every group are built once per frame (one compute dispatch), not per batch.
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
@@ -27,8 +29,9 @@ constexpr PipelineState kMultiplyState{
 class MultiplyWedgesMethod final : public VisibilityMethod {
 public:
     explicit MultiplyWedgesMethod(const MethodResources& r)
-        : mVolumes(r.shaders), mAccumulate(r.shaders), mWedges(r.shaders),
-          mMultiply(r.shaders, "blend-multiply.frag", "blend-multiply", kMultiplyState) {}
+        : mVolumes(r.shaders), mWedges(r.shaders),
+          mMultiply(r.shaders, "blend-multiply.frag", "blend-multiply", kMultiplyState),
+          mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}) {}
 
     void resize(int width, int height) override {
         mSilhouette = Texture({.width = width, .height = height, .format = GL_R32F,
@@ -46,32 +49,31 @@ public:
         const float one = 1.0f;
         glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &one);
 
-        const int zeroStencil = 0;
         const float zero = 0.0f;
+        glClearTexImage(mSilhouette.id(), 0, GL_RED, GL_FLOAT, &zero);
         runSilhouetteBatches(
             ctx, mVolumes, mWedges, mSilhouetteFbo,
-            {.clear =
-                 [&] {
-                     glClearNamedFramebufferiv(mSilhouetteFbo.id(), GL_STENCIL, 0, &zeroStencil);
-                     glClearNamedFramebufferfv(mSilhouetteFbo.id(), GL_COLOR, 0, &zero);
-                 },
-             .afterVolumes =
-                 [&](const GroupBatch& batch) {
-                     ScopedPass pass(&ctx.timers, "accumulate");
-                     mAccumulate.execute(mSilhouetteFbo, t.width, t.height, &batch.rect);
-                 },
-             .combine =
-                 [&](const GroupBatch& batch) {
+            {.combine =
+                 [&](const GroupBatch&, const PipelineState& stencil, bool centreOccluded) {
                      glBindTextureUnit(TEXUNIT_SILHOUETTE, mSilhouette.id());
-                     mMultiply.execute(t.visibilityFbo, t.width, t.height, &batch.rect);
+                     mMultiply.execute(t.visibilityFbo, t.width, t.height,
+                                       withStencil(kMultiplyState, stencil), [&] {
+                         glUniform1f(0, centreOccluded ? 0.0f : 1.0f);
+                     });
+                 },
+             .reset =
+                 [&](const GroupBatch&, const PipelineState& stencil) {
+                     mReset.execute(mSilhouetteFbo, t.width, t.height, stencil, [&] {
+                         const float empty[4] = {0, 0, 0, 0};
+                         glUniform4fv(0, 1, empty);
+                     });
                  }});
     }
 
 private:
     StencilVolumePass mVolumes;
-    AccumulatePass mAccumulate;
     WedgePass mWedges;
-    FullscreenPass mMultiply;
+    FullscreenPass mMultiply, mReset;
     Texture mSilhouette;
     Framebuffer mSilhouetteFbo;
 };

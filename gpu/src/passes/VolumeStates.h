@@ -8,12 +8,18 @@ namespace gpu {
 // z-fail (Carmack): count volume faces *behind* the visible surface, +1 for back faces (the eye
 // ray leaves a volume there) and -1 for front faces; the camera may sit inside a volume.
 // Wrapping ops: counts may go negative transiently; only the final zero/non-zero matters.
+// The count lives in the low 7 bits (mod 128: the write mask keeps the wrap there); bit 7 is the
+// per-silhouette methods' mark of the pixels their wedges touched (GroupBatches.h).
+inline constexpr GLuint kStencilCountMask = 0x7F;
+inline constexpr GLuint kStencilWedgeMark = 0x80;
+
 inline constexpr PipelineState kVolumeState{
     .depthTest = true,
     .depthFunc = GL_GREATER,
     .depthWrite = false,
     .colorWrite = false,
     .stencilTest = true,
+    .stencilWriteMask = kStencilCountMask,
     .stencilFront = {.func = GL_ALWAYS, .depthFail = GL_DECR_WRAP},
     .stencilBack = {.func = GL_ALWAYS, .depthFail = GL_INCR_WRAP},
     .cull = false,

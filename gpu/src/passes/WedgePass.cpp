@@ -1,6 +1,7 @@
 #include "WedgePass.h"
 
 #include "../ShaderBindings.h"
+#include "VolumeStates.h"
 
 #include <algorithm>
 
@@ -45,7 +46,7 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
 }
 
 void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
-                     const ScissorRect* scissor) {
+                     const ScissorRect* scissor, bool markTouched) {
     if (set.edgeFirst.empty()) return;
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, t.width, t.height);
@@ -67,6 +68,15 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
                 state.targets[i] = ColorTargetState{
                     .blend = true, .blendEquation = i < 4 ? GLenum(GL_FUNC_ADD) : GLenum(GL_MIN)};
             for (int i = 0; i < 4; ++i) state.targets[i].blendDst = GL_ONE;
+        }
+        if (markTouched) {
+            const StencilFace mark{.func = GL_ALWAYS,
+                                   .ref = GLint(kStencilWedgeMark),
+                                   .depthPass = GL_REPLACE};
+            state.stencilTest = true;
+            state.stencilWriteMask = kStencilWedgeMark;
+            state.stencilFront = mark;
+            state.stencilBack = mark;
         }
         if (scissor) {
             state.scissor = true;

@@ -75,9 +75,13 @@ public:
     void beginFrame(std::uint32_t edgeCount);
     void setup(std::span<const CasterRange> runs);
     // Wedges of `set`'s edges into `target` (V there minus coverage; the target must hold the
-    // shared depth-stencil attachment), optionally scissored.
+    // shared depth-stencil attachment), optionally scissored. `markTouched`: every fragment that
+    // passes the depth test also sets the stencil's kStencilWedgeMark bit (VolumeStates.h), for
+    // the per-silhouette methods, which then combine only where a wedge reached (a superset of
+    // the pixels with non-zero coverage: the mark happens at the early test, before the hull
+    // test may discard).
     void draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
-              const ScissorRect* scissor = nullptr);
+              const ScissorRect* scissor = nullptr, bool markTouched = false);
     void resolve(const Targets& t);
     // Reads the counters back (waits for the GPU).
     WedgeCounts counts();
