@@ -24,6 +24,8 @@
 #include "GroupBatches.h"
 #include "MethodUtil.h"
 
+#include <geometry/Error.h>
+
 #include <array>
 
 namespace gpu {
@@ -50,7 +52,13 @@ public:
     explicit BlendWedgesMethod(const MethodResources& r)
         : mVolumes(r.shaders), mWedges(r.shaders, WedgePass::Output::Parts4),
           mBlend(r.shaders, "blend-parts.frag", "blend-parts", kBlendLit),
-          mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{}) {}
+          mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{}) {
+        if (parameterValue(r.parameters, "parts") != "4" ||
+            parameterValue(r.parameters, "bits") != "8" ||
+            parameterValue(r.parameters, "overlap") != "paper")
+            throw geometry::InputError("wedges-blend: only parts=4, bits=8, overlap=paper run on "
+                                       "the GPU yet");
+    }
 
     void resize(int width, int height) override {
         std::vector<FramebufferAttachment> parts;
