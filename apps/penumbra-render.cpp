@@ -25,6 +25,7 @@
 #include <optional>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -69,12 +70,23 @@ struct Options {
     int frames = 1;
     std::uint32_t seed = 1;
     std::string comparePath;
+    std::vector<std::string> parameters; // --param NAME=VALUE, in the order given
     bool quiet = false;
 };
+
+// A resolved parameter's value for report.json: a number when it is an integer.
+nlohmann::json parameterJson(const std::string& value) {
+    static const std::regex integer(R"(-?\d{1,9})");
+    if (std::regex_match(value, integer)) return std::stoi(value);
+    return value;
+}
 
 int run(const Options& opt) {
     // Everything that can be wrong with the input is checked before anything is written.
     const gpu::MethodInfo& method = gpu::findMethod(opt.methodName);
+    std::vector<gpu::ParameterValue> given;
+    for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
+    const std::vector<gpu::ParameterValue> parameters = gpu::resolveParameters(method, given);
     const auto [width, height] = parseSize(opt.size);
     if (opt.samples < 1 || opt.samples > (1 << 20))
         throw geometry::InputError("--samples must be between 1 and 1048576");
@@ -111,6 +123,7 @@ int run(const Options& opt) {
     settings.height = height;
     settings.samples = opt.samples;
     settings.seed = opt.seed;
+    settings.parameters = given;
     if (!opt.quiet && method.name == "reference")
         settings.progress = [tty = isatty(fileno(stderr)) != 0](int done, int total) {
             // One line per update when logged (CI), an updating line on a terminal.
@@ -145,6 +158,8 @@ int run(const Options& opt) {
     report["parameters"] = {{"samples", method.usesSamples ? opt.samples : 1},
                             {"seed", opt.seed},
                             {"frames", opt.frames}};
+    for (const gpu::ParameterValue& p : parameters) // every one the method has, as used
+        report["parameters"][p.name] = parameterJson(p.value);
     report["size"] = {width, height};
     auto vec = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
     // The view actually rendered (a .glb given directly gets an automatic one).
@@ -233,9 +248,19 @@ int main(int argc, char** argv) {
     CLI::App app{"penumbra-render: headless soft-shadow renderer (surfaceless EGL)"};
     Options opt;
     std::string methods;
-    for (const gpu::MethodInfo& m : gpu::methodTable())
+    for (const gpu::MethodInfo& m : gpu::methodTable()) {
         methods += "\n    " + std::string(m.name) + (m.implemented() ? "" : " (not implemented yet)") +
                    ": " + std::string(m.summary);
+        for (const gpu::MethodParameter& p : m.parameters) {
+            std::string values;
+            for (std::string_view v : p.values) {
+                if (!values.empty()) values += '|';
+                values += v;
+            }
+            methods += "\n        --param " + std::string(p.name) + "=" + values + " (default " +
+                       std::string(p.defaultValue) + "): " + std::string(p.help);
+        }
+    }
     app.add_option("--scene", opt.scenePath, "scene JSON, or a .gltf/.glb to frame automatically")
         ->required();
     app.add_option("--method", opt.methodName, "visibility method, one of:" + methods)->required();
@@ -249,6 +274,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--compare", opt.comparePath,
                    "reference visibility.pfm of the same view: report the error against it");
+    app.add_option("--param", opt.parameters,
+                   "a parameter of the method, NAME=VALUE (repeatable; listed under --method)")
+        ->allow_extra_args(false);
     app.add_flag("--quiet", opt.quiet, "print nothing on success");
     try {
         app.parse(argc, argv);

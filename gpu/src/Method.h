@@ -25,6 +25,8 @@ namespace gpu {
 struct MethodResources {
     const ShaderLoader& shaders;
     const geometry::Scene& scene;
+    // Every parameter the method declares, with its value (resolveParameters: given or default).
+    std::span<const ParameterValue> parameters;
 };
 
 // What a method sees during one frame.

@@ -5,11 +5,25 @@
 
 #include "Method.h"
 
+#include <algorithm>
 #include <array>
 
 namespace gpu {
 
 namespace {
+
+// wedges-blend (Forest et al. 2006): the three parameters of the method's issue.
+constexpr std::string_view kBlendParts[] = {"1", "4", "8"};
+constexpr std::string_view kBlendBits[] = {"8", "16"};
+constexpr std::string_view kBlendOverlap[] = {"paper", "centroid"};
+constexpr MethodParameter kBlendParameters[] = {
+    {"parts", kBlendParts, "4",
+     "radial parts of the light: 1 (the whole light), 4 (quadrants, the paper), 8 (half-quadrants)"},
+    {"bits", kBlendBits, "8", "bits per packed value of the stored states (8: the paper)"},
+    {"overlap", kBlendOverlap, "paper",
+     "overlap estimate: paper (occlusion uniform over each rectangle) or centroid (linear "
+     "densities through the stored centroids)"},
+};
 
 const std::array<MethodInfo, 9> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
@@ -20,7 +34,7 @@ const std::array<MethodInfo, 9> kMethods = {{
     {"wedges-additive", "penumbra wedges, coverage summed (Assarsson & Akenine-Moller 2003)",
      false, createAdditiveWedgesMethod},
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
-     createBlendWedgesMethod},
+     createBlendWedgesMethod, kBlendParameters},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},
     {"occlusion", "occlusion textures (Eisemann & Decoret 2006)", false, nullptr},
@@ -40,6 +54,68 @@ std::string methodNameList(bool implementedOnly) {
         list += m.name;
     }
     return list;
+}
+
+namespace {
+
+std::string joined(std::span<const std::string_view> values, const char* separator) {
+    std::string list;
+    for (std::string_view v : values) {
+        if (!list.empty()) list += separator;
+        list += v;
+    }
+    return list;
+}
+
+} // namespace
+
+std::vector<ParameterValue> resolveParameters(const MethodInfo& method,
+                                              std::span<const ParameterValue> given) {
+    const std::string what = "method '" + std::string(method.name) + "'";
+    std::vector<std::string_view> names;
+    for (const MethodParameter& p : method.parameters) names.push_back(p.name);
+    for (std::size_t i = 0; i < given.size(); ++i) {
+        const ParameterValue& g = given[i];
+        if (method.parameters.empty())
+            throw geometry::InputError(what + " has no parameters (got '" + g.name + "')");
+        const auto declared =
+            std::find_if(method.parameters.begin(), method.parameters.end(),
+                         [&](const MethodParameter& p) { return p.name == g.name; });
+        if (declared == method.parameters.end())
+            throw geometry::InputError("unknown parameter '" + g.name + "' of " + what +
+                                       " (its parameters: " + joined(names, ", ") + ")");
+        if (std::find(declared->values.begin(), declared->values.end(), g.value) ==
+            declared->values.end())
+            throw geometry::InputError("parameter '" + g.name + "' of " + what + ": '" + g.value +
+                                       "' is not allowed (allowed: " +
+                                       joined(declared->values, ", ") + ")");
+        for (std::size_t j = 0; j < i; ++j)
+            if (given[j].name == g.name)
+                throw geometry::InputError("parameter '" + g.name + "' of " + what +
+                                           " is given twice");
+    }
+    std::vector<ParameterValue> resolved;
+    for (const MethodParameter& p : method.parameters) {
+        ParameterValue v{std::string(p.name), std::string(p.defaultValue)};
+        for (const ParameterValue& g : given)
+            if (g.name == p.name) v.value = g.value;
+        resolved.push_back(std::move(v));
+    }
+    return resolved;
+}
+
+ParameterValue parseParameter(std::string_view text) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string_view::npos || eq == 0 || eq + 1 == text.size())
+        throw geometry::InputError("--param: expected NAME=VALUE (e.g. parts=8), got '" +
+                                   std::string(text) + "'");
+    return {std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
+}
+
+std::string_view parameterValue(std::span<const ParameterValue> resolved, std::string_view name) {
+    for (const ParameterValue& p : resolved)
+        if (p.name == name) return p.value;
+    return {};
 }
 
 const MethodInfo& findMethod(std::string_view name) {

@@ -95,8 +95,13 @@ struct Renderer::Impl {
     CasterSet casters;
     std::vector<std::uint32_t> allCasters;
     GpuTimers timers;
-    // Methods are built on first use and kept (programs, scratch targets, BVHs).
-    std::map<std::string, std::unique_ptr<VisibilityMethod>, std::less<>> methods;
+    // Methods are built on first use and kept (programs, scratch targets, BVHs), one per name:
+    // a method asked for with other parameters is built anew in its place.
+    struct BuiltMethod {
+        std::vector<ParameterValue> parameters; // resolved
+        std::unique_ptr<VisibilityMethod> method;
+    };
+    std::map<std::string, BuiltMethod, std::less<>> methods;
 
     Impl(const geometry::Scene& s, const ShaderLoader& sh)
         : scene(s), shaders(sh), gbufferPass(sh, s), shadePass(sh), casters(s) {
@@ -104,14 +109,18 @@ struct Renderer::Impl {
         std::iota(allCasters.begin(), allCasters.end(), 0u);
     }
 
-    VisibilityMethod& method(const MethodInfo& info) {
+    VisibilityMethod& method(const MethodInfo& info, std::vector<ParameterValue> parameters) {
         auto it = methods.find(info.name);
-        if (it == methods.end()) {
-            auto created = info.create(MethodResources{shaders, scene});
+        if (it == methods.end() || it->second.parameters != parameters) {
+            if (it != methods.end()) methods.erase(it); // its targets go before the new ones come
+            auto created = info.create(MethodResources{shaders, scene, parameters});
             if (targets.width > 0) created->resize(targets.width, targets.height);
-            it = methods.emplace(std::string(info.name), std::move(created)).first;
+            it = methods
+                     .emplace(std::string(info.name),
+                              BuiltMethod{std::move(parameters), std::move(created)})
+                     .first;
         }
-        return *it->second;
+        return *it->second.method;
     }
 
     void uploadFrameUniforms(const RenderSettings& s, float weight) {
@@ -174,6 +183,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const MethodInfo& info = findMethod(settings.method);
     if (info.usesSamples && settings.samples < 1)
         throw geometry::InputError("samples must be at least 1");
+    std::vector<ParameterValue> parameters = resolveParameters(info, settings.parameters);
 
     auto& m = *mImpl;
     FrameStats stats;
@@ -181,9 +191,9 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const auto frameStart = Clock::now();
     if (m.targets.width != settings.width || m.targets.height != settings.height) {
         m.targets.resize(settings.width, settings.height);
-        for (auto& [name, each] : m.methods) each->resize(settings.width, settings.height);
+        for (auto& [name, each] : m.methods) each.method->resize(settings.width, settings.height);
     }
-    VisibilityMethod& method = m.method(info); // a new one is sized on creation
+    VisibilityMethod& method = m.method(info, std::move(parameters)); // sized on creation
 
     // Depth 0..1 with 1 at the near plane (reversed Z): float depth keeps precision far away.
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

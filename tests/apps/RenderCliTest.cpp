@@ -175,6 +175,70 @@ TEST_F(RenderCli, BadSize) {
     expectRejected(write("s.json", kValidScene), "--size", "--method hard --size big");
 }
 
+// Method parameters (--param NAME=VALUE, declared in gpu/Methods.h): every mistake is bad input
+// that names what is allowed.
+TEST_F(RenderCli, UnknownParameterNamesTheMethodsParameters) {
+    expectRejected(write("s.json", kValidScene), "unknown parameter 'corners'",
+                   "--method wedges-blend --param corners=4");
+    expectRejected(write("s.json", kValidScene), "parts, bits, overlap",
+                   "--method wedges-blend --param corners=4");
+}
+
+TEST_F(RenderCli, ParameterValueNotAllowedNamesTheAllowedOnes) {
+    expectRejected(write("s.json", kValidScene), "allowed: 1, 4, 8",
+                   "--method wedges-blend --param parts=3");
+    expectRejected(write("s.json", kValidScene), "allowed: 8, 16",
+                   "--method wedges-blend --param bits=32");
+    expectRejected(write("s.json", kValidScene), "allowed: paper, centroid",
+                   "--method wedges-blend --param overlap=Paper");
+}
+
+TEST_F(RenderCli, ParameterOfAMethodWithoutParameters) {
+    expectRejected(write("s.json", kValidScene), "method 'hard' has no parameters",
+                   "--method hard --param parts=4");
+}
+
+TEST_F(RenderCli, MalformedOrRepeatedParameter) {
+    expectRejected(write("s.json", kValidScene), "NAME=VALUE",
+                   "--method wedges-blend --param parts");
+    expectRejected(write("s.json", kValidScene), "NAME=VALUE",
+                   "--method wedges-blend --param =8");
+    expectRejected(write("s.json", kValidScene), "given twice",
+                   "--method wedges-blend --param parts=8 --param parts=1");
+}
+
+TEST_F(RenderCli, HelpListsEachMethodsParameters) {
+    const RunResult r = run("--help");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    for (const char* line : {"--param parts=1|4|8 (default 4)", "--param bits=8|16 (default 8)",
+                             "--param overlap=paper|centroid (default paper)"})
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << " in:\n" << r.output;
+    // Listed under their method, before the next one.
+    EXPECT_LT(r.output.find("wedges-blend:"), r.output.find("--param parts="));
+    EXPECT_LT(r.output.find("--param overlap="), r.output.find("wedges-multiply:"));
+}
+
+// report.json's "parameters": samples, seed and frames as before, and every parameter of the
+// method with the value used (given or default).
+TEST_F(RenderCli, ReportListsEveryParameterOfTheMethod) {
+    const fs::path scene = write("s.json", kValidScene);
+    auto parameters = [&](const std::string& args) {
+        const fs::path out = mDir / "out";
+        fs::remove_all(out);
+        const RunResult r = run("--scene '" + scene.string() + "' --size 48x32 --quiet " + args +
+                                " --out '" + out.string() + "'");
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        nlohmann::json report;
+        std::ifstream(out / "report.json") >> report;
+        return report["parameters"];
+    };
+    EXPECT_EQ(parameters("--method hard --seed 3"),
+              (nlohmann::json{{"samples", 1}, {"seed", 3}, {"frames", 1}}));
+    EXPECT_EQ(parameters("--method wedges-blend"),
+              (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"parts", 4},
+                              {"bits", 8}, {"overlap", "paper"}}));
+}
+
 TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {
     const fs::path scene = write("s.json", kValidScene);
     const fs::path out = mDir / "out";

@@ -29,6 +29,9 @@ namespace gpu {
 // One settings struct for the renderer, the command line and (later) the viewer UI.
 struct RenderSettings {
     std::string method = "hard"; // a name from methodTable()
+    // The method's parameters as given (gpu/Methods.h); the others take their defaults. A name
+    // or value the method does not declare is a geometry::InputError from renderFrame.
+    std::vector<ParameterValue> parameters;
     int width = 512;
     int height = 512;
     int samples = 1024;       // reference methods: light samples per pixel

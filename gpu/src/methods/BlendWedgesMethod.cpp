@@ -26,6 +26,8 @@
 #include "GroupBatches.h"
 #include "MethodUtil.h"
 
+#include <geometry/Error.h>
+
 #include <array>
 
 namespace gpu {
@@ -40,7 +42,13 @@ public:
         : mVolumes(r.shaders), mWedges(r.shaders, WedgePass::Output::Parts4),
           mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
-          mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{}) {}
+          mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{}) {
+        if (parameterValue(r.parameters, "parts") != "4" ||
+            parameterValue(r.parameters, "bits") != "8" ||
+            parameterValue(r.parameters, "overlap") != "paper")
+            throw geometry::InputError("wedges-blend: only parts=4, bits=8, overlap=paper run on "
+                                       "the GPU yet");
+    }
 
     void resize(int width, int height) override {
         std::vector<FramebufferAttachment> parts;
