@@ -5,6 +5,7 @@
 #include <geometry/RayTracer.h>
 #include <geometry/Sampling.h>
 
+#include <geometry/AlphaMask.h>
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -78,6 +79,8 @@ struct RayTracer::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     float diagonal = 1.0f; // scene bounds diagonal, scales the origin offset
+    // Alpha-masked objects' meshes (geometry/AlphaMask.h), the user data of their filters.
+    std::vector<std::unique_ptr<MeshData>> alphaMeshes;
 
     // The error callback may run on any thread (workers inside visibility()); rtcGetDeviceError
     // only reports the calling thread's error, so workers' errors are collected here.
@@ -246,6 +249,18 @@ int countUnoccluded(RTCScene scene, RTCIntersectContext& context, const RectLigh
     return unoccluded;
 }
 
+// Embree filter of alpha-masked geometry (occlusion and intersection queries alike): a hit on a
+// point whose alpha is below the material's cutoff is no hit, and the ray goes on.
+void alphaFilter(const RTCFilterFunctionNArguments* args) {
+    const auto* mesh = static_cast<const MeshData*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const glm::vec2 bary(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+        if (!surfaceOccludes(*mesh, prim, bary)) args->valid[i] = 0;
+    }
+}
+
 RTCRay makeRay(const glm::vec3& origin, const glm::vec3& target, float eps) {
     const glm::vec3 dir = target - origin;
     RTCRay ray{};
@@ -319,6 +334,12 @@ RayTracer::RayTracer(const Scene& scene) : mImpl(std::make_unique<Impl>()) {
         }
         std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
         std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3));
+        if (hasAlphaMask(mesh)) {
+            impl.alphaMeshes.push_back(std::make_unique<MeshData>(mesh));
+            rtcSetGeometryUserData(geom, impl.alphaMeshes.back().get());
+            rtcSetGeometryOccludedFilterFunction(geom, &alphaFilter);
+            rtcSetGeometryIntersectFilterFunction(geom, &alphaFilter);
+        }
         rtcCommitGeometry(geom);
         rtcAttachGeometry(impl.scene, geom);
         rtcReleaseGeometry(geom); // the scene holds the reference now

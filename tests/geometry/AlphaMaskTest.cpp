@@ -1,0 +1,152 @@
+// Alpha-masked materials (geometry/AlphaMask.h) and the ray tracer's alpha filter.
+#include <geometry/AlphaMask.h>
+#include <geometry/RayTracer.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace {
+
+// width x 1 texture with the given alphas (colour white).
+geometry::TextureImage alphaRow(const std::vector<int>& alphas) {
+    geometry::TextureImage image;
+    image.width = static_cast<int>(alphas.size());
+    image.height = 1;
+    for (const int a : alphas) {
+        image.rgba8.insert(image.rgba8.end(), {255, 255, 255, static_cast<std::uint8_t>(a)});
+    }
+    return image;
+}
+
+TEST(AlphaMaskTest, SampleIsBilinearBetweenTexelCentresAndWraps) {
+    const geometry::TextureImage image = alphaRow({0, 255, 255, 51});
+    EXPECT_FLOAT_EQ(geometry::sampleAlpha(image, {0.125f, 0.5f}), 0.0f); // texel 0's centre
+    EXPECT_FLOAT_EQ(geometry::sampleAlpha(image, {0.375f, 0.5f}), 1.0f); // texel 1's centre
+    EXPECT_NEAR(geometry::sampleAlpha(image, {0.25f, 0.5f}), 0.5f, 1e-6f);  // halfway 0 .. 1
+    // Repeat: u = 0 lies halfway between texel 3 (0.2) and texel 0 (0), like u = 1 and u = -1.
+    EXPECT_NEAR(geometry::sampleAlpha(image, {0.0f, 0.5f}), 0.1f, 1e-6f);
+    EXPECT_NEAR(geometry::sampleAlpha(image, {1.0f, 0.5f}), 0.1f, 1e-6f);
+    EXPECT_NEAR(geometry::sampleAlpha(image, {-3.0f, 7.25f}), 0.1f, 1e-5f);
+    // Huge or non-finite UVs do not overflow; an empty image is opaque.
+    EXPECT_TRUE(std::isfinite(geometry::sampleAlpha(image, {1e30f, -1e30f})));
+    EXPECT_EQ(geometry::sampleAlpha(image, {NAN, 0.0f}), 1.0f);
+    EXPECT_EQ(geometry::sampleAlpha(geometry::TextureImage{}, {0.3f, 0.3f}), 1.0f);
+}
+
+geometry::MeshData maskedTriangle(geometry::AlphaMode mode, float cutoff, float factor) {
+    geometry::MeshData mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+    mesh.texcoords = {{0.125f, 0.5f}, {0.375f, 0.5f}, {0.125f, 0.5f}};
+    mesh.triangles = {{0, 1, 2}};
+    mesh.triangleMaterial = {0};
+    geometry::Material m;
+    m.alphaMode = mode;
+    m.alphaCutoff = cutoff;
+    m.baseColor.a = factor;
+    m.baseColorTexture = 0;
+    mesh.materials = {m};
+    mesh.textures = {alphaRow({0, 255, 255, 51})};
+    return mesh;
+}
+
+TEST(AlphaMaskTest, CutoffFactorAndModes) {
+    using geometry::AlphaMode;
+    // Barycentric (u, v): uv = texcoord interpolation; u = 0.6 -> uv.x = 0.125 + 0.6 * 0.25 = 0.275:
+    // texture alpha 0.6.
+    const glm::vec2 at06(0.6f, 0.0f);
+    EXPECT_NEAR(geometry::surfaceAlpha(maskedTriangle(AlphaMode::Mask, 0.5f, 1.0f), 0, at06), 0.6f,
+                1e-5f);
+    EXPECT_TRUE(geometry::surfaceOccludes(maskedTriangle(AlphaMode::Mask, 0.5f, 1.0f), 0, at06));
+    EXPECT_FALSE(geometry::surfaceOccludes(maskedTriangle(AlphaMode::Mask, 0.7f, 1.0f), 0, at06));
+    // The factor multiplies: 0.6 * 0.5 = 0.3 < 0.5.
+    EXPECT_FALSE(geometry::surfaceOccludes(maskedTriangle(AlphaMode::Mask, 0.5f, 0.5f), 0, at06));
+    // BLEND is MASK at 0.5 whatever its cutoff says; OPAQUE always occludes.
+    EXPECT_TRUE(geometry::surfaceOccludes(maskedTriangle(AlphaMode::Blend, 0.9f, 1.0f), 0, at06));
+    EXPECT_FALSE(geometry::surfaceOccludes(maskedTriangle(AlphaMode::Blend, 0.1f, 1.0f), 0,
+                                           glm::vec2(0.2f, 0.0f)));
+    EXPECT_TRUE(geometry::surfaceOccludes(maskedTriangle(AlphaMode::Opaque, 0.5f, 0.0f), 0,
+                                          glm::vec2(0.0f)));
+    EXPECT_TRUE(geometry::hasAlphaMask(maskedTriangle(AlphaMode::Blend, 0.5f, 1.0f)));
+    EXPECT_FALSE(geometry::hasAlphaMask(maskedTriangle(AlphaMode::Opaque, 0.5f, 1.0f)));
+}
+
+// A card at y = 2 over x, z in [-1, 1] whose texture is transparent on its half x < 0 (u < 0.5)
+// and opaque on x > 0, under a square light: ray traced, it must shadow exactly like an opaque
+// card covering x in [0, 1] only.
+geometry::Scene cardScene(bool masked) {
+    geometry::Scene scene;
+    scene.light.center = {0.0f, 6.0f, 0.0f};
+    scene.light.u = {0.5f, 0.0f, 0.0f};
+    scene.light.v = {0.0f, 0.0f, 0.5f};
+    geometry::MeshData floor;
+    floor.positions = {{-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}};
+    floor.triangles = {{0, 1, 2}, {0, 2, 3}};
+    scene.objects.push_back({"floor", geometry::ShadowMethod::Auto, floor});
+    geometry::MeshData card;
+    const float x0 = masked ? -1.0f : 0.0f;
+    card.positions = {{x0, 2, -1}, {1, 2, -1}, {1, 2, 1}, {x0, 2, 1}};
+    card.triangles = {{0, 1, 2}, {0, 2, 3}};
+    if (masked) {
+        card.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        card.triangleMaterial = {0, 0};
+        geometry::Material m;
+        m.alphaMode = geometry::AlphaMode::Mask;
+        m.alphaCutoff = 0.5f;
+        m.baseColorTexture = 0;
+        card.materials = {m};
+        // 16 texels: alpha 0 then 255; at u = 0.5 the bilinear alpha is exactly 0.5 (occludes),
+        // the card's repeat seam at u = 0 blends texel 15 (255) with texel 0 (0) over 1/32.
+        std::vector<int> alphas(16, 0);
+        std::fill(alphas.begin() + 8, alphas.end(), 255);
+        card.textures = {alphaRow(alphas)};
+    }
+    scene.objects.push_back({"card", geometry::ShadowMethod::Auto, card});
+    return scene;
+}
+
+TEST(AlphaMaskTest, RaytraceSeesThroughTheMaskedHalfOfACard) {
+    const geometry::RayTracer masked(cardScene(true)), half(cardScene(false));
+    std::vector<glm::vec3> points, normals;
+    for (int j = 0; j < 24; ++j)
+        for (int i = 0; i < 24; ++i) {
+            points.emplace_back(-3.0f + 6.0f * (i + 0.5f) / 24.0f, 0.0f,
+                                -3.0f + 6.0f * (j + 0.5f) / 24.0f);
+            normals.emplace_back(0.0f, 1.0f, 0.0f);
+        }
+    geometry::RayTraceSettings settings;
+    settings.samples = 256;
+    std::vector<float> vm(points.size()), vh(points.size());
+    masked.visibility(cardScene(true).light, points, normals, settings, vm);
+    half.visibility(cardScene(false).light, points, normals, settings, vh);
+    float maxDiff = 0.0f, minV = 1.0f, maxV = 0.0f;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        maxDiff = std::max(maxDiff, std::abs(vm[i] - vh[i]));
+        minV = std::min(minV, vm[i]);
+        maxV = std::max(maxV, vm[i]);
+    }
+    // Same samples, same occluded region but for the seam sliver at x = -1 (u < 1/32, alpha
+    // above the cutoff only at u = 0 itself): at most a couple of samples differ.
+    EXPECT_LE(maxDiff, 2.0f / 256.0f);
+    EXPECT_EQ(minV, 0.0f); // under the opaque half
+    EXPECT_EQ(maxV, 1.0f);
+
+    // Hard visibility from the centre, under each half (away from the edges).
+    std::vector<glm::vec3> p = {{-0.75f, 0.0f, 0.0f}, {0.75f, 0.0f, 0.0f}};
+    std::vector<glm::vec3> n(2, glm::vec3(0.0f, 1.0f, 0.0f));
+    std::vector<float> hv(2);
+    masked.hardVisibility(cardScene(true).light.center, p, n, settings, hv);
+    EXPECT_EQ(hv[0], 1.0f); // through the transparent half
+    EXPECT_EQ(hv[1], 0.0f);
+    // And a primary ray through the hole misses the card, hitting the floor.
+    float t = 0.0f;
+    glm::vec3 normal;
+    ASSERT_TRUE(masked.intersect({-0.5f, 5.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, t, normal));
+    EXPECT_NEAR(t, 5.0f, 1e-4f);
+    ASSERT_TRUE(masked.intersect({0.5f, 5.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, t, normal));
+    EXPECT_NEAR(t, 3.0f, 1e-4f);
+}
+
+} // namespace
