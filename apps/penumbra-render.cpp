@@ -186,6 +186,11 @@ int run(const Options& opt) {
                       {"degenerate_triangles", o.topology.degenerateTriangles}});
         objects.push_back(std::move(j));
     }
+    // The path a choosing method (auto) gave each casting object, and why.
+    for (const auto& choice : last.objectChoices)
+        if (choice.object < objects.size())
+            objects[choice.object].update(
+                {{"shadow_path", choice.path}, {"shadow_path_reason", choice.reason}});
     report["objects"] = std::move(objects);
     report["silhouette_groups"] = last.silhouetteGroups;
     report["silhouette_upload_bytes"] = last.silhouetteUploadBytes;

@@ -65,5 +65,6 @@ std::unique_ptr<VisibilityMethod> createRaytraceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createMultiplyWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createBlendWedgesMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources&);
 
 } // namespace gpu

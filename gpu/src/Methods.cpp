@@ -25,6 +25,13 @@ constexpr MethodParameter kBlendParameters[] = {
      "densities through the stored centroids)"},
 };
 
+// auto: which wedge method serves the objects it gives to wedges.
+constexpr std::string_view kAutoWedges[] = {"blend", "additive", "multiply"};
+constexpr MethodParameter kAutoParameters[] = {
+    {"wedges", kAutoWedges, "blend",
+     "the wedge method of the objects auto gives to wedges: wedges-blend, -additive or -multiply"},
+};
+
 const std::array<MethodInfo, 9> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
@@ -39,7 +46,8 @@ const std::array<MethodInfo, 9> kMethods = {{
      false, createMultiplyWedgesMethod},
     {"occlusion", "occlusion textures (Eisemann & Decoret 2006)", false, nullptr},
     {"pcss", "percentage-closer soft shadows", false, nullptr},
-    {"auto", "per-object choice, composed in one frame", false, nullptr},
+    {"auto", "per-object choice (wedges or occlusion textures), composed in one frame", false,
+     createAutoMethod, kAutoParameters},
 }};
 
 } // namespace

@@ -53,6 +53,13 @@ struct Counter {
     double value = 0.0;
 };
 
+// The shadow path a method chose for one scene object (`auto`), and why.
+struct ObjectChoice {
+    std::size_t object = 0; // index into Scene::objects
+    std::string path;       // "wedges", "occlusion"
+    std::string reason;
+};
+
 struct FrameStats {
     std::vector<PassTime> gpu; // per pass, GL timer queries
     std::vector<CpuTime> cpu;  // per CPU stage
@@ -63,6 +70,7 @@ struct FrameStats {
     std::size_t volumeTriangles = 0; // shadow-volume triangles for the light centre
     std::size_t silhouetteUploadBytes = 0; // per-frame upload of the centre's silhouettes
     std::vector<Counter> counters;         // method-specific counts
+    std::vector<ObjectChoice> objectChoices; // per casting object, for methods that choose
 };
 
 // What the renderer made of each scene object (welded topology of the shadow casters).

@@ -1,0 +1,153 @@
+// auto (the contract's default): per casting object the path geometry/AutoChoice.h decides —
+// penumbra wedges (`wedges-blend` unless the `wedges` parameter picks another wedge method) or
+// occlusion textures — run each on its own casters and composed in one frame as
+// V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path
+// is decided the first frame it is seen and then kept, so that a moving light never flips it.
+#include "../Method.h"
+#include "../passes/FullscreenPass.h"
+#include "../ShaderBindings.h"
+
+#include <geometry/AlphaMask.h>
+#include <geometry/AutoChoice.h>
+#include <geometry/Error.h>
+
+#include <optional>
+
+namespace gpu {
+
+namespace {
+
+constexpr PipelineState kMultiplyState{
+    .blend = true,
+    .blendSrc = GL_DST_COLOR, // V_occlusion * V_wedges
+    .blendDst = GL_ZERO,
+};
+
+std::unique_ptr<VisibilityMethod> createByName(const MethodResources& r, std::string_view name) {
+    const MethodInfo& info = findMethod(name);
+    const std::vector<ParameterValue> defaults = resolveParameters(info, {});
+    return info.create(MethodResources{r.shaders, r.scene, defaults});
+}
+
+class AutoMethod final : public VisibilityMethod {
+public:
+    explicit AutoMethod(const MethodResources& r)
+        : mResources{r.shaders, r.scene, {}}, mWedgeMethodName("wedges-" + std::string(parameterValue(r.parameters,
+                                                                                  "wedges"))),
+          mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState) {
+        mWedges = createByName(r, mWedgeMethodName);
+    }
+
+    void resize(int width, int height) override {
+        mWidth = width;
+        mHeight = height;
+        mWedges->resize(width, height);
+        if (mOcclusion) mOcclusion->resize(width, height);
+        mSaved = Texture({.width = width, .height = height, .format = GL_R32F,
+                          .label = "auto-wedge-visibility"});
+    }
+
+    void execute(const FrameContext& ctx) override {
+        decide(ctx);
+        std::vector<std::uint32_t> wedgeCasters, occlusionCasters;
+        for (const std::uint32_t c : ctx.casterSubset)
+            (mChoices[c].path == geometry::ShadowPath::Occlusion ? occlusionCasters
+                                                                 : wedgeCasters)
+                .push_back(c);
+        for (const std::uint32_t c : ctx.casterSubset)
+            ctx.stats.objectChoices.push_back({ctx.casters.sceneObject(c),
+                                               geometry::toString(mChoices[c].path),
+                                               mChoices[c].reason});
+        ctx.addCounter("auto_wedge_objects", static_cast<double>(wedgeCasters.size()));
+        ctx.addCounter("auto_occlusion_objects", static_cast<double>(occlusionCasters.size()));
+
+        if (occlusionCasters.empty()) {
+            mWedges->execute(subContext(ctx, wedgeCasters));
+            return;
+        }
+        VisibilityMethod& occlusion = occlusionMethod(ctx);
+        if (wedgeCasters.empty()) {
+            occlusion.execute(subContext(ctx, occlusionCasters));
+            return;
+        }
+        const Targets& t = ctx.targets;
+        mWedges->execute(subContext(ctx, wedgeCasters));
+        {
+            ScopedPass pass(&ctx.timers, "compose");
+            glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(),
+                               GL_TEXTURE_2D, 0, 0, 0, 0, t.width, t.height, 1);
+            const float zero = 0.0f; // methods start from V = 0 (gpu/src/Method.h)
+            glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
+        }
+        occlusion.execute(subContext(ctx, occlusionCasters));
+        {
+            ScopedPass pass(&ctx.timers, "compose");
+            glBindTextureUnit(TEXUNIT_SILHOUETTE, mSaved.id());
+            mMultiply.execute(t.visibilityFbo, t.width, t.height, kMultiplyState,
+                              [] { glUniform1f(0, 0.0f); }); // blend-multiply: clamp(0 + V)
+        }
+    }
+
+private:
+    static FrameContext subContext(const FrameContext& ctx,
+                                   const std::vector<std::uint32_t>& casters) {
+        return FrameContext{ctx.settings, ctx.scene,  ctx.targets, ctx.viewProj,
+                            ctx.casters,  casters,    ctx.timers,  ctx.stats,
+                            ctx.setAccumulationWeight};
+    }
+
+    // Each caster's path, the first frame it is seen (its silhouette density is measured from
+    // that frame's light centre).
+    void decide(const FrameContext& ctx) {
+        if (mChoices.size() == ctx.casters.size()) return;
+        mChoices.clear();
+        for (std::size_t c = 0; c < ctx.casters.size(); ++c) {
+            const geometry::SceneObject& object = ctx.scene.objects[ctx.casters.sceneObject(c)];
+            geometry::CasterFacts facts;
+            facts.requested = object.method;
+            facts.alphaMasked = geometry::hasAlphaMask(object.mesh);
+            facts.topology = ctx.casters.topology(c).stats();
+            facts.silhouetteEdges = ctx.casters.frame(c).edges.size();
+            mChoices.push_back(geometry::chooseShadowPath(facts));
+        }
+    }
+
+    VisibilityMethod& occlusionMethod(const FrameContext& ctx) {
+        if (!mOcclusion) {
+            const MethodInfo& info = [] () -> const MethodInfo& {
+                for (const MethodInfo& m : methodTable())
+                    if (m.name == "occlusion") return m;
+                throw std::logic_error("auto: no occlusion entry in the method table");
+            }();
+            if (!info.implemented()) {
+                for (std::size_t c = 0; c < mChoices.size(); ++c)
+                    if (mChoices[c].path == geometry::ShadowPath::Occlusion)
+                        throw geometry::InputError(
+                            "auto: object '" +
+                            ctx.scene.objects[ctx.casters.sceneObject(c)].name +
+                            "' needs occlusion textures (" + mChoices[c].reason +
+                            "), which are not implemented yet; give it \"method\": \"wedges\" "
+                            "or \"none\" in the scene JSON");
+            }
+            mOcclusion = createByName(mResources, "occlusion");
+            mOcclusion->resize(mWidth, mHeight);
+        }
+        return *mOcclusion;
+    }
+
+    MethodResources mResources; // shaders and scene (the parameters are auto's own)
+    std::string mWedgeMethodName;
+    std::unique_ptr<VisibilityMethod> mWedges, mOcclusion;
+    FullscreenPass mMultiply;
+    Texture mSaved;
+    int mWidth = 0, mHeight = 0;
+    std::vector<geometry::ShadowPathChoice> mChoices; // per caster
+};
+
+} // namespace
+
+std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources& r) {
+    return std::make_unique<AutoMethod>(r);
+}
+
+} // namespace gpu

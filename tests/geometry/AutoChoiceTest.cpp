@@ -1,0 +1,50 @@
+// The `auto` method's per-object rule (geometry/AutoChoice.h), one case per clause.
+#include <geometry/AutoChoice.h>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using geometry::ShadowPath;
+
+geometry::CasterFacts facts(std::size_t triangles, std::size_t edges, std::size_t nonManifold,
+                            std::size_t silhouetteEdges) {
+    geometry::CasterFacts f;
+    f.topology.triangles = triangles;
+    f.topology.edges = edges;
+    f.topology.nonManifoldEdges = nonManifold;
+    f.silhouetteEdges = silhouetteEdges;
+    return f;
+}
+
+TEST(AutoChoiceTest, EachClauseInOrder) {
+    // A closed box: 12 triangles, 18 edges, 6 silhouette edges: wedges.
+    EXPECT_EQ(geometry::chooseShadowPath(facts(12, 18, 0, 6)).path, ShadowPath::Wedges);
+    // kaos2 as measured: 27831 triangles, 42829 edges, 269 non-manifold, 10620 silhouette
+    // edges: a level stays with wedges.
+    EXPECT_EQ(geometry::chooseShadowPath(facts(27831, 42829, 269, 10620)).path,
+              ShadowPath::Wedges);
+    // A triangle soup of crossed cards: 10 % non-manifold edges.
+    const auto soup = geometry::chooseShadowPath(facts(2000, 3000, 300, 100));
+    EXPECT_EQ(soup.path, ShadowPath::Occlusion);
+    EXPECT_NE(soup.reason.find("non-manifold"), std::string::npos) << soup.reason;
+    // Silhouette-dense: 0.8 edges per triangle over 400 edges; but not with 200 edges.
+    EXPECT_EQ(geometry::chooseShadowPath(facts(500, 800, 0, 400)).path, ShadowPath::Occlusion);
+    EXPECT_EQ(geometry::chooseShadowPath(facts(250, 400, 0, 200)).path, ShadowPath::Wedges);
+    // Alpha masks win over everything the topology says.
+    auto masked = facts(12, 18, 0, 6);
+    masked.alphaMasked = true;
+    EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Occlusion);
+    // The scene JSON wins over everything.
+    masked.requested = geometry::ShadowMethod::Wedges;
+    EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Wedges);
+    auto box = facts(12, 18, 0, 6);
+    box.requested = geometry::ShadowMethod::Occlusion;
+    const auto asked = geometry::chooseShadowPath(box);
+    EXPECT_EQ(asked.path, ShadowPath::Occlusion);
+    EXPECT_NE(asked.reason.find("scene JSON"), std::string::npos);
+    // Empty meshes do not divide by zero.
+    EXPECT_EQ(geometry::chooseShadowPath(facts(0, 0, 0, 0)).path, ShadowPath::Wedges);
+}
+
+} // namespace
