@@ -104,6 +104,7 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
         batch.set.add(range.firstTriangle + g.firstTriangle, g.triangleCount,
                       range.firstEdge + g.firstEdge, g.edgeCount);
         ++batch.groups;
+        batch.groupPixels += std::uint64_t(r.x1 - r.x0) * std::uint64_t(r.y1 - r.y0);
         Bounds& u = bounds[b];
         u.x0 = std::min(u.x0, r.x0);
         u.y0 = std::min(u.y0, r.y0);
@@ -166,7 +167,7 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
     std::vector<Query> touched, umbra;
     touched.reserve(batches.batches.size());
     umbra.reserve(batches.batches.size());
-    std::uint64_t rectPixels = 0;
+    std::uint64_t rectPixels = 0, groupPixels = 0;
     for (const GroupBatch& batch : batches.batches) {
         {
             ScopedPass pass(&ctx.timers, "shadow-volume");
@@ -190,6 +191,7 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
             glEndQuery(GL_SAMPLES_PASSED);
         }
         rectPixels += batch.pixels;
+        groupPixels += batch.groupPixels;
     }
     auto sum = [](const std::vector<Query>& queries) {
         std::uint64_t total = 0;
@@ -205,6 +207,7 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
     ctx.addCounter("groups_drawn", batches.drawnGroups);
     ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
     ctx.addCounter("batch_rect_pixels", static_cast<double>(rectPixels));
+    ctx.addCounter("group_rect_pixels", static_cast<double>(groupPixels));
     ctx.addCounter("pixels_blended", static_cast<double>(sum(touched)));
     ctx.addCounter("pixels_umbra", static_cast<double>(sum(umbra)));
 }

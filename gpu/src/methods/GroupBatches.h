@@ -31,6 +31,7 @@ struct GroupBatch {
     ScissorRect rect;     // union of its groups' rectangles (pixels)
     std::uint32_t groups = 0;
     std::uint64_t pixels = 0; // area of `rect`: the pixels the batch's scissored passes cover
+    std::uint64_t groupPixels = 0; // sum of its groups' own rectangles (<= pixels)
 };
 
 struct GroupBatches {
