@@ -32,7 +32,8 @@ struct Rendered {
 };
 
 inline Rendered render(const geometry::Scene& scene, const std::string& method, int width,
-                       int height, int samples) {
+                       int height, int samples,
+                       const std::vector<gpu::ParameterValue>& parameters = {}) {
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
     gpu::RenderSettings s;
@@ -40,6 +41,7 @@ inline Rendered render(const geometry::Scene& scene, const std::string& method, 
     s.width = width;
     s.height = height;
     s.samples = samples;
+    s.parameters = parameters;
     Rendered r;
     r.stats = renderer.renderFrame(s);
     r.visibility = renderer.visibility();

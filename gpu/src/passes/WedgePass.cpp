@@ -3,16 +3,18 @@
 #include "../ShaderBindings.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace gpu {
 
-WedgePass::WedgePass(const ShaderLoader& shaders, Output output)
+WedgePass::WedgePass(const ShaderLoader& shaders, Output output, std::vector<std::string> defines)
     : mOutput(output), mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
                            .label = "wedge-setup"})),
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
                                      {GL_FRAGMENT_SHADER, output == Output::Parts4
                                                               ? "wedge-parts.frag"
                                                               : "wedge.frag"}},
+                          .defines = std::move(defines),
                           .label = "wedges"})),
       mResolve(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-resolve.comp"}},
                              .label = "wedge-resolve"})),
