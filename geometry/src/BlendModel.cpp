@@ -538,7 +538,13 @@ Rect partEdgeBounds(const ProjectedEdge& edge, const Part& part) {
 int cornerWinding(const ProjectedEdge& edge, const Part& part, int corner) {
     if (!edge.region) return 0;
     const dvec2 c = part.corners[corner];
-    const dvec2 d1 = part.centroid - c;                                 // into the part
+    // Into the part: towards its centroid, as cornerCount (Σ corners / cornerCount - c), which is
+    // exact (the triangle's centroid (2/3, 1/3) is not: its rounding would tilt the direction
+    // and decide ties on R_e's lines by it; the float twin uses the same exact directions).
+    dvec2 sum(0.0);
+    for (int k = 0; k < part.cornerCount; ++k)
+        sum += part.corners[k];
+    const dvec2 d1 = sum - double(part.cornerCount) * c;
     const dvec2 d2 = part.corners[(corner + 1) % part.cornerCount] - c; // along its side
     for (const dvec3& h : edge.halves) {
         if (!insidePerturbed(toPartHalf(part, h), dvec3(c, 1.0), d1, d2)) return 0;

@@ -39,9 +39,9 @@
 #define TEXUNIT_ALBEDO 2
 #define TEXUNIT_VISIBILITY 3
 #define TEXUNIT_SILHOUETTE 4 // a batch's per-silhouette visibility (per-silhouette methods)
-#define TEXUNIT_PARTS0 5     // wedges-blend: a batch's 8 per-part accumulation targets (5..12)
-#define TEXUNIT_FINAL0 13    // wedges-blend: the final packed state, rectangles of parts 0..3
-#define TEXUNIT_FINAL1 14    // wedges-blend: the final packed state, vCoef of parts 0..3
+#define TEXUNIT_PARTS0 5     // wedges-blend: a batch's per-part accumulation targets (5..12)
+#define TEXUNIT_FINAL0 13    // wedges-blend: one set of parts' final packed state (13..16: 2
+                             // targets at 8 bits, 4 at 16); the resolve: set k's vCoef at 13 + k
 
 #ifdef __cplusplus
 // C++ side: included through gpu/src/ShaderBindings.h, which includes glm first (the GLSL

@@ -11,11 +11,30 @@
 // part coordinates x = σx s, y = σy t in [0, 1]^2, the light centre at the corner (0, 0).
 // Corners k = 1, 2, 3 of a part are (1, 0), (1, 1), (0, 1) (corner 0, the centre, is never in
 // R_e).
+//
+// edgeParts4 is the paper's configuration (R = 4). edgePartSet serves every R (1, 4, 8) and adds
+// the first moments (for the centroid), for one *set* of at most four parts at a time (R = 8:
+// parts 4 set .. 4 set + 3, radialPart(8, i): quadrant i / 2, the half |s| >= |t| for even i,
+// mirrored to the triangle 0 <= y <= x <= 1; R = 1: the whole light, x = (s + 1) / 2,
+// y = (t + 1) / 2). Area and moments are integrated along the boundary of R_e ∩ part with the
+// light centre as origin (the pieces along R_e's rays, through the centre, add nothing), in the
+// light's coordinates for R = 1 (whose part has the centre inside, not at a corner). Its corner
+// windings come as one mixed-radix number per part, Σ_j 16^j w_j over the corners that are not
+// the centre (R = 1: corners 0..3; R = 4: 1..3; R = 8: 1, 2), each w_j in {-1, 0, 1}: exact in
+// float, and so are sums of them while every corner's sum stays in [-8, 7].
 
 struct EdgeParts4 {
     vec4 coverage;    // per quadrant: signed |R_e ∩ part| / |part| (Σ / 4 = edgeCoverage)
     vec4 bounds[4];   // per quadrant: (min x, min y, max x, max y), empty = (1, 1, 0, 0)
     vec3 windings[4]; // per quadrant: corners 1, 2, 3: the edge's sign when in R_e, else 0
+};
+
+struct EdgePartSet {
+    vec4 coverage;  // per part of the set: signed |R_e ∩ part| / |part|
+    vec4 momentX;   // per part: signed ∫ x dA over R_e ∩ part, over |part| (part coordinates)
+    vec4 momentY;   // the same for y
+    vec4 bounds[4]; // per part: (min x, min y, max x, max y), empty = (1, 1, 0, 0)
+    vec4 windings;  // per part: Σ_j 16^j w_j over its corners j that are not the centre
 };
 
 // A light-coordinate half-plane dot(h, (s, t, 1)) >= 0 in the part coordinates of the quadrant
@@ -59,17 +78,10 @@ float partsQuadrantArea(vec3 h0, vec3 h1, vec3 h2) {
     return 0.5 * abs(area2);
 }
 
-// The segment a -> b (part homogeneous coordinates, w >= 0) clipped to the part [0, 1]^2 (the
-// half-planes x >= 0, y >= 0, w - x >= 0, w - y >= 0, closed), bounds of its finite end points;
-// (1, 1, 0, 0) when it misses.
-vec4 partsEdgeBounds(vec3 a, vec3 b) {
+// Bounds of the finite end points of a + l (b - a), l in [lo, hi] (homogeneous, w >= 0);
+// (1, 1, 0, 0) when neither is finite.
+vec4 partsSegmentBounds(vec3 a, vec3 b, float lo, float hi) {
     vec4 r = vec4(1.0, 1.0, 0.0, 0.0);
-    float lo = 0.0;
-    float hi = 1.0;
-    if (!coverageClipLe0(-a.x, -b.x, lo, hi)) return r;
-    if (!coverageClipLe0(-a.y, -b.y, lo, hi)) return r;
-    if (!coverageClipLe0(a.x - a.z, b.x - b.z, lo, hi)) return r;
-    if (!coverageClipLe0(a.y - a.z, b.y - b.z, lo, hi)) return r;
     vec3 x0 = a + lo * (b - a);
     vec3 x1 = a + hi * (b - a);
     if (x0.z > 0.0) {
@@ -82,6 +94,31 @@ vec4 partsEdgeBounds(vec3 a, vec3 b) {
                                            max(r.w, y1.y));
     }
     return r;
+}
+
+// The segment a -> b (part homogeneous coordinates, w >= 0) clipped to the part [0, 1]^2 (the
+// half-planes x >= 0, y >= 0, w - x >= 0, w - y >= 0, closed), bounds of its finite end points;
+// (1, 1, 0, 0) when it misses.
+vec4 partsEdgeBounds(vec3 a, vec3 b) {
+    vec4 r = vec4(1.0, 1.0, 0.0, 0.0);
+    float lo = 0.0;
+    float hi = 1.0;
+    if (!coverageClipLe0(-a.x, -b.x, lo, hi)) return r;
+    if (!coverageClipLe0(-a.y, -b.y, lo, hi)) return r;
+    if (!coverageClipLe0(a.x - a.z, b.x - b.z, lo, hi)) return r;
+    if (!coverageClipLe0(a.y - a.z, b.y - b.z, lo, hi)) return r;
+    return partsSegmentBounds(a, b, lo, hi);
+}
+
+// The same for the triangle part 0 <= y <= x <= 1 (y >= 0, x - y >= 0, w - x >= 0).
+vec4 partsTriangleBounds(vec3 a, vec3 b) {
+    vec4 r = vec4(1.0, 1.0, 0.0, 0.0);
+    float lo = 0.0;
+    float hi = 1.0;
+    if (!coverageClipLe0(-a.y, -b.y, lo, hi)) return r;
+    if (!coverageClipLe0(a.y - a.x, b.y - b.x, lo, hi)) return r;
+    if (!coverageClipLe0(a.x - a.z, b.x - b.z, lo, hi)) return r;
+    return partsSegmentBounds(a, b, lo, hi);
 }
 
 // Whether the corner c moved by ε d1 + ε² d2 (into the part) lies in dot(h, (x, y, 1)) >= 0:
@@ -159,4 +196,218 @@ EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
                                     edgeSign));
     }
     return parts;
+}
+
+// --- Every R, with moments (edgePartSet) ---
+
+// Twice the area and six times the first moments, (cross(x0, x1), cross(x0, x1) (x0 + x1)), of
+// the triangle (0, x0, x1) for the piece x0 -> x1 of a + l (b - a), l in [lo, hi], between the
+// rays h0, h1: one term of Green's theorem with the centre as origin.
+vec3 partsSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1) {
+    if (!coverageClipHalf(h0, a, b, lo, hi)) return vec3(0.0, 0.0, 0.0);
+    if (!coverageClipHalf(h1, a, b, lo, hi)) return vec3(0.0, 0.0, 0.0);
+    vec2 x0 = a + lo * (b - a);
+    vec2 x1 = a + hi * (b - a);
+    float c = coverageCross2(x0, x1);
+    return vec3(c, c * (x0 + x1));
+}
+
+// coverageSquareEdge with the moments: the piece of R's boundary along the part's side a -> b
+// (counter-clockwise; fa, fb: the line's h2 at a and b), placing the line's piece as it goes.
+vec3 partsSide(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1, inout vec2 leave,
+               inout vec2 enter) {
+    if (fa < 0.0 && fb < 0.0) return vec3(0.0, 0.0, 0.0);
+    float lo = 0.0;
+    float hi = 1.0;
+    if (fa < 0.0 || fb < 0.0) {
+        float l = fa / (fa - fb);
+        vec2 x = a + l * (b - a);
+        if (fa >= 0.0) {
+            leave = x;
+            hi = l;
+        } else {
+            enter = x;
+            lo = l;
+        }
+    }
+    return partsSegment(a, b, lo, hi, h0, h1);
+}
+
+// (2 area, 6 ∫x, 6 ∫y) of R_e ∩ [0, 1]^2, the centre at (0, 0): partsQuadrantArea's walk.
+vec3 partsSquareMoments(vec3 h0, vec3 h1, vec3 h2) {
+    float f0 = h2.z;
+    float f1 = dot(h2, vec3(1.0, 0.0, 1.0));
+    float f2 = dot(h2, vec3(1.0, 1.0, 1.0));
+    float f3 = dot(h2, vec3(0.0, 1.0, 1.0));
+    if (f0 < 0.0 && f1 < 0.0 && f2 < 0.0 && f3 < 0.0) return vec3(0.0, 0.0, 0.0);
+    vec2 leave = vec2(0.0, 0.0);
+    vec2 enter = vec2(0.0, 0.0);
+    vec3 sum = vec3(0.0, 0.0, 0.0);
+    partsAxisSide(vec2(0.0, 0.0), vec2(1.0, 0.0), f0, f1, leave, enter);
+    sum += partsSide(vec2(1.0, 0.0), vec2(1.0, 1.0), f1, f2, h0, h1, leave, enter);
+    sum += partsSide(vec2(1.0, 1.0), vec2(0.0, 1.0), f2, f3, h0, h1, leave, enter);
+    partsAxisSide(vec2(0.0, 1.0), vec2(0.0, 0.0), f3, f0, leave, enter);
+    sum += partsSegment(leave, enter, 0.0, 1.0, h0, h1);
+    return sum;
+}
+
+// (2 area, 6 ∫x, 6 ∫y) of R_e ∩ the triangle 0 <= y <= x <= 1, the centre at (0, 0): its sides
+// on y = 0 and on the diagonal pass through the centre and only place the line's piece.
+vec3 partsTriangleMoments(vec3 h0, vec3 h1, vec3 h2) {
+    float f0 = h2.z;
+    float f1 = dot(h2, vec3(1.0, 0.0, 1.0));
+    float f2 = dot(h2, vec3(1.0, 1.0, 1.0));
+    if (f0 < 0.0 && f1 < 0.0 && f2 < 0.0) return vec3(0.0, 0.0, 0.0);
+    vec2 leave = vec2(0.0, 0.0);
+    vec2 enter = vec2(0.0, 0.0);
+    vec3 sum = vec3(0.0, 0.0, 0.0);
+    partsAxisSide(vec2(0.0, 0.0), vec2(1.0, 0.0), f0, f1, leave, enter);
+    sum += partsSide(vec2(1.0, 0.0), vec2(1.0, 1.0), f1, f2, h0, h1, leave, enter);
+    partsAxisSide(vec2(1.0, 1.0), vec2(0.0, 0.0), f2, f0, leave, enter);
+    sum += partsSegment(leave, enter, 0.0, 1.0, h0, h1);
+    return sum;
+}
+
+// (2 area, 6 ∫s, 6 ∫t) of R_e ∩ the light [-1, 1]^2 in light coordinates: edgeCoverage's walk.
+vec3 partsLightMoments(vec3 h0, vec3 h1, vec3 h2) {
+    float f0 = dot(h2, vec3(-1.0, -1.0, 1.0));
+    float f1 = dot(h2, vec3(1.0, -1.0, 1.0));
+    float f2 = dot(h2, vec3(1.0, 1.0, 1.0));
+    float f3 = dot(h2, vec3(-1.0, 1.0, 1.0));
+    if (f0 < 0.0 && f1 < 0.0 && f2 < 0.0 && f3 < 0.0) return vec3(0.0, 0.0, 0.0);
+    vec2 leave = vec2(0.0, 0.0);
+    vec2 enter = vec2(0.0, 0.0);
+    vec3 sum = vec3(0.0, 0.0, 0.0);
+    sum += partsSide(vec2(-1.0, -1.0), vec2(1.0, -1.0), f0, f1, h0, h1, leave, enter);
+    sum += partsSide(vec2(1.0, -1.0), vec2(1.0, 1.0), f1, f2, h0, h1, leave, enter);
+    sum += partsSide(vec2(1.0, 1.0), vec2(-1.0, 1.0), f2, f3, h0, h1, leave, enter);
+    sum += partsSide(vec2(-1.0, 1.0), vec2(-1.0, -1.0), f3, f0, h0, h1, leave, enter);
+    sum += partsSegment(leave, enter, 0.0, 1.0, h0, h1);
+    return sum;
+}
+
+// Corner windings as one mixed-radix number; d1 towards the part's centroid, d2 along the side
+// to the next corner counter-clockwise (the model's cornerWinding; directions scaled to exact
+// small numbers). Square: corners (1, 0), (1, 1), (0, 1).
+float partsSquareWindings(vec3 g0, vec3 g1, vec3 g2, float edgeSign) {
+    return partsCornerWinding(g0, g1, g2, vec2(1.0, 0.0), vec2(-0.5, 0.5), vec2(0.0, 1.0),
+                              edgeSign) +
+           16.0 * partsCornerWinding(g0, g1, g2, vec2(1.0, 1.0), vec2(-0.5, -0.5),
+                                     vec2(-1.0, 0.0), edgeSign) +
+           256.0 * partsCornerWinding(g0, g1, g2, vec2(0.0, 1.0), vec2(0.5, -0.5),
+                                      vec2(0.0, -1.0), edgeSign);
+}
+
+// Triangle (centroid (2/3, 1/3)): corners (1, 0), (1, 1).
+float partsTriangleWindings(vec3 g0, vec3 g1, vec3 g2, float edgeSign) {
+    return partsCornerWinding(g0, g1, g2, vec2(1.0, 0.0), vec2(-1.0, 1.0), vec2(0.0, 1.0),
+                              edgeSign) +
+           16.0 * partsCornerWinding(g0, g1, g2, vec2(1.0, 1.0), vec2(-1.0, -2.0),
+                                     vec2(-1.0, -1.0), edgeSign);
+}
+
+// The whole light, in light coordinates: its corners (-1, -1), (1, -1), (1, 1), (-1, 1) (the
+// part's (0, 0), (1, 0), (1, 1), (0, 1)).
+float partsLightWindings(vec3 h0, vec3 h1, vec3 h2, float edgeSign) {
+    return partsCornerWinding(h0, h1, h2, vec2(-1.0, -1.0), vec2(1.0, 1.0), vec2(1.0, 0.0),
+                              edgeSign) +
+           16.0 * partsCornerWinding(h0, h1, h2, vec2(1.0, -1.0), vec2(-1.0, 1.0),
+                                     vec2(0.0, 1.0), edgeSign) +
+           256.0 * partsCornerWinding(h0, h1, h2, vec2(1.0, 1.0), vec2(-1.0, -1.0),
+                                      vec2(-1.0, 0.0), edgeSign) +
+           4096.0 * partsCornerWinding(h0, h1, h2, vec2(-1.0, 1.0), vec2(1.0, -1.0),
+                                       vec2(0.0, -1.0), edgeSign);
+}
+
+// Light homogeneous coordinates (points and half-planes alike: a signed permutation) in the part
+// coordinates of part `index` of R = 4 or 8.
+vec3 partsFrame(vec3 h, int parts, int index) {
+    int q = parts == 8 ? index / 2 : index;
+    vec2 sq = vec2(q == 0 || q == 3 ? 1.0 : -1.0, q < 2 ? 1.0 : -1.0);
+    vec3 g = partsHalf(h, sq);
+    return parts == 8 && index % 2 == 1 ? vec3(g.y, g.x, g.z) : g;
+}
+
+// A light homogeneous point in the part coordinates of R = 1: x = (s + 1) / 2, y = (t + 1) / 2.
+vec3 partsWhole(vec3 q) {
+    return vec3(0.5 * (q.x + q.z), 0.5 * (q.y + q.z), q.z);
+}
+
+// The parts of set `set` of R = `parts` (1, 4, 8) for the directed edge e0 -> e1 seen from p
+// (parts 4 set + k, k < 4; R = 1: k = 0 only); the projection is edgeCoverage's.
+EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, CoverageLight light, int parts, int set) {
+    EdgePartSet e;
+    e.coverage = vec4(0.0, 0.0, 0.0, 0.0);
+    e.momentX = vec4(0.0, 0.0, 0.0, 0.0);
+    e.momentY = vec4(0.0, 0.0, 0.0, 0.0);
+    e.windings = vec4(0.0, 0.0, 0.0, 0.0);
+    for (int k = 0; k < 4; ++k) e.bounds[k] = vec4(1.0, 1.0, 0.0, 0.0);
+    vec3 pc = p - light.c;
+    vec3 k0 = e0 - light.c;
+    vec3 k1 = e1 - light.c;
+    vec3 d0 = e0 - p;
+    vec3 d1 = e1 - p;
+    float hp = dot(light.n, pc);
+    if (!(abs(hp) > 0.0)) return e;
+    float z0 = dot(light.n, k0) / hp;
+    float z1 = dot(light.n, k1) / hp;
+    float w0 = -dot(light.n, d0) / hp;
+    float w1 = -dot(light.n, d1) / hp;
+    float lo = 0.0;
+    float hi = 1.0;
+    if (!coverageClipLe0(-z0, -z1, lo, hi)) return e;
+    if (!coverageClipLe0(-w0, -w1, lo, hi)) return e;
+    vec3 q0 = coverageProject(lo, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    vec3 q1 = coverageProject(hi, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    int count = parts == 1 ? 1 : 4;
+    // The bounds need only the segment; the rest needs R_e to have area.
+    for (int k = 0; k < count; ++k) {
+        int index = 4 * set + k;
+        if (parts == 1)
+            e.bounds[k] = partsEdgeBounds(partsWhole(q0), partsWhole(q1));
+        else if (parts == 4)
+            e.bounds[k] = partsEdgeBounds(partsFrame(q0, parts, index),
+                                          partsFrame(q1, parts, index));
+        else
+            e.bounds[k] = partsTriangleBounds(partsFrame(q0, parts, index),
+                                              partsFrame(q1, parts, index));
+    }
+    float cr = q0.x * q1.y - q0.y * q1.x;
+    if (cr == 0.0) return e;
+    float sg = cr > 0.0 ? 1.0 : -1.0;
+    vec3 line = cross(q0, q1);
+    vec3 h0 = vec3(-sg * q0.y, sg * q0.x, 0.0);
+    vec3 h1 = vec3(sg * q1.y, -sg * q1.x, 0.0);
+    vec3 h2 = -sg * line;
+    float edgeSign = hp > 0.0 ? sg : -sg;
+    for (int k = 0; k < count; ++k) {
+        int index = 4 * set + k;
+        if (parts == 1) {
+            // |part| = 1 is the light's area 4 over 4; x = (s + 1) / 2 adds half the area.
+            vec3 m = partsLightMoments(h0, h1, h2);
+            e.coverage[k] = edgeSign * 0.125 * abs(m.x);
+            e.momentX[k] = edgeSign * 0.125 * (m.y / 6.0 + 0.5 * m.x);
+            e.momentY[k] = edgeSign * 0.125 * (m.z / 6.0 + 0.5 * m.x);
+            e.windings[k] = partsLightWindings(h0, h1, h2, edgeSign);
+        } else {
+            vec3 g0 = partsFrame(h0, parts, index);
+            vec3 g1 = partsFrame(h1, parts, index);
+            vec3 g2 = partsFrame(h2, parts, index);
+            if (parts == 4) {
+                vec3 m = partsSquareMoments(g0, g1, g2);
+                e.coverage[k] = edgeSign * 0.5 * abs(m.x);
+                e.momentX[k] = edgeSign * m.y / 6.0;
+                e.momentY[k] = edgeSign * m.z / 6.0;
+                e.windings[k] = partsSquareWindings(g0, g1, g2, edgeSign);
+            } else {
+                // |part| = 1/2.
+                vec3 m = partsTriangleMoments(g0, g1, g2);
+                e.coverage[k] = edgeSign * abs(m.x);
+                e.momentX[k] = edgeSign * m.y / 3.0;
+                e.momentY[k] = edgeSign * m.z / 3.0;
+                e.windings[k] = partsTriangleWindings(g0, g1, g2, edgeSign);
+            }
+        }
+    }
+    return e;
 }

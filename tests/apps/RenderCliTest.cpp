@@ -237,6 +237,9 @@ TEST_F(RenderCli, ReportListsEveryParameterOfTheMethod) {
     EXPECT_EQ(parameters("--method wedges-blend"),
               (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"parts", 4},
                               {"bits", 8}, {"overlap", "paper"}}));
+    EXPECT_EQ(parameters("--method wedges-blend --param overlap=centroid --param parts=8"),
+              (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"parts", 8},
+                              {"bits", 8}, {"overlap", "centroid"}}));
 }
 
 TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {

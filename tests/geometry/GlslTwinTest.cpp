@@ -164,10 +164,19 @@ TEST(GlslTwinTest, CoverageLightStructMatches) {
 
 TEST(GlslTwinTest, PartsFunctionsAndStructMatch) {
     expectSameFunctions("geometry/src/Parts.cpp", "shaders/lib/Parts.glsl",
-                        {"partsHalf", "partsAxisSide", "partsQuadrantArea", "partsEdgeBounds",
-                         "partsInside", "partsCornerWinding", "edgeParts4"});
+                        {"partsHalf", "partsAxisSide", "partsQuadrantArea", "partsSegmentBounds",
+                         "partsEdgeBounds", "partsTriangleBounds", "partsInside",
+                         "partsCornerWinding", "edgeParts4", "partsSegment", "partsSide",
+                         "partsSquareMoments", "partsTriangleMoments", "partsLightMoments",
+                         "partsSquareWindings", "partsTriangleWindings", "partsLightWindings",
+                         "partsFrame", "partsWhole", "edgePartSet"});
     const std::vector<std::string> f =
         fields(withoutComments(readSource("geometry/include/geometry/Parts.h")), "EdgeParts4");
     EXPECT_EQ(f, (std::vector<std::string>{"vec4 coverage", "vec4 bounds[4]", "vec3 windings[4]"}));
     EXPECT_EQ(f, fields(withoutComments(readSource("shaders/lib/Parts.glsl")), "EdgeParts4"));
+    const std::vector<std::string> g =
+        fields(withoutComments(readSource("geometry/include/geometry/Parts.h")), "EdgePartSet");
+    EXPECT_EQ(g, (std::vector<std::string>{"vec4 coverage", "vec4 momentX", "vec4 momentY",
+                                           "vec4 bounds[4]", "vec4 windings"}));
+    EXPECT_EQ(g, fields(withoutComments(readSource("shaders/lib/Parts.glsl")), "EdgePartSet"));
 }

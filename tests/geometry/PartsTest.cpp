@@ -234,3 +234,170 @@ TEST(PartsTest, TiesOnCornersAndAxesAsTheModel) {
     }
     EXPECT_EQ(checked, 3 * 4 * 16);
 }
+
+namespace {
+
+// Corner windings from edgePartSet's mixed-radix number (Σ_j 16^j w_j, each w_j in [-8, 7]).
+std::array<int, 4> decodeWindings(float packed, int corners) {
+    std::array<int, 4> w{};
+    int n = static_cast<int>(std::lround(packed));
+    for (int j = 0; j < corners; ++j) {
+        w[j] = ((n + 8) % 16 + 16) % 16 - 8;
+        n = (n - w[j]) / 16;
+    }
+    EXPECT_EQ(n, 0) << packed;
+    return w;
+}
+
+} // namespace
+
+// edgePartSet (every R, with the moments, a set of four parts at a time) against the double model
+// on the random cases above: coverage, first moments, bounds and every corner's winding of every
+// part of R = 1, 4 and 8 (both sets). R = 4 also against edgeParts4 (the paper's path).
+TEST(PartsTest, PartSetTwinMatchesTheDoubleModelForEveryR) {
+    constexpr double kTolerance = 1e-4;    // part area / part coordinates, times magnification
+    constexpr double kCornerMargin = 1e-4; // as above
+    constexpr double kMaxMagnification = 1e3;
+    constexpr int kItems = 6000;
+    Rng rng(0x7e11);
+    for (const int parts : {1, 4, 8}) {
+        double maxCoverage = 0.0, maxMoment = 0.0, maxBounds = 0.0, maxVs4 = 0.0;
+        int nonZero = 0, nonEmpty = 0, inside = 0, windingFlips = 0, emptinessFlips = 0;
+        for (int n = 0; n < kItems; ++n) {
+            const Case k = randomCase(rng);
+            if (k.magnification > kMaxMagnification) continue; // ill-conditioned (test above)
+            const geometry::CoverageLight cl =
+                geometry::coverageLight(k.light.center, k.light.u, k.light.v);
+            const ProjectedEdge edge =
+                projectEdge(lightFrame(k.light), dvec3(k.p), dvec3(k.e0), dvec3(k.e1));
+            const double tolerance = kTolerance * k.magnification;
+            for (int set = 0; set < (parts == 8 ? 2 : 1); ++set) {
+                const geometry::EdgePartSet twin =
+                    geometry::edgePartSet(k.p, k.e0, k.e1, cl, parts, set);
+                if (parts == 4) {
+                    const geometry::EdgeParts4 paper = geometry::edgeParts4(k.p, k.e0, k.e1, cl);
+                    for (int q = 0; q < 4; ++q) {
+                        maxVs4 = std::max(maxVs4,
+                                          double(std::abs(paper.coverage[q] - twin.coverage[q])));
+                        EXPECT_EQ(paper.bounds[q], twin.bounds[q]) << n;
+                        EXPECT_EQ(paper.windings[q].x + 16.0f * paper.windings[q].y +
+                                      256.0f * paper.windings[q].z,
+                                  twin.windings[q])
+                            << n;
+                    }
+                }
+                for (int kk = 0; kk < (parts == 1 ? 1 : 4); ++kk) {
+                    const Part part = radialPart(parts, 4 * set + kk);
+                    const double cov = partCoverage(edge, part);
+                    const dvec2 mom = partMoment(edge, part);
+                    nonZero += cov != 0.0;
+                    const double dc = std::abs(double(twin.coverage[kk]) - cov);
+                    const double dm = std::max(std::abs(double(twin.momentX[kk]) - mom.x),
+                                               std::abs(double(twin.momentY[kk]) - mom.y));
+                    maxCoverage = std::max(maxCoverage, dc / k.magnification);
+                    maxMoment = std::max(maxMoment, dm / k.magnification);
+                    EXPECT_LE(dc, tolerance) << n << " part " << 4 * set + kk;
+                    EXPECT_LE(dm, tolerance) << n << " part " << 4 * set + kk;
+
+                    const Rect r = partEdgeBounds(edge, part);
+                    const glm::vec4 b = twin.bounds[kk];
+                    const bool twinEmpty = b.x > b.z || b.y > b.w;
+                    if (r.empty() != twinEmpty) {
+                        ++emptinessFlips;
+                        const double extent = twinEmpty ? std::max(r.width(), r.height())
+                                                        : std::max(b.z - b.x, b.w - b.y);
+                        EXPECT_LE(extent, tolerance) << n << " part " << 4 * set + kk;
+                    } else if (!r.empty()) {
+                        ++nonEmpty;
+                        const double d = std::max({std::abs(b.x - r.minX), std::abs(b.y - r.minY),
+                                                   std::abs(b.z - r.maxX), std::abs(b.w - r.maxY)});
+                        maxBounds = std::max(maxBounds, d / k.magnification);
+                        EXPECT_LE(d, tolerance) << n << " part " << 4 * set + kk;
+                    }
+
+                    // The corners that are not the centre, in the packing's order.
+                    const int first = parts == 1 ? 0 : 1;
+                    const std::array<int, 4> w =
+                        decodeWindings(twin.windings[kk], part.cornerCount - first);
+                    for (int c = first; c < part.cornerCount; ++c) {
+                        const int model = cornerWinding(edge, part, c);
+                        inside += model != 0;
+                        if (model == w[c - first]) continue;
+                        ++windingFlips;
+                        if (!edge.region ||
+                            cornerMargin(edge, part, c) > kCornerMargin * k.magnification)
+                            ADD_FAILURE() << n << " part " << 4 * set + kk << " corner " << c
+                                          << ": model " << model << " twin " << w[c - first];
+                    }
+                }
+            }
+        }
+        std::printf("[ parts    ] R = %d: %d coverages non-zero; max error / magnification: "
+                    "coverage %.2g, moments %.2g, bounds %.2g (%d non-empty, %d emptiness "
+                    "flips); corners %d in R_e, %d flips; R = 4 against edgeParts4 %.2g\n",
+                    parts, nonZero, maxCoverage, maxMoment, maxBounds, nonEmpty, emptinessFlips,
+                    inside, windingFlips, maxVs4);
+        EXPECT_GT(nonZero, kItems / 2);
+        EXPECT_GT(nonEmpty, kItems / 4);
+        EXPECT_GT(inside, kItems / 4);
+        EXPECT_LE(emptinessFlips, kItems / 1000);
+        EXPECT_LE(windingFlips, kItems / 1000);
+        EXPECT_LE(maxVs4, 1e-6); // the same quadrant area, integrated with the moments
+    }
+}
+
+// The tie configurations above (projected vertices exactly on part corners, on the light's axes
+// and diagonals) for edgePartSet and every R: each edge's windings are the model's, and over a
+// closed loop every corner's sum is within [-1, 1] (what the mixed-radix packing relies on).
+TEST(PartsTest, PartSetTiesAsTheModelForEveryR) {
+    RectLight light;
+    light.center = vec3(0.0f);
+    light.u = vec3(1.0f, 0.0f, 0.0f);
+    light.v = vec3(0.0f, 1.0f, 0.0f);
+    const geometry::CoverageLight cl = geometry::coverageLight(light.center, light.u, light.v);
+    const LightFrame f = lightFrame(light);
+    const vec3 p(0.0f, 0.0f, -1.0f);
+    const std::vector<std::vector<glm::vec2>> loops = {
+        {{1, 0}, {1, 1}, {0, 1}, {0.5f, 0.5f}},
+        {{1, -1}, {1, 1}, {-1, 1}, {-1, -1}},
+        {{0.5f, -0.5f}, {1, 0}, {0.5f, 1.5f}, {-1, 0}},
+        {{0.25f, 0.25f}, {1.5f, 0.25f}, {1.5f, 1.0f}, {0.25f, 1.0f}},
+        {{0.5f, 0.5f}, {1.5f, 0.5f}, {1, 1}, {0.5f, 1.5f}},           // through the diagonal's end
+        {{-0.5f, -0.5f}, {1.5f, -1.5f}, {1.5f, 1.5f}, {-1.5f, 1.5f}}, // around three corners
+    };
+    int checked = 0;
+    for (const int parts : {1, 4, 8}) {
+        for (std::size_t l = 0; l < loops.size(); ++l) {
+            const auto& loop = loops[l];
+            for (int set = 0; set < (parts == 8 ? 2 : 1); ++set) {
+                for (int kk = 0; kk < (parts == 1 ? 1 : 4); ++kk) {
+                    const Part part = radialPart(parts, 4 * set + kk);
+                    const int first = parts == 1 ? 0 : 1;
+                    std::array<int, 4> sumModel{}, sumTwin{};
+                    for (std::size_t i = 0; i < loop.size(); ++i) {
+                        const glm::vec2 a = loop[i], b = loop[(i + 1) % loop.size()];
+                        const vec3 e0(0.5f * a.x, 0.5f * a.y, -0.5f);
+                        const vec3 e1(0.5f * b.x, 0.5f * b.y, -0.5f);
+                        const geometry::EdgePartSet twin =
+                            geometry::edgePartSet(p, e0, e1, cl, parts, set);
+                        const ProjectedEdge edge = projectEdge(f, dvec3(p), dvec3(e0), dvec3(e1));
+                        const std::array<int, 4> w =
+                            decodeWindings(twin.windings[kk], part.cornerCount - first);
+                        for (int c = first; c < part.cornerCount; ++c) {
+                            EXPECT_EQ(cornerWinding(edge, part, c), w[c - first])
+                                << "R " << parts << " loop " << l << " edge " << i << " part "
+                                << 4 * set + kk << " corner " << c;
+                            sumModel[c] += cornerWinding(edge, part, c);
+                            sumTwin[c] += w[c - first];
+                            ++checked;
+                        }
+                    }
+                    for (int c = 0; c < 4; ++c)
+                        EXPECT_LE(std::abs(sumTwin[c]), 1);
+                    EXPECT_EQ(sumModel, sumTwin);
+                }
+            }
+        }
+    }
+    EXPECT_EQ(checked, 6 * 4 * (4 + 3 * 4 + 2 * 8));
+}

@@ -1,6 +1,6 @@
-// shaders/lib/Parts.glsl on the driver: a compute shader runs edgeParts4 over random lights,
-// edges and points and the results match the float C++ twin (geometry/Parts.h) up to the driver's
-// rounding (fused multiply-adds, its own division).
+// shaders/lib/Parts.glsl on the driver: a compute shader runs edgeParts4 (and edgePartSet for
+// every R) over random lights, edges and points and the results match the float C++ twin
+// (geometry/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
 #include "GlTestEnv.h"
 
 #include <geometry/Coverage.h>
@@ -220,6 +220,124 @@ TEST_F(PartsShaderTest, ComputeMatchesTheCppTwin) {
     EXPECT_LE(boundsOff, kItems / 1000);
     EXPECT_LE(emptinessFlips, kItems / 1000);
     EXPECT_LE(windingFlips, kItems / 1000);
+}
+
+// edgePartSet: vec4s per item coverage, momentX, momentY, bounds[4], windings.
+constexpr int kSetStride = 8;
+
+const char* kPartSetComp = R"(#include "lib/Coverage.glsl"
+#include "lib/Parts.glsl"
+layout(local_size_x = 64) in;
+struct PartsInput {
+    vec4 e0;
+    vec4 e1;
+    vec4 c;
+    vec4 u;
+    vec4 v;
+    vec4 p;
+};
+layout(std430, binding = 0) readonly buffer Inputs { PartsInput inputs[]; };
+layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
+uniform uint count;
+uniform int parts;
+uniform int set;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    PartsInput x = inputs[i];
+    CoverageLight light = coverageLight(x.c.xyz, x.u.xyz, x.v.xyz);
+    EdgePartSet e = edgePartSet(x.p.xyz, x.e0.xyz, x.e1.xyz, light, parts, set);
+    uint base = i * 8u;
+    outputs[base] = e.coverage;
+    outputs[base + 1u] = e.momentX;
+    outputs[base + 2u] = e.momentY;
+    for (int k = 0; k < 4; ++k) outputs[base + 3u + uint(k)] = e.bounds[k];
+    outputs[base + 7u] = e.windings;
+}
+)";
+
+TEST_F(PartsShaderTest, PartSetComputeMatchesTheCppTwinForEveryR) {
+    ScratchFile file("part-set.comp", kPartSetComp);
+    gpu::ShaderLoader loader(gpu::defaultShaderDir());
+    gpu::Program program =
+        loader.load({.stages = {{GL_COMPUTE_SHADER, file.path()}}, .label = "part-set-check"});
+    ASSERT_TRUE(program);
+
+    Rng rng(0x5e75);
+    constexpr int kItems = 4000;
+    std::vector<PartsInput> inputs;
+    std::vector<double> magnification(kItems);
+    for (int n = 0; n < kItems; ++n)
+        inputs.push_back(randomInput(rng, magnification[n]));
+    gpu::Buffer in({.size = inputs.size() * sizeof(PartsInput),
+                    .data = inputs.data(),
+                    .label = "part-set-check-in"});
+    gpu::Buffer out(
+        {.size = inputs.size() * kSetStride * sizeof(vec4), .label = "part-set-check-out"});
+    constexpr double kTolerance = 1e-5; // as above, times the magnification
+    constexpr double kMaxMagnification = 1e3;
+    for (const auto& [parts, set] :
+         {std::pair{1, 0}, std::pair{4, 0}, std::pair{8, 0}, std::pair{8, 1}}) {
+        glUseProgram(program.id());
+        glProgramUniform1ui(program.id(), program.uniformLocation("count"), kItems);
+        glProgramUniform1i(program.id(), program.uniformLocation("parts"), parts);
+        glProgramUniform1i(program.id(), program.uniformLocation("set"), set);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+        glDispatchCompute((kItems + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<vec4> gpu(static_cast<std::size_t>(kItems) * kSetStride);
+        glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(vec4)),
+                                gpu.data());
+        glUseProgram(0);
+        ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+        int nonZero = 0, valuesOff = 0, emptinessFlips = 0, windingFlips = 0, inside = 0;
+        double maxValue = 0.0;
+        const int count = parts == 1 ? 1 : 4;
+        for (int n = 0; n < kItems; ++n) {
+            if (magnification[n] > kMaxMagnification) continue;
+            const PartsInput& x = inputs[n];
+            const vec4* g = gpu.data() + static_cast<std::size_t>(n) * kSetStride;
+            const geometry::EdgePartSet cpu = geometry::edgePartSet(
+                vec3(x.p), vec3(x.e0), vec3(x.e1),
+                geometry::coverageLight(vec3(x.c), vec3(x.u), vec3(x.v)), parts, set);
+            const double tolerance = kTolerance * magnification[n];
+            for (int k = 0; k < count; ++k) {
+                nonZero += cpu.coverage[k] != 0.0f;
+                const double d = std::max({std::abs(g[0][k] - cpu.coverage[k]),
+                                           std::abs(g[1][k] - cpu.momentX[k]),
+                                           std::abs(g[2][k] - cpu.momentY[k])});
+                const vec4 b = g[3 + k], r = cpu.bounds[k];
+                const bool gpuEmpty = b.x > b.z || b.y > b.w, cpuEmpty = r.x > r.z || r.y > r.w;
+                double db = 0.0;
+                if (gpuEmpty != cpuEmpty) {
+                    ++emptinessFlips;
+                } else if (!cpuEmpty) {
+                    const vec4 e = glm::abs(b - r);
+                    db = std::max({e.x, e.y, e.z, e.w});
+                }
+                maxValue = std::max(maxValue, std::max(d, db) / magnification[n]);
+                valuesOff += std::max(d, db) > tolerance;
+                inside += cpu.windings[k] != 0.0f;
+                windingFlips += g[7][k] != cpu.windings[k];
+            }
+            for (int k = count; k < 4; ++k) { // unused parts of the set stay empty
+                EXPECT_EQ(g[0][k], 0.0f);
+                EXPECT_EQ(g[3 + k], vec4(1.0f, 1.0f, 0.0f, 0.0f));
+            }
+        }
+        std::printf("[ glsl     ] edgePartSet R = %d set %d: %d coverages non-zero, max "
+                    "|gpu - cpu| / magnification %.2g (%d over %.0e), %d emptiness flips, "
+                    "windings %d non-zero, %d differ\n",
+                    parts, set, nonZero, maxValue, valuesOff, kTolerance, emptinessFlips, inside,
+                    windingFlips);
+        EXPECT_GT(nonZero, kItems / 4);
+        EXPECT_GT(inside, kItems / 8);
+        EXPECT_LE(valuesOff, kItems / 1000);
+        EXPECT_LE(emptinessFlips, kItems / 1000);
+        EXPECT_LE(windingFlips, kItems / 1000);
+    }
 }
 
 } // namespace

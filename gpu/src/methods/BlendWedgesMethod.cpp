@@ -1,23 +1,40 @@
 // wedges-blend (Forest, Barthe & Paulin 2006): a visibility buffer per silhouette group with the
-// light split into four radial parts (quadrants around its centre), blended into the final
-// buffer with the overlap correction E = (A_f / B_f) (A_s / B_s) b per part. The arithmetic is
-// the CPU model's (geometry/BlendModel.h: R = 4, Overlap::Paper, 8-bit storage). Per batch of
-// groups that cannot interact on screen (GroupBatches.h), scissored to the batch:
+// light split into R radial parts, blended into the final buffer with an overlap correction per
+// part. The arithmetic is the CPU model's (geometry/BlendModel.h), and so are the parameters
+// (gpu/Methods.h; defaults: the paper's): parts R = 1 | 4 | 8, bits = 8 | 16 (the packing of the
+// stored states), overlap = paper (E = (A_f / B_f) (A_s / B_s) b) | centroid (linear densities
+// through stored centroids). Per batch of groups that cannot interact on screen
+// (GroupBatches.h), scissored to the batch:
 // - the groups' own z-fail volumes into the stencil (the centre's state C of each group);
-// - their wedges accumulate, per quadrant, the signed coverage and corner windings (ADD) and the
-//   clipped edge bounds (MIN) in 8 float targets (shaders/wedge-parts.frag): sums and minima need
-//   no read-modify-write, so any fragment order gives the same result;
-// - where they touched (the stencil mark), shaders/blend-parts.frag resolves each quadrant
-//   (vCoef = clamp(C + coverage), rectangle = edge bounds ∪ occluded corners), stores it at 8
-//   bits and blends it into the final state (in the groups' umbra, where no wedge reached, the
-//   same pass blends the full occlusion the empty sums resolve to with C = 1),
-//   packed 8-bit four to a 32-bit scalar (rectangles: min x | min y | max x | max y rounded
-//   outwards; vCoef), in two RGBA32UI targets read and written by the same pass: each pixel is
-//   written once per draw, after glTextureBarrier (DESIGN.md §4).
+// - their wedges accumulate, per part, the signed coverage, the corner windings and (centroid)
+//   the first moments (ADD) and the clipped edge bounds (MIN) in float targets
+//   (shaders/wedge-parts.frag): sums and minima need no read-modify-write, so any fragment
+//   order gives the same result;
+// - where they touched (the stencil mark), shaders/blend-parts.frag resolves each part (vCoef =
+//   clamp(C + coverage), rectangle = edge bounds ∪ occluded corners, centroid), stores it
+//   packed and blends it into the final state, packed too, in RGBA32UI targets read and written
+//   by the same pass: each pixel is written once per draw, after glTextureBarrier (DESIGN.md
+//   §4); in the groups' umbra, where no wedge reached, the same pass blends the full occlusion
+//   the empty sums resolve to with C = 1.
 // Layout, against the slides' 4 targets of (rect, vCoef + edge max X/Y): the per-silhouette sums
-// stay in float (signed running sums would gather one 8-bit rounding per edge), and the rectangle
-// is closed with occluded corners instead of edge maxima (BlendModel.h explains why); only the
-// final state is packed.
+// stay in float (signed running sums would gather one rounding per edge), and the rectangle is
+// closed with occluded corners instead of edge maxima (BlendModel.h explains why); only the
+// stored states are packed.
+//
+// The parts go in *sets* of at most four: R = 1 is one set of one part, R = 4 one set of four,
+// R = 8 two sets of four (parts 0-3: quadrants 0, 1; parts 4-7: quadrants 2, 3), the wedge and
+// blend draws of a batch done once per set (a uniform tells the wedge program which). The final
+// states of different parts never meet, so this is exact, and one set fits llvmpipe's 8 colour
+// attachments with the fixed-function blending of WedgePass (targets 0-3 ADD, 4-7 MIN):
+//   set of 4: 0 coverage, 1 windings, 2 moment x, 3 moment y (centroid only), 4-7 bounds of part
+//             0-3 (min x, min y, -max x, -max y);
+//   set of 1: 0 (coverage, windings, moment x, moment y), 4 bounds;
+// one float per part for all its corner windings: Σ_j 16^j w_j over its corners that are not the
+// centre (3 at R = 4, 2 at R = 8, 4 at R = 1), exact while each corner's sum stays in [-8, 7]
+// (planar groups: 0 or ±1). Unused targets are not attached (draw buffer NONE). The final state
+// of a set: 2 targets at 8 bits (rect; vCoef | centroid << 8), 4 at 16 (rect min, rect max,
+// vCoef | centroid x << 16, centroid y), one component per part (R = 1: R32UI). R = 8 draws the
+// batch's wedges twice (the wedge-fragment counter counts the first set's draw only).
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
@@ -26,106 +43,198 @@
 #include "GroupBatches.h"
 #include "MethodUtil.h"
 
-#include <geometry/Error.h>
-
 #include <array>
+#include <span>
+#include <string>
+#include <vector>
 
 namespace gpu {
 
 namespace {
 
-constexpr std::uint32_t kEmptyRect8 = 0x0000FFFFu; // (1, 1, 0, 0): min 255, max 0
+constexpr GLint kPartSetLocation = 1; // shaders/wedge-parts.frag uPartSet (R = 8)
+constexpr int kPartTargets = 8;
+constexpr int kMaxFinalTargets = 4;
+constexpr int kMaxSets = 2;
+
+// The method's parameters and the layout they give (the comment at the top of this file).
+struct BlendLayout {
+    int parts = 4;
+    int bits = 8;
+    bool centroid = false;
+
+    int sets() const { return parts == 8 ? 2 : 1; }
+    int finalTargets() const { return bits == 16 ? 4 : 2; }
+    // Whether per-part accumulation target i is used (attached).
+    bool usesPartTarget(int i) const {
+        if (parts == 1) return i == 0 || i == 4;
+        if (i == 2 || i == 3) return centroid;
+        return true;
+    }
+    // The target holding vCoef in a set's final state.
+    int coefTarget() const { return bits == 16 ? 2 : 1; }
+    std::vector<std::string> defines() const {
+        return {"BLEND_PARTS " + std::to_string(parts), "BLEND_BITS " + std::to_string(bits),
+                std::string("BLEND_CENTROID ") + (centroid ? "1" : "0")};
+    }
+};
+
+BlendLayout blendLayout(std::span<const ParameterValue> parameters) {
+    BlendLayout l;
+    l.parts = std::stoi(std::string(parameterValue(parameters, "parts")));
+    l.bits = std::stoi(std::string(parameterValue(parameters, "bits")));
+    l.centroid = parameterValue(parameters, "overlap") == "centroid";
+    return l;
+}
+
+// The "empty" values the targets are cleared to: per-part accumulation target i (sums 0, bounds
+// the empty rectangle (1, 1, 0, 0) in their min form, (1, 1, -0, -0)), and final-state target i
+// (nothing occluded: the empty rectangle packed, vCoef 0).
+std::array<float, 4> emptyPartValue(int target) {
+    return target < 4 ? std::array<float, 4>{0, 0, 0, 0} : std::array<float, 4>{1, 1, 0, 0};
+}
+std::array<GLuint, 4> emptyFinalValue(const BlendLayout& layout, int target) {
+    // 8 bits: (1, 1, 0, 0) = min 255 | 255 << 8, max 0; 16 bits: min x | min y << 16 = all ones.
+    const GLuint emptyRectMin = layout.bits == 16 ? 0xFFFFFFFFu : 0x0000FFFFu;
+    const GLuint v = target == 0 ? emptyRectMin : 0u;
+    return {v, v, v, v};
+}
 
 class BlendWedgesMethod final : public VisibilityMethod {
 public:
     explicit BlendWedgesMethod(const MethodResources& r)
-        : mVolumes(r.shaders), mWedges(r.shaders, WedgePass::Output::Parts4),
-          mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}),
+        : mLayout(blendLayout(r.parameters)), mVolumes(r.shaders),
+          mWedges(r.shaders, WedgePass::Output::Parts4, mLayout.defines()),
+          mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}, mLayout.defines()),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
-          mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{}) {
-        if (parameterValue(r.parameters, "parts") != "4" ||
-            parameterValue(r.parameters, "bits") != "8" ||
-            parameterValue(r.parameters, "overlap") != "paper")
-            throw geometry::InputError("wedges-blend: only parts=4, bits=8, overlap=paper run on "
-                                       "the GPU yet");
-    }
+          mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{},
+                   mLayout.defines()) {}
 
     void resize(int width, int height) override {
         std::vector<FramebufferAttachment> parts;
-        for (int i = 0; i < 8; ++i) {
+        std::array<GLenum, kPartTargets> drawBuffers{};
+        for (int i = 0; i < kPartTargets; ++i) {
+            drawBuffers[i] = GL_NONE;
+            mParts[i] = Texture();
+            if (!mLayout.usesPartTarget(i)) continue;
             mParts[i] = Texture({.width = width, .height = height, .format = GL_RGBA32F,
                                  .label = "blend-parts"});
             parts.push_back({GLenum(GL_COLOR_ATTACHMENT0 + i), &mParts[i]});
+            drawBuffers[i] = GLenum(GL_COLOR_ATTACHMENT0 + i);
         }
         mPartsFbo = Framebuffer({.attachments = parts, .label = "blend-parts"});
-        for (int i = 0; i < 2; ++i)
-            mFinal[i] = Texture({.width = width, .height = height, .format = GL_RGBA32UI,
-                                 .label = "blend-final"});
-        mFinalFbo = Framebuffer({.attachments = {{GL_COLOR_ATTACHMENT0, &mFinal[0]},
-                                                 {GL_COLOR_ATTACHMENT1, &mFinal[1]}},
-                                 .label = "blend-final"});
+        mPartsFbo.setDrawBuffers(drawBuffers); // output location i -> attachment i, or none
+        const GLenum finalFormat = mLayout.parts == 1 ? GL_R32UI : GL_RGBA32UI;
+        for (int set = 0; set < mLayout.sets(); ++set) {
+            std::vector<FramebufferAttachment> finals;
+            for (int i = 0; i < mLayout.finalTargets(); ++i) {
+                mFinal[set][i] = Texture({.width = width, .height = height, .format = finalFormat,
+                                          .label = "blend-final"});
+                finals.push_back({GLenum(GL_COLOR_ATTACHMENT0 + i), &mFinal[set][i]});
+            }
+            mFinalFbo[set] = Framebuffer({.attachments = finals, .label = "blend-final"});
+        }
     }
 
     void execute(const FrameContext& ctx) override {
         const Targets& t = ctx.targets;
-        // Both framebuffers share the frame's depth-stencil (recreated on resize).
+        // The framebuffers share the frame's depth-stencil (recreated on resize).
         glNamedFramebufferTexture(mPartsFbo.id(), GL_DEPTH_STENCIL_ATTACHMENT,
                                   t.depthStencil.id(), 0);
-        glNamedFramebufferTexture(mFinalFbo.id(), GL_DEPTH_STENCIL_ATTACHMENT,
-                                  t.depthStencil.id(), 0);
-        const GLuint emptyRect[4] = {kEmptyRect8, kEmptyRect8, kEmptyRect8, kEmptyRect8};
-        const GLuint zero4[4] = {0, 0, 0, 0};
+        for (int set = 0; set < mLayout.sets(); ++set)
+            glNamedFramebufferTexture(mFinalFbo[set].id(), GL_DEPTH_STENCIL_ATTACHMENT,
+                                      t.depthStencil.id(), 0);
         applyState(PipelineState{}); // colour writes on, no scissor: whole-frame clears
-        glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, 0, emptyRect);
-        glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, 1, zero4);
+        clearFinalState();
 
-        const float sums[4] = {0, 0, 0, 0}, bounds[4] = {1, 1, 0, 0};
-        for (int i = 0; i < 8; ++i)
-            glClearNamedFramebufferfv(mPartsFbo.id(), GL_COLOR, i, i < 4 ? sums : bounds);
+        clearPartTargets();
         runSilhouetteBatches(
             ctx, mVolumes, mWedges, mPartsFbo,
-            {.combine =
-                 [&](const GroupBatch&, const PipelineState& stencil, bool centreOccluded) {
-                     blend(t, stencil, centreOccluded);
-                 },
-             .reset =
-                 [&](const GroupBatch&, const PipelineState& stencil) {
-                     mReset.execute(mPartsFbo, t.width, t.height, stencil, [&] {
-                         float empty[8][4];
-                         for (int i = 0; i < 8; ++i)
-                             for (int c = 0; c < 4; ++c) empty[i][c] = i < 4 ? sums[c] : bounds[c];
-                         glUniform4fv(0, 8, &empty[0][0]);
-                     });
+            {.combine = [&](const GroupBatch& batch,
+                            const TouchedStates& states) { blendPartSets(t, batch, states); },
+             .reset = [&](const GroupBatch&,
+                          const PipelineState& stencil) { resetPartTargets(t, stencil); },
+             .umbra =
+                 [&](const GroupBatch&, const UmbraStates& states) {
+                     for (int set = 0; set < mLayout.sets(); ++set)
+                         blend(t, set == mLayout.sets() - 1 ? states.zero : states.keep, set,
+                               true);
                  }});
         {
             ScopedPass pass(&ctx.timers, "resolve");
             glTextureBarrier();
-            glBindTextureUnit(TEXUNIT_FINAL1, mFinal[1].id());
+            for (int set = 0; set < mLayout.sets(); ++set)
+                glBindTextureUnit(TEXUNIT_FINAL0 + set, mFinal[set][mLayout.coefTarget()].id());
             mResolve.execute(t.visibilityFbo, t.width, t.height);
         }
     }
 
 private:
-    // Each quadrant of the batch's silhouette state into the final state (blend-parts.frag),
-    // where `stencil` selects.
-    void blend(const Targets& t, const PipelineState& stencil, bool centreOccluded) {
-        for (int i = 0; i < 8; ++i) glBindTextureUnit(TEXUNIT_PARTS0 + i, mParts[i].id());
-        glBindTextureUnit(TEXUNIT_FINAL0, mFinal[0].id());
-        glBindTextureUnit(TEXUNIT_FINAL1, mFinal[1].id());
+    void clearFinalState() {
+        for (int set = 0; set < mLayout.sets(); ++set)
+            for (int i = 0; i < mLayout.finalTargets(); ++i)
+                glClearNamedFramebufferuiv(mFinalFbo[set].id(), GL_COLOR, i,
+                                           emptyFinalValue(mLayout, i).data());
+    }
+
+    // The colour targets of the per-part accumulation, whole frame (once per frame: after that
+    // every batch resets the pixels it touched, resetPartTargets).
+    void clearPartTargets() {
+        for (int i = 0; i < kPartTargets; ++i)
+            if (mLayout.usesPartTarget(i))
+                glClearNamedFramebufferfv(mPartsFbo.id(), GL_COLOR, i, emptyPartValue(i).data());
+    }
+
+    // The accumulation targets back to their empty values where `stencil` selects.
+    void resetPartTargets(const Targets& t, const PipelineState& stencil) {
+        mReset.execute(mPartsFbo, t.width, t.height, stencil, [&] {
+            std::array<float, 4 * kPartTargets> empty{};
+            for (int i = 0; i < kPartTargets; ++i)
+                for (int c = 0; c < 4; ++c) empty[4 * i + c] = emptyPartValue(i)[c];
+            glUniform4fv(0, kPartTargets, empty.data());
+        });
+    }
+
+    // The batch's per-set sequence where its wedges touched (the layout at the top of this
+    // file). Set 0's wedges were drawn by the batch loop; each further set resets the
+    // accumulation targets there, draws the batch's wedges again for its own parts (the
+    // stencil of the volumes and the marks stay) and blends them into its own final state.
+    void blendPartSets(const Targets& t, const GroupBatch& batch, const TouchedStates& states) {
+        for (int set = 0; set < mLayout.sets(); ++set) {
+            if (set > 0) {
+                resetPartTargets(t, states.touched);
+                glProgramUniform1i(mWedges.drawProgram(), kPartSetLocation, set);
+                mWedges.draw(mPartsFbo, t, batch.set, &batch.rect, /*markTouched=*/false,
+                             /*countFragments=*/false); // counted with set 0
+            }
+            blend(t, states.lit, set, false);
+            blend(t, states.occluded, set, true);
+        }
+        if (mLayout.sets() > 1) glProgramUniform1i(mWedges.drawProgram(), kPartSetLocation, 0);
+    }
+
+    // Each part of the set of the batch's silhouette state into the set's final state
+    // (blend-parts.frag), where `stencil` selects, with the group's centre state C given.
+    void blend(const Targets& t, const PipelineState& stencil, int set, bool centreOccluded) {
+        for (int i = 0; i < kPartTargets; ++i)
+            if (mLayout.usesPartTarget(i)) glBindTextureUnit(TEXUNIT_PARTS0 + i, mParts[i].id());
+        for (int i = 0; i < mLayout.finalTargets(); ++i)
+            glBindTextureUnit(TEXUNIT_FINAL0 + i, mFinal[set][i].id());
         // The final state is read and written by this pass: every pixel once per draw, after
         // the barrier that makes the previous writes visible.
         glTextureBarrier();
-        mBlend.execute(mFinalFbo, t.width, t.height, withStencil(PipelineState{}, stencil),
+        mBlend.execute(mFinalFbo[set], t.width, t.height, withStencil(PipelineState{}, stencil),
                        [&] { glUniform1f(0, centreOccluded ? 1.0f : 0.0f); });
     }
 
+    BlendLayout mLayout;
     StencilVolumePass mVolumes;
     WedgePass mWedges;
     FullscreenPass mBlend, mReset, mResolve;
-    std::array<Texture, 8> mParts;
+    std::array<Texture, kPartTargets> mParts;
     Framebuffer mPartsFbo;
-    std::array<Texture, 2> mFinal;
-    Framebuffer mFinalFbo;
+    std::array<std::array<Texture, kMaxFinalTargets>, kMaxSets> mFinal;
+    std::array<Framebuffer, kMaxSets> mFinalFbo;
 };
 
 } // namespace

@@ -135,9 +135,11 @@ constexpr PipelineState stencilSelect(GLenum func, GLint ref, GLenum op) {
 constexpr GLint kMark = GLint(kStencilWedgeMark);
 constexpr PipelineState kTouchedLit = stencilSelect(GL_EQUAL, kMark, GL_KEEP); // == mark
 constexpr PipelineState kTouchedOccluded = stencilSelect(GL_LESS, kMark, GL_KEEP); // > mark
+constexpr PipelineState kTouched = stencilSelect(GL_LEQUAL, kMark, GL_KEEP);       // >= mark
 constexpr PipelineState kTouchedReset = stencilSelect(GL_LEQUAL, kMark, GL_ZERO);  // >= mark
 // After the reset only the untouched pixels with a non-zero count are left.
-constexpr PipelineState kUmbra = stencilSelect(GL_NOTEQUAL, 0, GL_ZERO);
+constexpr PipelineState kUmbraKeep = stencilSelect(GL_NOTEQUAL, 0, GL_KEEP);
+constexpr PipelineState kUmbraZero = stencilSelect(GL_NOTEQUAL, 0, GL_ZERO);
 
 PipelineState scissored(PipelineState s, const ScissorRect& rect) {
     s.scissor = true;
@@ -181,13 +183,15 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
             ScopedPass pass(&ctx.timers, "blend");
             touched.emplace_back(GL_SAMPLES_PASSED);
             glBeginQuery(GL_SAMPLES_PASSED, touched.back().id());
-            steps.combine(batch, scissored(kTouchedLit, batch.rect), false);
-            steps.combine(batch, scissored(kTouchedOccluded, batch.rect), true);
+            steps.combine(batch, {scissored(kTouchedLit, batch.rect),
+                                  scissored(kTouchedOccluded, batch.rect),
+                                  scissored(kTouched, batch.rect)});
             glEndQuery(GL_SAMPLES_PASSED);
             steps.reset(batch, scissored(kTouchedReset, batch.rect));
             umbra.emplace_back(GL_SAMPLES_PASSED);
             glBeginQuery(GL_SAMPLES_PASSED, umbra.back().id());
-            steps.combine(batch, scissored(kUmbra, batch.rect), true);
+            steps.umbra(batch, {scissored(kUmbraKeep, batch.rect),
+                                scissored(kUmbraZero, batch.rect)});
             glEndQuery(GL_SAMPLES_PASSED);
         }
         rectPixels += batch.pixels;

@@ -49,20 +49,31 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
 // 1. the batch's groups' z-fail volumes: the count in the stencil's low bits (VolumeStates.h);
 // 2. their wedges into `target` (the method's per-silhouette targets, holding their empty
 //    values everywhere), marking the touched pixels in the stencil (kStencilWedgeMark);
-// 3. `combine` where a wedge touched, once with the centre lit (count 0) and once occluded,
-//    under the stencil state given (the method adds its own blend state and program);
-// 4. `reset` where a wedge touched (the per-silhouette targets back to their empty values;
-//    the stencil to zero);
-// 5. `combine` with the centre occluded where no wedge touched (the group's umbra: its state
-//    there is the full occlusion), the stencil back to zero.
+// 3. `combine` where a wedge touched: the method draws its combine pass under `lit` (the
+//    group leaves the light centre visible there) and `occluded` (it hides it); `touched`
+//    selects both without changing the stencil (for a method that needs several rounds, e.g.
+//    wedges-blend's part sets: reset its targets and draw the wedges again in between);
+// 4. `reset` where a wedge touched: the per-silhouette targets back to their empty values
+//    (the given state zeroes those pixels' stencil);
+// 5. `umbra` where no wedge touched but the count is non-zero (the group's umbra: its state
+//    there is the full occlusion): drawn under `keep`, the last draw under `zero`, which
+//    zeroes the stencil there.
 // The stencil and the per-silhouette targets are thus clean again after every batch, touched
 // only where the batch drew: no per-batch clears. Where no group's wedge or volume reaches, the
 // final buffer is never touched. Adds the batch and wedge counters to the report
-// ("pixels_blended": pixels of steps 3 and 5 summed over batches, by occlusion queries).
+// ("pixels_blended": the samples of step 3's draws — the touched pixels, once per round of a
+// method that needs several —, "pixels_umbra": those of step 5, summed over batches, by
+// occlusion queries).
+struct TouchedStates {
+    PipelineState lit, occluded, touched;
+};
+struct UmbraStates {
+    PipelineState keep, zero;
+};
 struct BatchSteps {
-    std::function<void(const GroupBatch&, const PipelineState& stencil, bool centreOccluded)>
-        combine;
+    std::function<void(const GroupBatch&, const TouchedStates&)> combine;
     std::function<void(const GroupBatch&, const PipelineState& stencil)> reset;
+    std::function<void(const GroupBatch&, const UmbraStates&)> umbra;
 };
 // `base` with the stencil test and scissor of `stencil` (a state given to combine or reset).
 inline PipelineState withStencil(PipelineState base, const PipelineState& stencil) {

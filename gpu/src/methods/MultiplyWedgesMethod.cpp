@@ -54,12 +54,9 @@ public:
         runSilhouetteBatches(
             ctx, mVolumes, mWedges, mSilhouetteFbo,
             {.combine =
-                 [&](const GroupBatch&, const PipelineState& stencil, bool centreOccluded) {
-                     glBindTextureUnit(TEXUNIT_SILHOUETTE, mSilhouette.id());
-                     mMultiply.execute(t.visibilityFbo, t.width, t.height,
-                                       withStencil(kMultiplyState, stencil), [&] {
-                         glUniform1f(0, centreOccluded ? 0.0f : 1.0f);
-                     });
+                 [&](const GroupBatch&, const TouchedStates& states) {
+                     multiply(t, states.lit, 1.0f);
+                     multiply(t, states.occluded, 0.0f);
                  },
              .reset =
                  [&](const GroupBatch&, const PipelineState& stencil) {
@@ -67,10 +64,19 @@ public:
                          const float empty[4] = {0, 0, 0, 0};
                          glUniform4fv(0, 1, empty);
                      });
-                 }});
+                 },
+             .umbra = [&](const GroupBatch&,
+                          const UmbraStates& states) { multiply(t, states.zero, 0.0f); }});
     }
 
 private:
+    // V *= clamp(lit - Σ coverage) where `stencil` selects.
+    void multiply(const Targets& t, const PipelineState& stencil, float lit) {
+        glBindTextureUnit(TEXUNIT_SILHOUETTE, mSilhouette.id());
+        mMultiply.execute(t.visibilityFbo, t.width, t.height, withStencil(kMultiplyState, stencil),
+                          [&] { glUniform1f(0, lit); });
+    }
+
     StencilVolumePass mVolumes;
     WedgePass mWedges;
     FullscreenPass mMultiply, mReset;

@@ -4,16 +4,18 @@
 #include "VolumeStates.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace gpu {
 
-WedgePass::WedgePass(const ShaderLoader& shaders, Output output)
+WedgePass::WedgePass(const ShaderLoader& shaders, Output output, std::vector<std::string> defines)
     : mOutput(output), mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
                            .label = "wedge-setup"})),
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
                                      {GL_FRAGMENT_SHADER, output == Output::Parts4
                                                               ? "wedge-parts.frag"
                                                               : "wedge.frag"}},
+                          .defines = std::move(defines),
                           .label = "wedges"})),
       mResolve(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-resolve.comp"}},
                              .label = "wedge-resolve"})),
@@ -46,7 +48,7 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
 }
 
 void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
-                     const ScissorRect* scissor, bool markTouched) {
+                     const ScissorRect* scissor, bool markTouched, bool countFragments) {
     if (set.edgeFirst.empty()) return;
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, t.width, t.height);
@@ -55,9 +57,10 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
     glBindVertexArray(mVao.id());
     // One query per draw call of the frame, all read in counts(): reading each at once would
     // stall the pipeline once per batch.
-    if (mQueriesUsed == mQueries.size()) mQueries.emplace_back(GL_SAMPLES_PASSED);
-    const Query& query = mQueries[mQueriesUsed++];
-    glBeginQuery(GL_SAMPLES_PASSED, query.id());
+    if (countFragments) {
+        if (mQueriesUsed == mQueries.size()) mQueries.emplace_back(GL_SAMPLES_PASSED);
+        glBeginQuery(GL_SAMPLES_PASSED, mQueries[mQueriesUsed++].id());
+    }
     // Entry faces (uPass 0), then exit faces (uPass 1): wedge.vert.
     for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
         PipelineState state = drawPass == 0 ? kEntryState : kExitState;
@@ -86,7 +89,7 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
         glUniform1ui(0, drawPass);
         multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
     }
-    glEndQuery(GL_SAMPLES_PASSED);
+    if (countFragments) glEndQuery(GL_SAMPLES_PASSED);
 }
 
 void WedgePass::resolve(const Targets& t) {

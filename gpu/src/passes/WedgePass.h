@@ -17,6 +17,8 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
+#include <vector>
 
 namespace gpu {
 
@@ -64,11 +66,15 @@ public:
     }();
 
     // What the wedge fragments write: V minus coverage into one float target (additive,
-    // multiply), or the four quadrants' per-part sums and minima into 8 float targets
-    // (wedges-blend: shaders/wedge-parts.frag).
+    // multiply), or per-part sums (targets 0-3, by ADD) and minima (4-7, by MIN) into up to 8
+    // float targets (wedges-blend: shaders/wedge-parts.frag).
     enum class Output { Subtract, Parts4 };
 
-    explicit WedgePass(const ShaderLoader& shaders, Output output = Output::Subtract);
+    // `defines`: the fragment program's variant (wedges-blend: shaders/wedge-parts.frag's).
+    explicit WedgePass(const ShaderLoader& shaders, Output output = Output::Subtract,
+                       std::vector<std::string> defines = {});
+    // The wedge draw program, for a variant's own uniforms (set with glProgramUniform*).
+    GLuint drawProgram() const { return mDraw.id(); }
 
     // Once per frame before setup(): sizes the wedge buffer for `edgeCount` edges, zeroes the
     // counters, binds both.
@@ -80,8 +86,11 @@ public:
     // the per-silhouette methods, which then combine only where a wedge reached (a superset of
     // the pixels with non-zero coverage: the mark happens at the early test, before the hull
     // test may discard).
+    // `countFragments`: add the draw's samples to WedgeCounts::fragments (a GL_SAMPLES_PASSED
+    // query: the caller must not have one active); off for a redraw of the same wedges.
     void draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
-              const ScissorRect* scissor = nullptr, bool markTouched = false);
+              const ScissorRect* scissor = nullptr, bool markTouched = false,
+              bool countFragments = true);
     void resolve(const Targets& t);
     // Reads the counters back (waits for the GPU).
     WedgeCounts counts();
