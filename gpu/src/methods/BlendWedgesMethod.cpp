@@ -46,6 +46,7 @@
 #include <array>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gpu {
@@ -79,10 +80,14 @@ struct BlendLayout {
     }
 };
 
+// From the resolved parameters (gpu/Methods.h checked their values); a missing one keeps the
+// paper's value.
 BlendLayout blendLayout(std::span<const ParameterValue> parameters) {
     BlendLayout l;
-    l.parts = std::stoi(std::string(parameterValue(parameters, "parts")));
-    l.bits = std::stoi(std::string(parameterValue(parameters, "bits")));
+    if (const std::string_view parts = parameterValue(parameters, "parts"); !parts.empty())
+        l.parts = std::stoi(std::string(parts));
+    if (const std::string_view bits = parameterValue(parameters, "bits"); !bits.empty())
+        l.bits = std::stoi(std::string(bits));
     l.centroid = parameterValue(parameters, "overlap") == "centroid";
     return l;
 }
