@@ -170,4 +170,27 @@ TEST(OcclusionSlices, SliceProjectionLandsOnTextureCoord) {
     }
 }
 
+TEST(OcclusionSlices, HorizonFractionIsTheLightInFrontOfThePlane) {
+    const geometry::RectLight light{.center = {0.3f, 4.0f, -0.2f},
+                                    .u = {0.6f, 0.0f, 0.1f},
+                                    .v = {0.0f, 0.2f, 0.4f}};
+    testutil::Rng rng(11);
+    int partial = 0;
+    for (int i = 0; i < 300; ++i) {
+        const glm::vec3 p(rng.uniform(-2, 2), rng.uniform(2.5, 5.5), rng.uniform(-2, 2));
+        const glm::vec3 n(rng.direction());
+        const float f = geometry::horizonFraction(light, p, n);
+        // Midpoint rule on a 200 x 200 grid of the light (the boundary line costs ~1/200).
+        int inFront = 0;
+        for (int a = 0; a < 200; ++a)
+            for (int b = 0; b < 200; ++b) {
+                const glm::vec3 y = light.point(-1.0f + (a + 0.5f) / 100.0f, -1.0f + (b + 0.5f) / 100.0f);
+                inFront += glm::dot(n, y - p) >= 0.0f;
+            }
+        EXPECT_NEAR(f, inFront / 40000.0, 0.01) << i;
+        partial += f > 0.05f && f < 0.95f;
+    }
+    EXPECT_GT(partial, 20); // the planes cut the light, not only miss it
+}
+
 } // namespace

@@ -95,4 +95,10 @@ double occlusionVisibility(const OcclusionFrame& frame, const glm::vec3& p, BoxM
     return v;
 }
 
+// The fraction of the light in front of the plane through p with normal n (the side n points
+// to): an opaque surface hides the rest of the light from its own points. Not in the paper
+// (which leaves surfaces turned from the light to the diffuse term, §3.4 Fig. 8); the
+// occlusion method multiplies V by it (parameter horizon=on).
+float horizonFraction(const RectLight& light, const glm::vec3& p, const glm::vec3& n);
+
 } // namespace geometry
