@@ -25,6 +25,27 @@ constexpr MethodParameter kBlendParameters[] = {
      "densities through the stored centroids)"},
 };
 
+// occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
+constexpr std::string_view kOcclusionSlices[] = {"4", "8", "16"};
+constexpr std::string_view kOcclusionPrefilter[] = {"nbuffers", "sat", "mipmaps"};
+constexpr std::string_view kOcclusionLeakFix[] = {"auto", "on", "off"};
+constexpr std::string_view kOcclusionResolution[] = {"256", "512", "1024"};
+constexpr std::string_view kOcclusionHorizon[] = {"on", "off"};
+constexpr MethodParameter kOcclusionParameters[] = {
+    {"slices", kOcclusionSlices, "8",
+     "binary slices parallel to the light over the casters' depth range (4 per RGBA target)"},
+    {"prefilter", kOcclusionPrefilter, "nbuffers",
+     "box filter of the slices: nbuffers (the paper's choice), sat (summed-area tables, exact), "
+     "mipmaps (blocky; for comparison)"},
+    {"leakfix", kOcclusionLeakFix, "auto",
+     "also write each fragment into the next slice (thin-occluder leaks); auto: for open, "
+     "non-manifold and alpha-tested casters"},
+    {"resolution", kOcclusionResolution, "512", "side of the occlusion textures in texels"},
+    {"horizon", kOcclusionHorizon, "on",
+     "V times the fraction of the light in front of the surface (not in the paper, which leaves "
+     "surfaces turned from the light to the diffuse term)"},
+};
+
 const std::array<MethodInfo, 9> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
@@ -37,7 +58,8 @@ const std::array<MethodInfo, 9> kMethods = {{
      createBlendWedgesMethod, kBlendParameters},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},
-    {"occlusion", "occlusion textures (Eisemann & Decoret 2006)", false, nullptr},
+    {"occlusion", "occlusion textures (Eisemann & Decoret 2006); honours alpha-tested casters",
+     false, createOcclusionMethod, kOcclusionParameters, true},
     {"pcss", "percentage-closer soft shadows", false, nullptr},
     {"auto", "per-object choice, composed in one frame", false, nullptr},
 }};
