@@ -6,7 +6,11 @@
 
 in vec3 vWorld;
 in vec2 vTexcoord;
+flat in vec3 vNormal; // the triangle's
 
+// 0: off; 1: where the surface comes within sliceDepth * tan(tilt) of the next slab (the band
+// a light ray crossing the surface near that plane can slip through, for rays within 45° of
+// the slicing rays); 2: always (the paper's rule: flat sheets then count twice).
 layout(location = UNIFORM_SLICE_LEAKFIX) uniform int uLeakFix;
 
 #define TARGETS ((SLICES + 3) / 4)
@@ -30,7 +34,16 @@ void main() {
     const int k = clamp(int(floor(u)), 0, SLICES - 1);
     vec4 marks[4] = vec4[4](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
     marks[k >> 2][k & 3] = 1.0;
-    if (uLeakFix != 0 && k + 1 < SLICES) marks[(k + 1) >> 2][(k + 1) & 3] = 1.0;
+    // Leak fix (paper Fig. 6): a sheet crossing into the next slab is looked up there half a
+    // slab deeper and here half a slab higher; rays slip through between. Marking the next slab
+    // as well closes the gap.
+    bool next = uLeakFix == 2;
+    if (uLeakFix == 1) {
+        float c = abs(dot(vNormal, occlusion.axis.xyz)); // cos(tilt) of the sheet to the slabs
+        float s = sqrt(max(1.0 - c * c, 0.0));
+        next = (float(k + 1) - u) * c <= s; // (z_k+1 - z) / sliceDepth <= tan(tilt)
+    }
+    if (next && k + 1 < SLICES) marks[(k + 1) >> 2][(k + 1) & 3] = 1.0;
     oSlices0 = marks[0];
 #if TARGETS > 1
     oSlices1 = marks[1];

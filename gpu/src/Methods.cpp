@@ -28,7 +28,7 @@ constexpr MethodParameter kBlendParameters[] = {
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
 constexpr std::string_view kOcclusionSlices[] = {"4", "8", "16"};
 constexpr std::string_view kOcclusionPrefilter[] = {"nbuffers", "sat", "mipmaps"};
-constexpr std::string_view kOcclusionLeakFix[] = {"auto", "on", "off"};
+constexpr std::string_view kOcclusionLeakFix[] = {"auto", "on", "off", "paper"};
 constexpr std::string_view kOcclusionResolution[] = {"256", "512", "1024"};
 constexpr std::string_view kOcclusionHorizon[] = {"on", "off"};
 constexpr MethodParameter kOcclusionParameters[] = {
@@ -38,8 +38,9 @@ constexpr MethodParameter kOcclusionParameters[] = {
      "box filter of the slices: nbuffers (the paper's choice), sat (summed-area tables, exact), "
      "mipmaps (blocky; for comparison)"},
     {"leakfix", kOcclusionLeakFix, "auto",
-     "also write each fragment into the next slice (thin-occluder leaks); auto: for open, "
-     "non-manifold and alpha-tested casters"},
+     "thin-occluder leaks: also write fragments near the next slice into it (within slice "
+     "depth x tan(tilt)); auto: for open, non-manifold and alpha-tested casters; paper: every "
+     "fragment of every caster (flat sheets then count twice)"},
     {"resolution", kOcclusionResolution, "512", "side of the occlusion textures in texels"},
     {"horizon", kOcclusionHorizon, "on",
      "V times the fraction of the light in front of the surface (not in the paper, which leaves "

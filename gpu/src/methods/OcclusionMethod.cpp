@@ -5,7 +5,8 @@
 //   depth range that holds the casters inside the frustum (from their triangles' vertices);
 // - slicing pass (passes/OcclusionSlicePass): the casters once into 4, 8 or 16 binary slices,
 //   four per RGBA target (MRT); the leak fix per caster (auto: open, non-manifold or
-//   alpha-tested casters — thin sheets — and not closed ones);
+//   alpha-tested casters — thin sheets — and not closed ones), marking the next slab where a
+//   sheet comes near it (paper: everywhere);
 // - prefilter (passes/OcclusionPrefilter): N-buffers (default), summed-area tables or mipmaps;
 // - lookup (occlusion-lookup.frag): per G-buffer point, V = Π (1 - w_k I_k) over the slices in
 //   front of it (geometry/OcclusionSlices.h explains the kernel and the fade), times the share
@@ -28,7 +29,7 @@ namespace gpu {
 namespace {
 
 enum class Prefilter { NBuffers, Sat, Mipmaps };
-enum class LeakFix { Auto, On, Off };
+enum class LeakFix { Auto, On, Off, Paper };
 
 int log2Int(int x) {
     int l = 0;
@@ -138,7 +139,7 @@ public:
         ctx.addCounter("occlusion_magnification", f.empty ? 0.0 : f.magnification(f.zFar));
         ctx.addCounter("occlusion_prefilter_levels", top);
         std::size_t leakFixed = 0;
-        for (const auto& c : mCasters) leakFixed += c.leakFix;
+        for (const auto& c : mCasters) leakFixed += c.leakFix != OcclusionSlicePass::LeakFix::Off;
         ctx.addCounter("occlusion_casters", static_cast<double>(mCasters.size()));
         ctx.addCounter("occlusion_casters_leakfix", static_cast<double>(leakFixed));
     }
@@ -148,7 +149,10 @@ private:
         return v == "sat" ? Prefilter::Sat : v == "mipmaps" ? Prefilter::Mipmaps : Prefilter::NBuffers;
     }
     static LeakFix leakFixOf(std::string_view v) {
-        return v == "on" ? LeakFix::On : v == "off" ? LeakFix::Off : LeakFix::Auto;
+        return v == "on"      ? LeakFix::On
+               : v == "off"   ? LeakFix::Off
+               : v == "paper" ? LeakFix::Paper
+                              : LeakFix::Auto;
     }
     std::vector<std::string> lookupDefines(const MethodResources& r) const {
         std::vector<std::string> d = {"SLICES " + std::to_string(mSlices), prefilterDefine()};
@@ -186,8 +190,11 @@ private:
             const bool thin =
                 ctx.casters.topology(c).manifoldness() != geometry::Manifoldness::Closed ||
                 ctx.sceneGeometry.alphaTested(object);
-            mCasters.push_back({object, mLeakFix == LeakFix::On ||
-                                            (mLeakFix == LeakFix::Auto && thin)});
+            using Fix = OcclusionSlicePass::LeakFix;
+            Fix fix = Fix::Off;
+            if (mLeakFix == LeakFix::Paper) fix = Fix::Always;
+            if (mLeakFix == LeakFix::On || (mLeakFix == LeakFix::Auto && thin)) fix = Fix::Near;
+            mCasters.push_back({object, fix});
         }
         mFrame = geometry::fitOcclusionFrame(ctx.scene, objects, mSlices);
         mLight = light;

@@ -35,7 +35,7 @@ void OcclusionSlicePass::execute(const Framebuffer& target, int resolution,
     const SceneGeometry::Programs programs{mOpaque, mAlphaTested, false};
     for (const Caster& c : casters) {
         for (const Program* p : {&mOpaque, &mAlphaTested})
-            glProgramUniform1i(p->id(), UNIFORM_SLICE_LEAKFIX, c.leakFix ? 1 : 0);
+            glProgramUniform1i(p->id(), UNIFORM_SLICE_LEAKFIX, static_cast<GLint>(c.leakFix));
         geometry.drawObject(c.object, programs);
     }
 }

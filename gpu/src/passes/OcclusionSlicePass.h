@@ -5,7 +5,9 @@
 //   the paper's layout, which the prefilters read directly (four slices per fetch) — bits packed
 //   in an integer target could not be filtered or mipmapped.
 // - No depth test and no culling: every triangle occludes from both sides.
-// - The leak fix (paper Fig. 6) per object: its fragments also mark the next slab.
+// - The leak fix (paper Fig. 6) per object: its fragments also mark the next slab — always (the
+//   paper), or only near it (Near: where the sheet comes within sliceDepth * tan(tilt) of the
+//   next slab, so that sheets parallel to the slabs are not counted twice).
 // - Alpha-tested materials cut their texels out (lib/Material.glsl), so leaves cast and the
 //   gaps between them do not.
 #pragma once
@@ -26,9 +28,15 @@ public:
         .blendEquation = GL_MAX, // OR of 0/1 occupancy
     };
 
+    // The leak fix of one caster: whether its fragments also mark the next slab.
+    enum class LeakFix {
+        Off,
+        Near,   // where the surface comes within sliceDepth * tan(tilt) of the next slab
+        Always, // the paper's rule (flat sheets count twice)
+    };
     struct Caster {
         std::size_t object; // scene object
-        bool leakFix;       // also mark the next slab
+        LeakFix leakFix;
     };
 
     OcclusionSlicePass(const ShaderLoader& shaders, int slices);
