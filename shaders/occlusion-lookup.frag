@@ -118,6 +118,7 @@ void main() {
         if (s.weight <= 0.0) break; // weights only fall with k
         float occupied = boxMean(k >> 2, s.center, s.width)[k & 3];
         v *= 1.0 - s.weight * clamp(occupied, 0.0, 1.0);
+        if (v <= 0.0) break; // umbra: the slices behind change nothing
     }
     oVisibility = horizon * v;
 }
