@@ -1,6 +1,8 @@
 #include "lib/Bindings.h"
+#include "lib/Material.glsl"
 
 in vec3 vWorld;
+in vec2 vTexcoord;
 flat in vec3 vNormal;
 flat in vec3 vAlbedo;
 
@@ -9,10 +11,14 @@ layout(location = 1) out vec4 oNormal;   // xyz normal facing the viewer
 layout(location = 2) out vec4 oAlbedo;
 
 void main() {
+    vec4 texel = materialTexel(vTexcoord);
+#ifdef ALPHA_TEST
+    if (materialCutOut(texel)) discard; // see through the card where it has no leaf
+#endif
     // Every surface is two-sided: shade the side the camera sees.
     vec3 n = vNormal;
     if (dot(n, frame.eye.xyz - vWorld) < 0.0) n = -n;
     oPosition = vec4(vWorld, 1.0);
     oNormal = vec4(n, 0.0);
-    oAlbedo = vec4(vAlbedo, 1.0);
+    oAlbedo = vec4(vAlbedo * texel.rgb, 1.0);
 }

@@ -4,8 +4,10 @@
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal; // face normal (vertices are expanded per triangle)
 layout(location = 2) in vec3 aAlbedo;
+layout(location = 3) in vec2 aTexcoord;
 
 out vec3 vWorld;
+out vec2 vTexcoord;
 flat out vec3 vNormal;
 flat out vec3 vAlbedo;
 
@@ -15,6 +17,7 @@ invariant gl_Position;
 
 void main() {
     vWorld = aPosition;
+    vTexcoord = aTexcoord;
     vNormal = aNormal;
     vAlbedo = aAlbedo;
     gl_Position = frame.viewProj * vec4(aPosition, 1.0);

@@ -60,6 +60,8 @@ private:
                       const std::string& where);
     std::uint32_t materialIndex(int gltfMaterial);
     int textureIndex(int gltfTexture, const std::string& materialName, bool required);
+    glm::mat3 textureTransform(const tinygltf::Value& ext, const std::string& materialName,
+                               int& texCoord) const;
 
     std::filesystem::path mPath;
     const tinygltf::Model& mModel;
@@ -431,6 +433,10 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
     // A mirroring transform turns counter-clockwise into clockwise; swap to restore it.
     const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
     const std::uint32_t material = materialIndex(prim.material);
+    const Material& m = mMesh.materials[material];
+    if (m.alphaTested() && m.baseColorTexture >= 0 && uvIt == prim.attributes.end())
+        fail(where + ": material \"" + m.name +
+             "\" is alpha-tested through a texture but the primitive has no TEXCOORD_0");
     const auto b = std::uint32_t(base);
     for (const auto& t : tris) {
         if (mirrored) {
@@ -464,21 +470,82 @@ std::uint32_t Loader::materialIndex(int gltfMaterial) {
         } else {
             fail("material \"" + m.name + "\": unknown alphaMode \"" + g.alphaMode + "\"");
         }
-        m.alphaCutoff = float(g.alphaCutoff);
+        // BLEND has no cutoff in glTF; shadows and the G-buffer test it as MASK at 0.5.
+        m.alphaCutoff = m.alphaMode == AlphaMode::Blend ? 0.5f : float(g.alphaCutoff);
+        if (!std::isfinite(m.alphaCutoff)) fail("material \"" + m.name + "\": alphaCutoff is not finite");
         m.doubleSided = g.doubleSided;
         const auto& f = g.pbrMetallicRoughness.baseColorFactor;
         if (f.size() == 4)
             m.baseColor = glm::vec4(float(f[0]), float(f[1]), float(f[2]), float(f[3]));
-        if (g.pbrMetallicRoughness.baseColorTexture.index >= 0) {
+        const tinygltf::TextureInfo& info = g.pbrMetallicRoughness.baseColorTexture;
+        if (info.index >= 0) {
             // Alpha-tested materials need their texture; for opaque ones it is only decoration.
-            m.baseColorTexture = textureIndex(g.pbrMetallicRoughness.baseColorTexture.index, m.name,
-                                              m.alphaMode != AlphaMode::Opaque);
+            const bool required = m.alphaMode != AlphaMode::Opaque;
+            m.baseColorTexture = textureIndex(info.index, m.name, required);
+            int texCoord = info.texCoord;
+            if (const auto ext = info.extensions.find("KHR_texture_transform");
+                ext != info.extensions.end())
+                m.baseColorUvTransform = textureTransform(ext->second, m.name, texCoord);
+            // Only TEXCOORD_0 is read: an alpha mask read through another set would be silently
+            // wrong, a decoration only looks wrong.
+            if (required && m.baseColorTexture >= 0 && texCoord != 0)
+                fail("material \"" + m.name + "\": base colour texture uses TEXCOORD_" +
+                     std::to_string(texCoord) + " (only TEXCOORD_0 is read)");
         }
     }
     const auto index = std::uint32_t(mMesh.materials.size());
     mMesh.materials.push_back(std::move(m));
     mMaterialMap[key] = index;
     return index;
+}
+
+// KHR_texture_transform on a textureInfo: uv' = T(offset) R(rotation) S(scale) uv, composed as
+// the extension specifies; its texCoord (when given) replaces the textureInfo's.
+glm::mat3 Loader::textureTransform(const tinygltf::Value& ext, const std::string& materialName,
+                                   int& texCoord) const {
+    const std::string what = "material \"" + materialName + "\": KHR_texture_transform";
+    if (!ext.IsObject()) fail(what + " is not an object");
+    auto number = [&](const tinygltf::Value& v, const char* key) {
+        if (!v.IsNumber()) fail(what + ": " + key + " must be a number");
+        const double x = v.GetNumberAsDouble();
+        if (!std::isfinite(x)) fail(what + ": " + key + " is not finite");
+        return float(x);
+    };
+    auto pair = [&](const char* key, glm::vec2 fallback) {
+        if (!ext.Has(key)) return fallback;
+        const tinygltf::Value& v = ext.Get(key);
+        if (!v.IsArray() || v.ArrayLen() != 2) fail(what + ": " + key + " must be two numbers");
+        return glm::vec2(number(v.Get(0), key), number(v.Get(1), key));
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.0f));
+    const glm::vec2 scale = pair("scale", glm::vec2(1.0f));
+    const float rotation = ext.Has("rotation") ? number(ext.Get("rotation"), "rotation") : 0.0f;
+    if (ext.Has("texCoord")) {
+        const tinygltf::Value& t = ext.Get("texCoord");
+        if (!t.IsInt() || t.GetNumberAsInt() < 0) fail(what + ": texCoord must be an index");
+        texCoord = t.GetNumberAsInt();
+    }
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    const glm::mat3 translate(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1); // column-major
+    // (x, y) -> (x cos + y sin, -x sin + y cos): the direction the extension's own example
+    // needs (offset [0, 1], rotation pi/2, scale 0.5 selects the lower-left quadrant).
+    const glm::mat3 rotate(c, -s, 0, s, c, 0, 0, 0, 1);
+    const glm::mat3 scaling(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+    return translate * rotate * scaling;
+}
+
+TextureWrap wrapMode(int gl, const std::string& what, const std::filesystem::path& path) {
+    switch (gl) {
+    case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return TextureWrap::Repeat;
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return TextureWrap::ClampToEdge;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return TextureWrap::MirroredRepeat;
+    default:
+        throw InputError(path.string() + ": " + what + " has unknown wrap mode " +
+                         std::to_string(gl));
+    }
 }
 
 int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool required) {
@@ -510,6 +577,15 @@ int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool 
     TextureImage tex;
     tex.width = img.width;
     tex.height = img.height;
+    if (const int sampler = mModel.textures[gltfTexture].sampler; sampler >= 0) {
+        if (std::size_t(sampler) >= mModel.samplers.size())
+            fail("texture " + std::to_string(gltfTexture) + ": sampler " +
+                 std::to_string(sampler) + " does not exist");
+        const tinygltf::Sampler& s = mModel.samplers[sampler];
+        const std::string what = "sampler " + std::to_string(sampler);
+        tex.wrapS = wrapMode(s.wrapS, what, mPath);
+        tex.wrapT = wrapMode(s.wrapT, what, mPath);
+    }
     const std::size_t pixels = std::size_t(img.width) * img.height;
     tex.rgba8.resize(pixels * 4);
     // Expand grey / grey+alpha / RGB to RGBA8; 16-bit channels keep their high byte.

@@ -11,6 +11,7 @@
 #include <gpu/ShaderLoader.h>
 
 #include "CasterSet.h"
+#include "SceneGeometry.h"
 #include "Targets.h"
 
 #include <chrono>
@@ -41,6 +42,9 @@ struct FrameContext {
     FrameStats& stats;
     // Re-uploads the frame uniforms with another accumulation weight (params.y).
     std::function<void(float weight)> setAccumulationWeight;
+    // The scene's surfaces as drawn (unwelded, texcoords and alpha-tested materials), indexed
+    // by scene object (CasterSet::sceneObject maps a caster to it).
+    const SceneGeometry& sceneGeometry;
 
     void addCpuTime(std::string_view stage, double ms) const;
     void addCounter(std::string_view name, double value) const;
@@ -66,5 +70,6 @@ std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResourc
 std::unique_ptr<VisibilityMethod> createMultiplyWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createBlendWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createOcclusionMethod(const MethodResources&);
 
 } // namespace gpu

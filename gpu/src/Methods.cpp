@@ -25,6 +25,28 @@ constexpr MethodParameter kBlendParameters[] = {
      "densities through the stored centroids)"},
 };
 
+// occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
+constexpr std::string_view kOcclusionSlices[] = {"4", "8", "16"};
+constexpr std::string_view kOcclusionPrefilter[] = {"nbuffers", "sat", "mipmaps"};
+constexpr std::string_view kOcclusionLeakFix[] = {"auto", "on", "off", "paper"};
+constexpr std::string_view kOcclusionResolution[] = {"256", "512", "1024"};
+constexpr std::string_view kOcclusionHorizon[] = {"on", "off"};
+constexpr MethodParameter kOcclusionParameters[] = {
+    {"slices", kOcclusionSlices, "8",
+     "binary slices parallel to the light over the casters' depth range (4 per RGBA target)"},
+    {"prefilter", kOcclusionPrefilter, "nbuffers",
+     "box filter of the slices: nbuffers (the paper's choice), sat (summed-area tables, exact), "
+     "mipmaps (blocky; for comparison)"},
+    {"leakfix", kOcclusionLeakFix, "auto",
+     "thin-occluder leaks: also write fragments near the next slice into it (within slice "
+     "depth x tan(tilt)); auto: for open, non-manifold and alpha-tested casters; paper: every "
+     "fragment of every caster (flat sheets then count twice)"},
+    {"resolution", kOcclusionResolution, "512", "side of the occlusion textures in texels"},
+    {"horizon", kOcclusionHorizon, "on",
+     "V times the fraction of the light in front of the surface (not in the paper, which leaves "
+     "surfaces turned from the light to the diffuse term)"},
+};
+
 // auto: which wedge method serves the objects it gives to wedges.
 constexpr std::string_view kAutoWedges[] = {"blend", "additive", "multiply"};
 constexpr MethodParameter kAutoParameters[] = {
@@ -37,17 +59,18 @@ const std::array<MethodInfo, 9> kMethods = {{
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
      createReferenceMethod},
     {"raytrace", "N stratified Embree rays per pixel to the light (CPU)", true,
-     createRaytraceMethod},
+     createRaytraceMethod, {}, true},
     {"wedges-additive", "penumbra wedges, coverage summed (Assarsson & Akenine-Moller 2003)",
      false, createAdditiveWedgesMethod},
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
      createBlendWedgesMethod, kBlendParameters},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},
-    {"occlusion", "occlusion textures (Eisemann & Decoret 2006)", false, nullptr},
+    {"occlusion", "occlusion textures (Eisemann & Decoret 2006); honours alpha-tested casters",
+     false, createOcclusionMethod, kOcclusionParameters, true},
     {"pcss", "percentage-closer soft shadows", false, nullptr},
     {"auto", "per-object choice (wedges or occlusion textures), composed in one frame", false,
-     createAutoMethod, kAutoParameters},
+     createAutoMethod, kAutoParameters, true},
 }};
 
 } // namespace

@@ -214,16 +214,27 @@ Texture::Texture(const TextureDesc& desc)
                                     std::to_string(desc.width) + "x" + std::to_string(desc.height) +
                                     " is empty");
     }
-    if (desc.target != GL_TEXTURE_2D && desc.target != GL_TEXTURE_RECTANGLE) {
-        // Array, cube, 3D and multisample targets need a depth/layer/sample count this desc does
-        // not carry, and read()/readFloat() assume a single width x height image.
-        throw std::invalid_argument(describe("Texture", desc.label ? desc.label : "") +
-                                    ": only GL_TEXTURE_2D and GL_TEXTURE_RECTANGLE are supported");
+    const bool array = desc.target == GL_TEXTURE_2D_ARRAY;
+    if (desc.target != GL_TEXTURE_2D && desc.target != GL_TEXTURE_RECTANGLE && !array) {
+        // Cube, 3D and multisample targets need a depth/sample count this desc does not carry.
+        throw std::invalid_argument(
+            describe("Texture", desc.label ? desc.label : "") +
+            ": only GL_TEXTURE_2D, GL_TEXTURE_2D_ARRAY and GL_TEXTURE_RECTANGLE are supported");
     }
+    if (array != (desc.layers > 0)) {
+        throw std::invalid_argument(describe("Texture", desc.label ? desc.label : "") +
+                                    ": layers must be given for (and only for) an array");
+    }
+    mLayers = desc.layers;
     GLuint id = 0;
     glCreateTextures(desc.target, 1, &id);
     mHandle = Handle<Deleter>(id);
-    glTextureStorage2D(id, std::max(desc.levels, 1), desc.format, desc.width, desc.height);
+    if (array) {
+        glTextureStorage3D(id, std::max(desc.levels, 1), desc.format, desc.width, desc.height,
+                           desc.layers);
+    } else {
+        glTextureStorage2D(id, std::max(desc.levels, 1), desc.format, desc.width, desc.height);
+    }
     // Rectangle textures reject mipmap filters and repeat wraps; leave their defaults alone.
     if (desc.target != GL_TEXTURE_RECTANGLE) {
         glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(desc.minFilter));
@@ -237,6 +248,7 @@ Texture::Texture(const TextureDesc& desc)
 }
 
 void Texture::read(GLenum format, GLenum type, std::vector<std::byte>& out) const {
+    if (mLayers > 0) throw std::logic_error("Texture::read: not for array textures");
     std::size_t bpp = pixelBytes(format, type);
     if (bpp == 0) throw std::invalid_argument("Texture::read: unsupported format/type pair");
     std::size_t bytes = bpp * static_cast<std::size_t>(mWidth) * static_cast<std::size_t>(mHeight);
@@ -250,6 +262,7 @@ std::vector<float> Texture::readFloat(int channels) const {
     if (channels < 1 || channels > 4) {
         throw std::invalid_argument("Texture::readFloat: channels must be 1..4");
     }
+    if (mLayers > 0) throw std::logic_error("Texture::readFloat: not for array textures");
     std::vector<float> out(static_cast<std::size_t>(mWidth) * static_cast<std::size_t>(mHeight) *
                            static_cast<std::size_t>(channels));
     PackStateGuard guard;
@@ -273,7 +286,11 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) {
             throw std::invalid_argument(describe("Framebuffer", desc.label ? desc.label : "") +
                                         ": attachment without a texture");
         }
-        glNamedFramebufferTexture(id, a.attachment, a.texture->id(), a.level);
+        if (a.layer >= 0) {
+            glNamedFramebufferTextureLayer(id, a.attachment, a.texture->id(), a.level, a.layer);
+        } else {
+            glNamedFramebufferTexture(id, a.attachment, a.texture->id(), a.level);
+        }
         if (isColorAttachment(a.attachment)) colors.push_back(a.attachment);
     }
     setDrawBuffers(colors);

@@ -1,5 +1,6 @@
 // Renderer: the frame of penumbra-render, in a fixed order.
-// - G-buffer: world position, viewer-facing normal, albedo, reversed-Z depth + stencil;
+// - G-buffer: world position, viewer-facing normal, albedo, reversed-Z depth + stencil (alpha-
+//   tested materials cut out);
 // - silhouettes of the light centre (CPU), uploaded once for every method of the frame;
 // - visibility: the method's object (gpu/src/methods/), chosen by name from gpu/Methods.h;
 // - shade: albedo * (ambient + V * n.l).
@@ -59,20 +60,25 @@ glm::mat4 infiniteReversedZ(float fovYRad, float aspect, float zNear) {
 }
 
 bool hasAlphaCutout(const geometry::MeshData& mesh) {
-    return std::any_of(mesh.materials.begin(), mesh.materials.end(), [](const auto& m) {
-        return m.alphaMode != geometry::AlphaMode::Opaque;
-    });
+    return std::any_of(mesh.materials.begin(), mesh.materials.end(),
+                       [](const auto& m) { return m.alphaTested(); });
 }
 
-// Throws for scenes no implemented method can represent (before any GL work).
-void checkRepresentable(const geometry::Scene& scene) {
+// Throws for scenes `method` cannot represent (before it draws anything).
+void checkRepresentable(const geometry::Scene& scene, const MethodInfo& method) {
+    if (method.alphaMasks) return;
+    std::string honouring;
+    for (const MethodInfo& m : methodTable())
+        if (m.alphaMasks && m.implemented()) honouring += (honouring.empty() ? "" : ", ") + std::string(m.name);
     for (const auto& object : scene.objects) {
         if (object.method != geometry::ShadowMethod::None && hasAlphaCutout(object.mesh))
             throw geometry::InputError(
-                "object '" + object.name +
-                "' has alpha-masked or blended materials: no implemented method shadows with "
-                "alpha cut-outs yet (shadow volumes would treat the cards as opaque); give it "
-                "\"method\": \"none\" to render it unshadowing");
+                "object '" + object.name + "' has alpha-masked or blended materials, which method '" +
+                std::string(method.name) +
+                "' cannot shadow with (it would treat the cards as opaque); use a method that "
+                "honours alpha masks (" + honouring + (method.usesSamples ? "; the reference for "
+                "alpha-tested casters is raytrace, whose rays test the texture's alpha" : "") +
+                "), or give the object \"method\": \"none\" to render it unshadowing");
     }
 }
 
@@ -90,6 +96,7 @@ struct Renderer::Impl {
 
     Buffer frameUbo{{.size = sizeof(shader::FrameUniforms), .label = "frame-uniforms"}};
     Targets targets;
+    SceneGeometry sceneGeometry;
     GBufferPass gbufferPass;
     ShadePass shadePass;
     CasterSet casters;
@@ -104,7 +111,7 @@ struct Renderer::Impl {
     std::map<std::string, BuiltMethod, std::less<>> methods;
 
     Impl(const geometry::Scene& s, const ShaderLoader& sh)
-        : scene(s), shaders(sh), gbufferPass(sh, s), shadePass(sh), casters(s) {
+        : scene(s), shaders(sh), sceneGeometry(s), gbufferPass(sh), shadePass(sh), casters(s) {
         allCasters.resize(casters.size());
         std::iota(allCasters.begin(), allCasters.end(), 0u);
     }
@@ -147,7 +154,6 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer(const geometry::Scene& scene, const ShaderLoader& shaders) : mScene(scene) {
-    checkRepresentable(scene);
     mImpl = std::make_unique<Impl>(scene, shaders);
     for (const auto& object : scene.objects) mImpl->triangles += object.mesh.triangles.size();
     // Near plane: small against the scene so that a camera inside a level sees nearby walls.
@@ -184,6 +190,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     if (info.usesSamples && settings.samples < 1)
         throw geometry::InputError("samples must be at least 1");
     std::vector<ParameterValue> parameters = resolveParameters(info, settings.parameters);
+    checkRepresentable(mScene, info);
 
     auto& m = *mImpl;
     FrameStats stats;
@@ -201,7 +208,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
 
     {
         ScopedPass pass(&m.timers, "gbuffer");
-        m.gbufferPass.execute(m.targets);
+        m.gbufferPass.execute(m.targets, m.sceneGeometry);
     }
     checkGl("gbuffer");
 
@@ -209,7 +216,8 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     glClearTexImage(m.targets.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
 
     FrameContext ctx{settings, m.scene, m.targets, m.viewProj, m.casters, m.allCasters, m.timers, stats,
-                     [&](float weight) { m.uploadFrameUniforms(settings, weight); }};
+                     [&](float weight) { m.uploadFrameUniforms(settings, weight); },
+                     m.sceneGeometry};
 
     // Light-centre silhouettes, uploaded once: every method reports them, most draw from them.
     auto t0 = Clock::now();

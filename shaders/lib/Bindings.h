@@ -5,6 +5,7 @@
 #define PENUMBRA_BINDINGS_H
 
 #define BINDING_FRAME_UBO 0
+#define BINDING_OCCLUSION_UBO 1 // OcclusionUniforms (the occlusion method's frame)
 
 // Storage buffers (std430). Static: every caster's welded geometry, concatenated (CasterSet).
 #define BINDING_WELDED_POSITIONS 0 // vec4 per welded vertex (w = 1)
@@ -19,6 +20,14 @@
 #define BINDING_WEDGE_STATS 6 // uint counters (WEDGE_STAT_*)
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
+#define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
+#define IMAGE_OCCLUSION_DST 2 // occlusion: the prefilter's output (N-buffer levels or SAT)
+
+// Explicit uniform locations (plain uniforms set per draw).
+#define UNIFORM_MATERIAL 0      // lib/Material.glsl: vec4 alpha cutoff, base alpha, textured
+#define UNIFORM_MATERIAL_UV 1   // lib/Material.glsl: mat3 (locations 1..3)
+#define UNIFORM_SLICE_LEAKFIX 4 // occlusion-slice.frag: int, 1 = also write the next slice
+#define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter compute: int (N-buffer level, SAT pass)
 
 // GpuWedge::kind
 #define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)
@@ -42,6 +51,8 @@
 #define TEXUNIT_PARTS0 5     // wedges-blend: a batch's per-part accumulation targets (5..12)
 #define TEXUNIT_FINAL0 13    // wedges-blend: one set of parts' final packed state (13..16: 2
                              // targets at 8 bits, 4 at 16); the resolve: set k's vCoef at 13 + k
+#define TEXUNIT_MATERIAL 17  // the drawn material's base-colour texture (G-buffer, slicing)
+#define TEXUNIT_OCCLUSION 18 // occlusion: the prefiltered slices (N-buffers, mipmaps or SAT)
 
 #ifdef __cplusplus
 // C++ side: included through gpu/src/ShaderBindings.h, which includes glm first (the GLSL
@@ -71,6 +82,14 @@ PENUMBRA_UBO_BEGIN(FrameUniforms, BINDING_FRAME_UBO)
     vec4 lightUStar;
     vec4 lightVStar;
 PENUMBRA_UBO_END(FrameUniforms, frame)
+
+// The occlusion method's frame (geometry/OcclusionSlices.h): the slicing frustum and slabs.
+PENUMBRA_UBO_BEGIN(OcclusionUniforms, BINDING_OCCLUSION_UBO)
+    mat4 sliceProj; // world -> clip of the slicing pass (OcclusionFrame::sliceProjection)
+    vec4 axis;      // xyz: unit light normal towards the slices, w: COP distance d
+    vec4 range;     // x: zNear, y: slice depth, z: slices, w: 1 if nothing is sliced (V = 1)
+    vec4 texels;    // x: resolution R, y: 1 / R, z: top prefilter level built, w: unused
+PENUMBRA_UBO_END(OcclusionUniforms, occlusion)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
 // triangles lie to the left of v0 -> v1 seen from the light (geometry/Silhouette.h).
@@ -110,6 +129,7 @@ static_assert(sizeof(GpuWedge) == 176, "GpuWedge must match std430");
 static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
+static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
 } // namespace gpu::shader
 #endif
 

@@ -167,7 +167,34 @@ TEST_F(RenderCli, UnknownMethod) {
 }
 
 TEST_F(RenderCli, MethodNotImplementedYetIsAClearError) {
-    expectRejected(write("s.json", kValidScene), "not implemented", "--method occlusion");
+    expectRejected(write("s.json", kValidScene), "not implemented", "--method pcss");
+}
+
+// Alpha-tested foliage: refused by methods that would shadow with whole cards, rendered by
+// occlusion (its parameters and counters in report.json).
+TEST_F(RenderCli, FoliageNeedsAMethodHonouringAlphaMasks) {
+    const fs::path tree = fs::path(PENUMBRA_SHARED_DIR) / "foliage" / "oak_hungarian_1.glb";
+    expectRejected(tree, "alpha-masked", "--method hard");
+    expectRejected(tree, "occlusion", "--method wedges-additive");
+}
+
+TEST_F(RenderCli, FoliageRendersWithOcclusion) {
+    const fs::path tree = fs::path(PENUMBRA_SHARED_DIR) / "foliage" / "oak_hungarian_1.glb";
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + tree.string() +
+                            "' --method occlusion --param slices=16 --size 64x64 --out '" +
+                            out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(out / "report.json");
+    const auto report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["parameters"]["slices"], 16);
+    EXPECT_EQ(report["parameters"]["prefilter"], "nbuffers");
+    EXPECT_EQ(report["parameters"]["leakfix"], "auto");
+    EXPECT_EQ(report["parameters"]["resolution"], 512);
+    EXPECT_EQ(report["counters"]["occlusion_slices"], 16);
+    EXPECT_EQ(report["counters"]["occlusion_casters_leakfix"], 1); // alpha-tested: a thin sheet
+    EXPECT_GT(report["counters"]["occlusion_z_far"].get<double>(),
+              report["counters"]["occlusion_z_near"].get<double>());
 }
 
 TEST_F(RenderCli, BadSize) {

@@ -1,5 +1,6 @@
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
+#include <geometry/ImageIO.h>
 
 #include <gtest/gtest.h>
 
@@ -373,6 +374,105 @@ TEST_F(GltfTest, MeshWithoutTrianglesInScene) {
     // The mesh exists but no node of the scene draws it.
     expectError(write("unused.gltf", w.json(kOneTriangleMesh, R"([{"name":"empty"}])")),
                 "no triangles");
+}
+
+// An alpha-tested material on one textured triangle, with `material` and `texture` JSON
+// spliced in; the 2×2 image (alpha 0 in its top-left texel) is a PNG beside the .gltf.
+class AlphaMaterialTest : public GltfTest {
+protected:
+    fs::path writeTextured(const std::string& name, const std::string& material,
+                           const std::string& texture = R"({"source":0})",
+                           const std::string& samplers = "",
+                           const std::string& attributes = R"("POSITION":0,"TEXCOORD_0":2)") {
+        const std::uint8_t rgba[16] = {10, 20, 30, 0,   40, 50, 60, 255,
+                                       70, 80, 90, 255, 100, 110, 120, 255};
+        geometry::writePng(mDir / "leaf.png", 2, 2, 4, rgba);
+        GltfWriter w;
+        w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+        w.indices32({0, 1, 2});
+        w.accessor(w.view(bytesOf<float>({0, 0, 1, 0, 0, 1})), 5126, 3, "VEC2");
+        const std::string extra = R"("materials":[)" + material + R"(],"textures":[)" + texture +
+                                  R"(],"images":[{"uri":"leaf.png"}],)" + samplers;
+        return write(name, w.json(R"([{"primitives":[{"attributes":{)" + attributes +
+                                      R"(},"indices":1,"material":0}]}])",
+                                  R"([{"mesh":0}])", R"("scene":0,"scenes":[{"nodes":[0]}],)",
+                                  extra));
+    }
+};
+
+TEST_F(AlphaMaterialTest, MaskKeepsCutoffTextureAndSamplerWraps) {
+    const auto m = geometry::loadGltf(writeTextured(
+        "mask.gltf",
+        R"({"alphaMode":"MASK","alphaCutoff":0.3,"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"baseColorFactor":[1,1,1,0.5]}})",
+        R"({"source":0,"sampler":0})", R"("samplers":[{"wrapS":33071,"wrapT":33648}],)"));
+    ASSERT_EQ(m.materials.size(), 1u);
+    const geometry::Material& mat = m.materials[0];
+    EXPECT_EQ(mat.alphaMode, geometry::AlphaMode::Mask);
+    EXPECT_TRUE(mat.alphaTested());
+    EXPECT_FLOAT_EQ(mat.alphaCutoff, 0.3f);
+    EXPECT_FLOAT_EQ(mat.baseColor.a, 0.5f);
+    ASSERT_EQ(mat.baseColorTexture, 0);
+    ASSERT_EQ(m.textures.size(), 1u);
+    EXPECT_EQ(m.textures[0].wrapS, geometry::TextureWrap::ClampToEdge);
+    EXPECT_EQ(m.textures[0].wrapT, geometry::TextureWrap::MirroredRepeat);
+    EXPECT_EQ(m.textures[0].rgba8[3], 0);   // the hole survived decoding
+    EXPECT_EQ(m.textures[0].rgba8[7], 255);
+    EXPECT_EQ(mat.baseColorUvTransform, glm::mat3(1.0f));
+}
+
+TEST_F(AlphaMaterialTest, WithoutSamplerWrapsRepeat) {
+    const auto m = geometry::loadGltf(writeTextured(
+        "repeat.gltf", R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})"));
+    ASSERT_EQ(m.textures.size(), 1u);
+    EXPECT_EQ(m.textures[0].wrapS, geometry::TextureWrap::Repeat);
+    EXPECT_EQ(m.textures[0].wrapT, geometry::TextureWrap::Repeat);
+    EXPECT_FLOAT_EQ(m.materials[0].alphaCutoff, 0.5f); // glTF default
+}
+
+TEST_F(AlphaMaterialTest, BlendIsTestedAtOneHalf) {
+    // BLEND has no cutoff in glTF: a stray alphaCutoff must not move the test.
+    const auto m = geometry::loadGltf(writeTextured(
+        "blend.gltf",
+        R"({"alphaMode":"BLEND","alphaCutoff":0.9,"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})"));
+    EXPECT_EQ(m.materials[0].alphaMode, geometry::AlphaMode::Blend);
+    EXPECT_TRUE(m.materials[0].alphaTested());
+    EXPECT_FLOAT_EQ(m.materials[0].alphaCutoff, 0.5f);
+}
+
+TEST_F(AlphaMaterialTest, TextureTransformComposesOffsetRotationScale) {
+    const auto m = geometry::loadGltf(writeTextured(
+        "transform.gltf",
+        R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0,
+            "extensions":{"KHR_texture_transform":{"offset":[0.5,0.25],"rotation":1.5707963,"scale":[2,3]}}}}})"));
+    const glm::mat3& t = m.materials[0].baseColorUvTransform;
+    // Scale, then rotate (x, y) -> (x cos + y sin, -x sin + y cos), then offset: (1, 0) -> (2, 0)
+    // -> (0, -2) -> (0.5, -1.75); (0, 1) -> (0, 3) -> (3, 0) -> (3.5, 0.25).
+    const glm::vec2 a = glm::vec2(t * glm::vec3(1.0f, 0.0f, 1.0f));
+    EXPECT_NEAR(a.x, 0.5f, 1e-5f);
+    EXPECT_NEAR(a.y, 0.25f - 2.0f, 1e-5f);
+    const glm::vec2 b = glm::vec2(t * glm::vec3(0.0f, 1.0f, 1.0f));
+    EXPECT_NEAR(b.x, 0.5f + 3.0f, 1e-5f);
+    EXPECT_NEAR(b.y, 0.25f, 1e-5f);
+}
+
+TEST_F(AlphaMaterialTest, MaskThroughSecondTexcoordSetIsRefused) {
+    expectError(writeTextured("uv1.gltf",
+                              R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0,"texCoord":1}}})"),
+                "TEXCOORD_1");
+}
+
+TEST_F(AlphaMaterialTest, MaskWithoutTexcoordsIsRefused) {
+    expectError(writeTextured("nouv.gltf",
+                              R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})",
+                              R"({"source":0})", "", R"("POSITION":0)"),
+                "no TEXCOORD_0");
+}
+
+TEST_F(AlphaMaterialTest, UnknownWrapModeIsRefused) {
+    expectError(writeTextured("wrap.gltf",
+                              R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})",
+                              R"({"source":0,"sampler":0})", R"("samplers":[{"wrapS":1234}],)"),
+                "wrap mode 1234");
 }
 
 } // namespace

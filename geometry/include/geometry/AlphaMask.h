@@ -19,13 +19,15 @@ float effectiveAlphaCutoff(const Material& material);
 // Does any triangle of the mesh use an alpha-masked material?
 bool hasAlphaMask(const MeshData& mesh);
 
-// Texture alpha at uv: bilinear between texel centres, wrapping (glTF's default sampler,
-// REPEAT), rows top to bottom as stored (glTF: v = 0 is the image's top row). 1 for an empty
-// image.
+// Texture alpha at uv: bilinear between texel centres of the base level, wrapped as the
+// image's sampler says (glTF default REPEAT), rows top to bottom as stored (glTF: v = 0 is the
+// image's top row). 1 for an empty image. (The GPU samples with mipmaps: at a distance its
+// alpha is the average of a texel footprint, a difference of filtering, not of rule.)
 float sampleAlpha(const TextureImage& image, glm::vec2 uv);
 
 // Alpha of triangle `triangle` of `mesh` at barycentric (u, v) (the point (1-u-v) p0 + u p1 +
-// v p2): base-colour factor alpha × texture alpha at the interpolated texcoord; 1 for a triangle
+// v p2): base-colour factor alpha × texture alpha at the interpolated texcoord (through the
+// material's KHR_texture_transform); 1 for a triangle
 // without a material.
 float surfaceAlpha(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
 // Whether that point occludes (alpha >= the material's effective cutoff).

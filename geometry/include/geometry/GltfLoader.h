@@ -1,7 +1,10 @@
 // glTF 2.0 / GLB loading with tinygltf: every mesh primitive of every node of the default scene
 // (or all root nodes), node transforms applied, triangles only (strips/fans converted; points and
-// lines rejected with a clear error). Materials keep alphaMode, alphaCutoff, doubleSided,
-// baseColorFactor and the base-colour texture (decoded to RGBA8) for the occlusion-texture path.
+// lines rejected with a clear error). Materials keep alphaMode, alphaCutoff (0.5 for BLEND),
+// doubleSided, baseColorFactor and the base-colour texture (decoded to RGBA8, with its sampler's
+// wrap modes and KHR_texture_transform) for alpha-tested shadows (the occlusion-texture path).
+// An alpha-tested texture read through TEXCOORD_1+ or missing its TEXCOORD_0 is an InputError.
+// Not read: vertex colours (COLOR_0 alpha would also scale alpha), sampler filters.
 #pragma once
 
 #include <geometry/Types.h>

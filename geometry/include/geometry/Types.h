@@ -53,10 +53,15 @@ enum class ShadowMethod { Auto, Wedges, Occlusion, None };
 // glTF alphaMode, kept for the occlusion-texture path (foliage).
 enum class AlphaMode { Opaque, Mask, Blend };
 
+// glTF sampler wrap modes (the texture's sampler; REPEAT without one).
+enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
+
 struct TextureImage {
     int width = 0;
     int height = 0;
     std::vector<std::uint8_t> rgba8; // width * height * 4, rows top to bottom
+    TextureWrap wrapS = TextureWrap::Repeat;
+    TextureWrap wrapT = TextureWrap::Repeat;
 };
 
 struct Material {
@@ -66,6 +71,13 @@ struct Material {
     bool doubleSided = false;
     glm::vec4 baseColor{1.0f};
     int baseColorTexture = -1; // index into MeshData::textures, -1 = none
+    // KHR_texture_transform of the base-colour texture (identity without it): the texture is
+    // read at (baseColorUvTransform * vec3(texcoord, 1)).xy.
+    glm::mat3 baseColorUvTransform{1.0f};
+    // Alpha-tested: alphaMode MASK, and BLEND treated as MASK at 0.5 (the loader sets that cutoff;
+    // shadows here have no partial coverage). Texels with base-colour alpha (texture alpha times
+    // baseColor.a) below alphaCutoff are cut out.
+    bool alphaTested() const { return alphaMode != AlphaMode::Opaque; }
 };
 
 // A triangle mesh in world space. Vertices are *not* welded: glTF splits them by UV/normal.

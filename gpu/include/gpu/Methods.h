@@ -40,6 +40,10 @@ struct MethodInfo {
     // Builds the method on the current GL context; null while the method is not implemented.
     std::unique_ptr<VisibilityMethod> (*create)(const MethodResources&) = nullptr;
     std::span<const MethodParameter> parameters{}; // empty: the method takes none
+    // Whether the method honours alpha-tested casters (glTF MASK/BLEND: leaf cards cut out by
+    // their texture, SceneGeometry / shaders/lib/Material.glsl). The renderer refuses a scene
+    // with alpha-tested casters for a method without it (it would shadow with whole cards).
+    bool alphaMasks = false;
 
     bool implemented() const { return create != nullptr; }
 };

@@ -73,14 +73,15 @@ private:
 };
 
 struct TextureDesc {
-    GLenum target = GL_TEXTURE_2D;
+    GLenum target = GL_TEXTURE_2D; // or GL_TEXTURE_2D_ARRAY (with `layers`)
     int width = 0;
     int height = 0;
+    int layers = 0; // GL_TEXTURE_2D_ARRAY only: at least 1
     GLenum format = GL_RGBA8;      // sized internal format
     int levels = 1;
     GLenum minFilter = GL_NEAREST;
     GLenum magFilter = GL_NEAREST;
-    GLenum wrap = GL_CLAMP_TO_EDGE;
+    GLenum wrap = GL_CLAMP_TO_EDGE; // S and T (CLAMP_TO_BORDER: the border is transparent black)
     const char* label = nullptr;
 };
 
@@ -91,8 +92,9 @@ public:
     GLuint id() const { return mHandle.id(); }
     int width() const { return mWidth; }
     int height() const { return mHeight; }
+    int layers() const { return mLayers; } // 0 unless an array
     GLenum format() const { return mFormat; }
-    // glGetTextureImage of level 0 into `out` (resized); bytes per pixel from format/type, rows
+    // glGetTextureImage of level 0 (2D and rectangle textures; arrays throw) into `out` (resized); bytes per pixel from format/type, rows
     // tightly packed. Rows come in GL order: the bottom row (window y = 0) first.
     void read(GLenum format, GLenum type, std::vector<std::byte>& out) const;
     // GL_RED/RG/RGB/RGBA + GL_FLOAT, `channels` floats per pixel, bottom row first (as PFM).
@@ -103,7 +105,7 @@ private:
         void operator()(GLuint id) const { glDeleteTextures(1, &id); }
     };
     Handle<Deleter> mHandle;
-    int mWidth = 0, mHeight = 0;
+    int mWidth = 0, mHeight = 0, mLayers = 0;
     GLenum mFormat = 0;
 };
 
@@ -111,6 +113,7 @@ struct FramebufferAttachment {
     GLenum attachment = GL_COLOR_ATTACHMENT0; // or GL_DEPTH_STENCIL_ATTACHMENT, ...
     const Texture* texture = nullptr;
     int level = 0;
+    int layer = -1; // one layer of an array texture; -1: the whole texture
 };
 
 struct FramebufferDesc {

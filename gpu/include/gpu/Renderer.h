@@ -85,13 +85,15 @@ struct ObjectInfo {
 class Renderer {
 public:
     // Needs a current GL 4.5 context. Builds topology for every casting object (CPU) and uploads
-    // the scene once. Throws geometry::InputError for scenes the methods cannot represent.
+    // the scene once.
     Renderer(const geometry::Scene& scene, const ShaderLoader& shaders);
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Renders one frame with `settings` (resizes targets when the size changed).
+    // Renders one frame with `settings` (resizes targets when the size changed). Throws
+    // geometry::InputError for settings or a scene the method cannot serve (alpha-tested casters
+    // with a method that does not honour alpha masks: MethodInfo::alphaMasks).
     FrameStats renderFrame(const RenderSettings& settings);
 
     // Results of the last frame, rows top to bottom.

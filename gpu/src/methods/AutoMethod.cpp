@@ -91,9 +91,9 @@ public:
 private:
     static FrameContext subContext(const FrameContext& ctx,
                                    const std::vector<std::uint32_t>& casters) {
-        return FrameContext{ctx.settings, ctx.scene,  ctx.targets, ctx.viewProj,
-                            ctx.casters,  casters,    ctx.timers,  ctx.stats,
-                            ctx.setAccumulationWeight};
+        FrameContext sub = ctx;
+        sub.casterSubset = casters;
+        return sub;
     }
 
     // Each caster's path, the first frame it is seen (its silhouette density is measured from

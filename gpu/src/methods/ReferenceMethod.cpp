@@ -6,8 +6,6 @@
 #include "../passes/StencilVolumePass.h"
 #include "MethodUtil.h"
 
-#include <geometry/AlphaMask.h>
-#include <geometry/Error.h>
 #include <geometry/Sampling.h>
 #include <geometry/ShadowVolume.h>
 
@@ -20,17 +18,7 @@ namespace {
 class ReferenceMethod final : public VisibilityMethod {
 public:
     explicit ReferenceMethod(const MethodResources& r)
-        : mVolumes(r.shaders), mAccumulate(r.shaders) {
-        // Shadow volumes occlude with whole triangles: an alpha-tested leaf card would be a
-        // solid plate, a silently wrong truth.
-        for (const geometry::SceneObject& object : r.scene.objects)
-            if (object.method != geometry::ShadowMethod::None &&
-                geometry::hasAlphaMask(object.mesh))
-                throw geometry::InputError(
-                    "reference: object '" + object.name +
-                    "' is alpha-masked (glTF alphaMode MASK or BLEND), which shadow volumes "
-                    "cannot represent; use --method raytrace as the reference for it");
-    }
+        : mVolumes(r.shaders), mAccumulate(r.shaders) {}
 
     void execute(const FrameContext& ctx) override {
         const RenderSettings& s = ctx.settings;

@@ -1,11 +1,12 @@
 // G-buffer pass: every object (casters and receivers alike) into world position, flat
-// viewer-facing normal, albedo and reversed-Z depth + stencil.
+// viewer-facing normal, albedo and reversed-Z depth + stencil. Alpha-tested materials cut their
+// texels out (lib/Material.glsl), so leaf cards are seen through where the leaves are not.
 #pragma once
 
-#include <geometry/Scene.h>
 #include <gpu/ShaderLoader.h>
 #include <gpu/State.h>
 
+#include "../SceneGeometry.h"
 #include "../Targets.h"
 
 namespace gpu {
@@ -18,14 +19,11 @@ public:
         .depthWrite = true,
     };
 
-    GBufferPass(const ShaderLoader& shaders, const geometry::Scene& scene);
-    void execute(const Targets& t);
+    explicit GBufferPass(const ShaderLoader& shaders);
+    void execute(const Targets& t, const SceneGeometry& geometry);
 
 private:
-    Program mProgram;
-    Buffer mVertices;
-    VertexArray mVao;
-    GLsizei mCount = 0;
+    Program mOpaque, mAlphaTested;
 };
 
 } // namespace gpu
