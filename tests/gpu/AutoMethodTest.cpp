@@ -2,7 +2,10 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
+#include <geometry/Primitives.h>
+
 #include <geometry/Error.h>
+#include <geometry/ErrorStats.h>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +16,17 @@ namespace {
 using testutil::Rendered;
 
 class AutoMethod : public GlTest {};
+
+void expectValid(const Rendered& r) {
+    std::size_t finite = 0;
+    for (const float v : r.visibility.data) {
+        if (!std::isfinite(v)) continue;
+        ++finite;
+        EXPECT_GE(v, 0.0f);
+        EXPECT_LE(v, 1.0f);
+    }
+    EXPECT_GT(finite, 0u);
+}
 
 double maxDifference(const Rendered& a, const Rendered& b) {
     double d = 0.0;
@@ -52,6 +66,72 @@ TEST_F(AutoMethod, ObjectsWithMethodNoneAreNotChosenFor) {
     ASSERT_EQ(r.stats.objectChoices.size(), 1u);
     EXPECT_EQ(scene.objects[r.stats.objectChoices[0].object].name, "floor");
     EXPECT_EQ(maxDifference(r, testutil::render(scene, "wedges-blend", 64, 64, 1)), 0.0);
+}
+
+geometry::Scene treeScene() {
+    return geometry::loadScene(testutil::dataPath("tree-oak.json"));
+}
+
+TEST_F(AutoMethod, FoliageGoesToOcclusionAndMatchesAlphaAwareRaytrace) {
+    // The oak's leaf cards are alpha-tested: auto gives it to occlusion textures and the ground
+    // to wedges; the truth is raytrace, whose rays test the leaves' alpha.
+    const geometry::Scene scene = treeScene();
+    const Rendered truth = testutil::render(scene, "raytrace", 96, 96, 64);
+    const Rendered a = testutil::render(scene, "auto", 96, 96, 1);
+    expectValid(a);
+    bool oakToOcclusion = false;
+    for (const auto& choice : a.stats.objectChoices)
+        if (scene.objects[choice.object].name == "oak")
+            oakToOcclusion = choice.path == "occlusion" &&
+                             choice.reason.find("alpha") != std::string::npos;
+    EXPECT_TRUE(oakToOcclusion);
+    const auto e = geometry::compareVisibility(a.visibility.data, truth.visibility.data);
+    // Against "the tree casts nothing" (V = 1): what missing leaf shadows would score.
+    std::vector<float> lit(truth.visibility.data.size(), 1.0f);
+    for (std::size_t i = 0; i < lit.size(); ++i)
+        if (!std::isfinite(truth.visibility.data[i])) lit[i] = truth.visibility.data[i];
+    const auto none = geometry::compareVisibility(lit, truth.visibility.data);
+    std::printf("  oak 96²: auto vs raytrace N=64: mean %.4f p99 %.3f %.2f%% > 0.05 "
+                "(no shadow at all: mean %.4f)\n",
+                e.meanAbs, e.p99, e.badPixelPct, none.meanAbs);
+    // Measured 0.0247 and 11.4 %: occlusion textures blur the leaves' shadow (prefilter
+    // footprint, slices) where the truth keeps holes; margins for N = 64 noise.
+    EXPECT_LT(e.meanAbs, 0.0247 + 0.01);
+    EXPECT_LT(e.badPixelPct, 11.4 + 3.0);
+    EXPECT_GT(none.meanAbs, 4.0 * e.meanAbs);
+}
+
+TEST_F(AutoMethod, ComposesTheTwoPathsAsAProduct) {
+    // A box beside the oak: its shadow comes from wedges, the oak's from occlusion textures,
+    // and auto's frame is the product of the two methods run on each alone.
+    geometry::Scene scene = treeScene();
+    scene.objects.push_back({"box", geometry::ShadowMethod::Auto,
+                             geometry::makeBox({-2.0f, 0.5f, 1.5f}, {1.0f, 1.6f, 1.0f})});
+    geometry::validateScene(scene);
+    const Rendered a = testutil::render(scene, "auto", 96, 96, 1);
+    expectValid(a);
+    geometry::Scene boxOnly = scene, oakOnly = scene;
+    for (auto& o : boxOnly.objects)
+        if (o.name == "oak") o.method = geometry::ShadowMethod::None;
+    for (auto& o : oakOnly.objects)
+        if (o.name == "box" || o.name == "ground") o.method = geometry::ShadowMethod::None;
+    const Rendered w = testutil::render(boxOnly, "wedges-blend", 96, 96, 1);
+    const Rendered o = testutil::render(oakOnly, "occlusion", 96, 96, 1);
+    double maxDiff = 0.0, minW = 1.0, minO = 1.0;
+    std::size_t both = 0; // pixels both paths shadow
+    for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
+        if (!std::isfinite(a.visibility.data[i])) continue;
+        const double product = double(w.visibility.data[i]) * o.visibility.data[i];
+        maxDiff = std::max(maxDiff, std::abs(a.visibility.data[i] - product));
+        minW = std::min(minW, double(w.visibility.data[i]));
+        minO = std::min(minO, double(o.visibility.data[i]));
+        both += w.visibility.data[i] < 0.9f && o.visibility.data[i] < 0.9f;
+    }
+    std::printf("  box + oak: max |auto - wedges x occlusion| %.2e, %zu pixels in both shadows\n",
+                maxDiff, both);
+    EXPECT_LT(maxDiff, 1e-5);
+    EXPECT_LT(minW, 0.1); // each path really shadows something
+    EXPECT_LT(minO, 0.1);
 }
 
 } // namespace
