@@ -75,10 +75,15 @@ std::string formatCoordinate(float x) {
 } // namespace
 
 std::optional<LightContact> findLightContact(const Scene& scene, float tolerance) {
+    return findLightContact(scene, scene.light, tolerance);
+}
+
+std::optional<LightContact> findLightContact(const Scene& scene, const RectLight& light,
+                                             float tolerance) {
     LightFrame f;
-    f.center = glm::dvec3(scene.light.center);
-    f.u = glm::dvec3(scene.light.u);
-    f.v = glm::dvec3(scene.light.v);
+    f.center = glm::dvec3(light.center);
+    f.u = glm::dvec3(light.u);
+    f.v = glm::dvec3(light.v);
     const glm::dvec3 cross = glm::cross(f.u, f.v);
     const double crossLen = glm::length(cross);
     const double uu = glm::dot(f.u, f.u);
@@ -137,13 +142,16 @@ std::optional<LightContact> findLightContact(const Scene& scene, float tolerance
     return std::nullopt;
 }
 
-void validateLightClear(const Scene& scene) {
+void validateLightClear(const Scene& scene) { validateLightClear(scene, scene.light, {}); }
+
+void validateLightClear(const Scene& scene, const RectLight& light, std::string_view what) {
     const Aabb bounds = scene.bounds();
     const double diagonal = bounds.empty() ? 0.0 : glm::length(glm::dvec3(bounds.extent()));
-    const auto contact = findLightContact(scene, float(1e-5 * diagonal));
+    const auto contact = findLightContact(scene, light, float(1e-5 * diagonal));
     if (!contact) return;
     const std::string origin = scene.source.empty() ? "scene" : scene.source.string();
-    throw InputError(origin + ": light intersects object '" + scene.objects[contact->object].name +
+    throw InputError(origin + ": " + (what.empty() ? std::string("light") : std::string(what)) +
+                     " intersects object '" + scene.objects[contact->object].name +
                      "' (triangle " + std::to_string(contact->triangle) + ") near light (s " +
                      formatCoordinate(contact->st.x) + ", t " + formatCoordinate(contact->st.y) +
                      "): move or shrink the light");

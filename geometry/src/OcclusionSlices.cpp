@@ -30,9 +30,14 @@ glm::mat4 OcclusionFrame::sliceProjection() const {
 
 OcclusionFrame fitOcclusionFrame(const Scene& scene, std::span<const std::size_t> casterObjects,
                                  int slices, const OcclusionFitSettings& settings) {
+    return fitOcclusionFrame(scene, scene.light, casterObjects, slices, settings);
+}
+
+OcclusionFrame fitOcclusionFrame(const Scene& scene, const RectLight& light,
+                                 std::span<const std::size_t> casterObjects, int slices,
+                                 const OcclusionFitSettings& settings) {
     OcclusionFrame f;
     f.slices = slices;
-    const RectLight& light = scene.light;
     f.center = light.center;
     const glm::vec3 n = light.normal();
     const glm::vec3 a = glm::cross(light.v, n), b = glm::cross(n, light.u);

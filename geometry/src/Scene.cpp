@@ -55,9 +55,10 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// Camera and light checks shared by the parser and validateScene(); `fail` gets the key path.
+// Camera and light checks shared by the parser, validateScene() and validateLight(); `fail` gets
+// the key path.
 template <class Fail>
-void checkCameraAndLight(const Camera& cam, const RectLight& light, Fail&& fail) {
+void checkCamera(const Camera& cam, Fail&& fail) {
     if (!finite(cam.eye)) fail("camera.eye", "must be finite");
     if (!finite(cam.target)) fail("camera.target", "must be finite");
     if (!finite(cam.up)) fail("camera.up", "must be finite");
@@ -75,7 +76,10 @@ void checkCameraAndLight(const Camera& cam, const RectLight& light, Fail&& fail)
     if (!(glm::length(glm::cross(view / glm::length(view), cam.up / upLen)) > 1e-4f)) {
         fail("camera.up", fmt(cam.up) + " is parallel to the view direction");
     }
+}
 
+template <class Fail>
+void checkLight(const RectLight& light, Fail&& fail) {
     if (!finite(light.center)) fail("light.center", "must be finite");
     if (!finite(light.u)) fail("light.u", "must be finite");
     if (!finite(light.v)) fail("light.v", "must be finite");
@@ -88,6 +92,12 @@ void checkCameraAndLight(const Camera& cam, const RectLight& light, Fail&& fail)
         fail("light", "u " + fmt(light.u) + " and v " + fmt(light.v) +
                           " are parallel: the light has zero area");
     }
+}
+
+template <class Fail>
+void checkCameraAndLight(const Camera& cam, const RectLight& light, Fail&& fail) {
+    checkCamera(cam, fail);
+    checkLight(light, fail);
 }
 
 // Euler rotation in degrees about fixed axes: X first, then Y, then Z (the usual reading of
@@ -483,6 +493,14 @@ void validateScene(const Scene& scene) {
     });
     // A light inside or touching geometry makes the visibility integral meaningless.
     validateLightClear(scene);
+}
+
+void validateLight(const Scene& scene, const RectLight& light, std::string_view what) {
+    const std::string name = what.empty() ? std::string("light") : std::string(what);
+    checkLight(light, [&](const std::string& k, const std::string& w) {
+        throw InputError(name + (k == "light" ? "" : k.substr(5)) + ": " + w);
+    });
+    validateLightClear(scene, light, name);
 }
 
 Scene loadScene(const std::filesystem::path& path) {

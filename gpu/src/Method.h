@@ -34,6 +34,7 @@ struct MethodResources {
 struct FrameContext {
     const RenderSettings& settings;
     const geometry::Scene& scene;
+    const geometry::RectLight& light; // of this frame: the scene's or RenderSettings::light
     const Targets& targets;
     const glm::mat4& viewProj; // of the frame uniforms
     CasterSet& casters;

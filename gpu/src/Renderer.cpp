@@ -65,6 +65,10 @@ bool hasAlphaCutout(const geometry::MeshData& mesh) {
 }
 
 // Throws for scenes `method` cannot represent (before it draws anything).
+bool sameLight(const geometry::RectLight& a, const geometry::RectLight& b) {
+    return a.center == b.center && a.u == b.u && a.v == b.v;
+}
+
 void checkRepresentable(const geometry::Scene& scene, const MethodInfo& method) {
     if (method.alphaMasks) return;
     std::string honouring;
@@ -91,6 +95,7 @@ struct Renderer::Impl {
     const ShaderLoader& shaders;
     std::size_t triangles = 0;
     float zNear = 0.01f;
+    std::optional<geometry::RectLight> checkedLight; // the last RenderSettings::light validated
     geometry::Aabb sceneBounds;
     glm::mat4 viewProj{1.0f}; // of the last frame-uniform upload
 
@@ -130,7 +135,8 @@ struct Renderer::Impl {
         return *it->second.method;
     }
 
-    void uploadFrameUniforms(const RenderSettings& s, float weight) {
+    void uploadFrameUniforms(const RenderSettings& s, const geometry::RectLight& light,
+                             float weight) {
         const auto& cam = scene.camera;
         const float aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
         shader::FrameUniforms u{};
@@ -138,11 +144,11 @@ struct Renderer::Impl {
                    glm::lookAt(cam.eye, cam.target, cam.up);
         u.viewProj = viewProj;
         u.eye = glm::vec4(cam.eye, 1.0f);
-        u.lightCenter = glm::vec4(scene.light.center, 1.0f);
-        u.lightU = glm::vec4(scene.light.u, 0.0f);
-        u.lightV = glm::vec4(scene.light.v, 0.0f);
+        u.lightCenter = glm::vec4(light.center, 1.0f);
+        u.lightU = glm::vec4(light.u, 0.0f);
+        u.lightV = glm::vec4(light.v, 0.0f);
         u.params = glm::vec4(s.ambient, weight, s.exposure, 0.0f);
-        const glm::vec3 lu = scene.light.u, lv = scene.light.v;
+        const glm::vec3 lu = light.u, lv = light.v;
         const glm::vec3 n = glm::normalize(glm::cross(lu, lv));
         const glm::vec3 a = glm::cross(lv, n), b = glm::cross(n, lu);
         u.lightN = glm::vec4(n, 0.0f);
@@ -193,6 +199,11 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     checkRepresentable(mScene, info);
 
     auto& m = *mImpl;
+    const geometry::RectLight& light = settings.light ? *settings.light : mScene.light;
+    if (settings.light && !(m.checkedLight && sameLight(*m.checkedLight, light))) {
+        geometry::validateLight(mScene, light, "RenderSettings::light");
+        m.checkedLight = light;
+    }
     FrameStats stats;
     stats.triangles = m.triangles;
     const auto frameStart = Clock::now();
@@ -204,7 +215,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
 
     // Depth 0..1 with 1 at the near plane (reversed Z): float depth keeps precision far away.
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    m.uploadFrameUniforms(settings, 1.0f);
+    m.uploadFrameUniforms(settings, light, 1.0f);
 
     {
         ScopedPass pass(&m.timers, "gbuffer");
@@ -215,13 +226,13 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const float zero = 0.0f;
     glClearTexImage(m.targets.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
 
-    FrameContext ctx{settings, m.scene, m.targets, m.viewProj, m.casters, m.allCasters, m.timers, stats,
-                     [&](float weight) { m.uploadFrameUniforms(settings, weight); },
+    FrameContext ctx{settings, m.scene, light, m.targets, m.viewProj, m.casters, m.allCasters, m.timers, stats,
+                     [&](float weight) { m.uploadFrameUniforms(settings, light, weight); },
                      m.sceneGeometry};
 
     // Light-centre silhouettes, uploaded once: every method reports them, most draw from them.
     auto t0 = Clock::now();
-    m.casters.update(m.scene.light, m.sceneBounds);
+    m.casters.update(light, m.sceneBounds);
     ctx.addCpuTime("silhouettes", msSince(t0));
     stats.silhouetteEdges = m.casters.edgeCount();
     stats.silhouetteGroups = m.casters.groupCount();

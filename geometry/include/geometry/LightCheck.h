@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string_view>
 
 namespace geometry {
 
@@ -23,9 +24,14 @@ struct LightContact {
 // test is slightly conservative (distance measured per axis, not Euclidean). A light with
 // (nearly) parallel u and v has no plane; validateScene rejects it, and here it yields nullopt.
 std::optional<LightContact> findLightContact(const Scene& scene, float tolerance);
+// The same for another light than the scene's (a moved or scaled one: bench sweeps, viewer).
+std::optional<LightContact> findLightContact(const Scene& scene, const RectLight& light,
+                                             float tolerance);
 
 // Throws InputError naming the object, the triangle and where on the light the contact is, with a
 // tolerance of 1e-5 times the scene bounds diagonal.
 void validateLightClear(const Scene& scene);
+// The same for `light`; `what` names it in the message ("light" when empty).
+void validateLightClear(const Scene& scene, const RectLight& light, std::string_view what);
 
 } // namespace geometry

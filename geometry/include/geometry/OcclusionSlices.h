@@ -72,6 +72,10 @@ struct OcclusionFitSettings {
 // `casterObjects` (indices into scene.objects) are sliced (fit the depth range).
 OcclusionFrame fitOcclusionFrame(const Scene& scene, std::span<const std::size_t> casterObjects,
                                  int slices, const OcclusionFitSettings& settings = {});
+// The same for another light than the scene's (RenderSettings::light).
+OcclusionFrame fitOcclusionFrame(const Scene& scene, const RectLight& light,
+                                 std::span<const std::size_t> casterObjects, int slices,
+                                 const OcclusionFitSettings& settings = {});
 
 // Slice k's share in V(P).
 struct SliceLookup {

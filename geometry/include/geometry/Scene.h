@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace geometry {
@@ -40,6 +41,10 @@ Scene parseScene(const std::string& jsonText, const std::filesystem::path& baseD
 // (geometry/LightCheck.h), and that the camera is usable. Throws InputError. Called by
 // loadScene/parseScene; public for code that edits a scene.
 void validateScene(const Scene& scene);
+
+// The light checks of validateScene for another light than the scene's (moved or scaled: bench
+// sweeps, the viewer). `what` names it in messages ("light" when empty). Throws InputError.
+void validateLight(const Scene& scene, const RectLight& light, std::string_view what = {});
 
 // Camera and light framed on bounds: used when a glTF is given directly.
 Camera defaultCamera(const Aabb& bounds);

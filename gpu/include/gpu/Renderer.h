@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct RenderSettings {
     // The method's parameters as given (gpu/Methods.h); the others take their defaults. A name
     // or value the method does not declare is a geometry::InputError from renderFrame.
     std::vector<ParameterValue> parameters;
+    // Replaces the scene's light for this frame (bench light sweeps and size scales, the viewer).
+    // It is checked like the scene's (finite, non-zero area, touching no geometry) whenever it
+    // changes: a geometry::InputError from renderFrame otherwise.
+    std::optional<geometry::RectLight> light;
     int width = 512;
     int height = 512;
     int samples = 1024;       // reference methods: light samples per pixel

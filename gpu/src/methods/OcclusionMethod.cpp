@@ -173,7 +173,7 @@ private:
 
     // The frame and the casters' list, refitted when the light or the subset changes.
     void updateFrame(const FrameContext& ctx) {
-        const geometry::RectLight& light = ctx.scene.light;
+        const geometry::RectLight& light = ctx.light;
         std::vector<std::uint32_t> subset(ctx.casterSubset.begin(), ctx.casterSubset.end());
         if (mFitted && light.center == mLight.center && light.u == mLight.u &&
             light.v == mLight.v && subset == mSubset)
@@ -196,7 +196,7 @@ private:
             if (mLeakFix == LeakFix::On || (mLeakFix == LeakFix::Auto && thin)) fix = Fix::Near;
             mCasters.push_back({object, fix});
         }
-        mFrame = geometry::fitOcclusionFrame(ctx.scene, objects, mSlices);
+        mFrame = geometry::fitOcclusionFrame(ctx.scene, light, objects, mSlices);
         mLight = light;
         mSubset = std::move(subset);
         mFitted = true;

@@ -39,7 +39,7 @@ public:
         geometry::RayTraceSettings rt;
         rt.samples = ctx.settings.samples;
         rt.seed = ctx.settings.seed;
-        mTracer->visibility(mScene.light, points, normals, rt, v);
+        mTracer->visibility(ctx.light, points, normals, rt, v);
         ctx.addCpuTime("raytrace", msSince(t0));
         glTextureSubImage2D(t.visibility.id(), 0, 0, 0, t.width, t.height, GL_RED, GL_FLOAT,
                             v.data());

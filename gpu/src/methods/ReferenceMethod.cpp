@@ -27,7 +27,7 @@ public:
         ctx.setAccumulationWeight(1.0f / static_cast<float>(total));
         const int step = std::max(1, total / 10);
         for (int i = 0; i < total; ++i) {
-            const glm::vec3 light = ctx.scene.light.point(samples[i].x, samples[i].y);
+            const glm::vec3 light = ctx.light.point(samples[i].x, samples[i].y);
             auto t0 = Clock::now();
             const std::size_t frontCaps = buildVolume(ctx, light);
             ctx.addCpuTime("shadow-volume-build", msSince(t0));
