@@ -4,8 +4,10 @@
 // - renders --frames frames with --method on a surfaceless EGL context (llvmpipe in CI);
 // - writes image.png, visibility.pfm, position.pfm and report.json into --out;
 // - with --compare FILE (a visibility.pfm of the same view, e.g. from --method reference) also
-//   reports the error statistics of DESIGN.md §5.
+//   reports the error statistics of DESIGN.md §5 and writes error.png, a false-colour |ΔV| heat
+//   map with its scale (geometry/ErrorImage.h).
 #include <geometry/Error.h>
+#include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>
 #include <geometry/ImageIO.h>
 #include <geometry/Scene.h>
@@ -70,6 +72,7 @@ struct Options {
     int frames = 1;
     std::uint32_t seed = 1;
     std::string comparePath;
+    float errorScale = geometry::kDefaultErrorScale;
     std::vector<std::string> parameters; // --param NAME=VALUE, in the order given
     bool quiet = false;
 };
@@ -92,6 +95,8 @@ int run(const Options& opt) {
         throw geometry::InputError("--samples must be between 1 and 1048576");
     if (opt.frames < 1 || opt.frames > 10000)
         throw geometry::InputError("--frames must be between 1 and 10000");
+    if (!(opt.errorScale > 0.0f && opt.errorScale <= 1.0f))
+        throw geometry::InputError("--error-scale must be in (0, 1]");
 
     auto t0 = std::chrono::steady_clock::now();
     const geometry::Scene scene = geometry::loadScene(opt.scenePath);
@@ -219,6 +224,7 @@ int run(const Options& opt) {
         error = geometry::compareVisibility(visibility.data, compareTo->data);
         report["compare"] = opt.comparePath;
         report["error"] = errorJson(*error);
+        report["error_image"] = {{"file", "error.png"}, {"scale_max", opt.errorScale}};
     }
 
     fs::create_directories(opt.outDir);
@@ -226,6 +232,11 @@ int run(const Options& opt) {
     geometry::writePng(out / "image.png", width, height, 4, image.data());
     geometry::writePfm(out / "visibility.pfm", visibility);
     geometry::writePfm(out / "position.pfm", position);
+    if (compareTo) {
+        const geometry::RgbImage heat = geometry::errorHeatMap(visibility.data, compareTo->data,
+                                                               width, height, opt.errorScale);
+        geometry::writePng(out / "error.png", heat.width, heat.height, 3, heat.rgb.data());
+    }
     std::ofstream(out / "report.json") << report.dump(2) << "\n";
 
     if (!opt.quiet) {
@@ -241,8 +252,8 @@ int run(const Options& opt) {
                         "%.2f%% pixels > 0.05\n",
                         opt.comparePath.c_str(), error->meanAbs, error->rmse, error->p99,
                         error->max, error->badPixelPct);
-        std::printf("  wrote %s/{image.png, visibility.pfm, position.pfm, report.json}\n",
-                    opt.outDir.c_str());
+        std::printf("  wrote %s/{image.png, visibility.pfm, position.pfm, report.json%s}\n",
+                    opt.outDir.c_str(), error ? ", error.png" : "");
     }
     return 0;
 }
@@ -279,6 +290,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--compare", opt.comparePath,
                    "reference visibility.pfm of the same view: report the error against it");
+    app.add_option("--error-scale", opt.errorScale,
+                   "with --compare: the |error| at the top of error.png's colour scale")
+        ->capture_default_str();
     app.add_option("--param", opt.parameters,
                    "a parameter of the method, NAME=VALUE (repeatable; listed under --method)")
         ->allow_extra_args(false);

@@ -55,4 +55,34 @@ ErrorStats compareVisibility(std::span<const float> v, std::span<const float> re
     return stats;
 }
 
+double flicker(std::span<const std::span<const float>> frames,
+               std::span<const std::span<const float>> truth) {
+    if (frames.size() != truth.size() || frames.size() < 2)
+        throw std::invalid_argument("flicker: needs the same number (at least 2) of method and "
+                                    "truth frames, got " + std::to_string(frames.size()) + " and " +
+                                    std::to_string(truth.size()));
+    const std::size_t n = frames[0].size();
+    for (std::size_t k = 0; k < frames.size(); ++k)
+        if (frames[k].size() != n || truth[k].size() != n)
+            throw std::invalid_argument("flicker: frame " + std::to_string(k) +
+                                        " differs in size from frame 0");
+    double sum = 0.0;
+    for (std::size_t k = 0; k + 1 < frames.size(); ++k) {
+        const auto v0 = frames[k], v1 = frames[k + 1], t0 = truth[k], t1 = truth[k + 1];
+        double pairSum = 0.0;
+        std::size_t pixels = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!std::isfinite(v0[i]) || !std::isfinite(v1[i]) || !std::isfinite(t0[i]) ||
+                !std::isfinite(t1[i]))
+                continue;
+            const double dv = double(v1[i]) - double(v0[i]);
+            const double dt = double(t1[i]) - double(t0[i]);
+            pairSum += std::abs(dv - dt);
+            ++pixels;
+        }
+        sum += pixels ? pairSum / double(pixels) : 0.0;
+    }
+    return sum / double(frames.size() - 1);
+}
+
 } // namespace geometry

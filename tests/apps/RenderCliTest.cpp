@@ -23,6 +23,19 @@ struct RunResult {
     std::string output; // stdout + stderr
 };
 
+// Width and height from a PNG's IHDR chunk (bytes 16–23, big endian); 0x0 if it is not a PNG.
+std::pair<std::uint32_t, std::uint32_t> pngSize(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    unsigned char b[24] = {};
+    if (!in.read(reinterpret_cast<char*>(b), sizeof b) || b[1] != 'P' || b[2] != 'N' || b[3] != 'G')
+        return {0, 0};
+    auto be = [&](int i) {
+        return (std::uint32_t(b[i]) << 24) | (std::uint32_t(b[i + 1]) << 16) |
+               (std::uint32_t(b[i + 2]) << 8) | std::uint32_t(b[i + 3]);
+    };
+    return {be(16), be(20)};
+}
+
 class RenderCli : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -326,12 +339,25 @@ TEST_F(RenderCli, CompareReportsErrorAgainstAReference) {
     // Hard shadows are not soft: a real penumbra means a non-zero error.
     EXPECT_GT(report["error"]["mean_abs_err"].get<double>(), 0.001);
     EXPECT_GT(report["error"]["pixels"].get<int>(), 1000);
+    // The heat map: the view plus its legend, named in the report with its scale.
+    EXPECT_EQ(report["error_image"]["file"], "error.png");
+    EXPECT_FLOAT_EQ(report["error_image"]["scale_max"].get<float>(), 0.2f);
+    const auto [w, h] = pngSize(hard / "error.png");
+    EXPECT_EQ(w, 64u);
+    EXPECT_GT(h, 64u);
+    EXPECT_TRUE(r.output.find("error.png") != std::string::npos) << r.output;
     // A size mismatch with the reference is bad input.
     const RunResult bad = run("--scene '" + scene.string() + "' --method hard --size 32x32 --out '" +
                               (mDir / "x").string() + "' --compare '" +
                               (ref / "visibility.pfm").string() + "'");
     EXPECT_EQ(bad.exitCode, 2) << bad.output;
     EXPECT_FALSE(fs::exists(mDir / "x"));
+    const RunResult badScale = run("--scene '" + scene.string() + "' --method hard --size 64x64 " +
+                                   "--error-scale 0 --out '" + (mDir / "y").string() +
+                                   "' --compare '" + (ref / "visibility.pfm").string() + "'");
+    EXPECT_EQ(badScale.exitCode, 2) << badScale.output;
+    EXPECT_NE(badScale.output.find("--error-scale"), std::string::npos) << badScale.output;
+    EXPECT_FALSE(fs::exists(mDir / "y"));
 }
 
 } // namespace

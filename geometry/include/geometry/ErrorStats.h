@@ -20,4 +20,13 @@ struct ErrorStats {
 // one side is NaN). Sizes must match (throws std::invalid_argument otherwise).
 ErrorStats compareVisibility(std::span<const float> v, std::span<const float> reference);
 
+// Temporal stability along a light path (DESIGN.md §5): the mean over consecutive frame pairs
+// (k, k+1) of the mean over pixels of |(V[k+1] - V[k]) - (T[k+1] - T[k])|, V the method's frames
+// and T the truth's of the same light positions. A pixel counts in a pair when it has a surface
+// (finite) in all four images. 0 when the method changes exactly as the truth does, whatever its
+// static error. Throws std::invalid_argument unless both have the same number (>= 2) of frames
+// of one size.
+double flicker(std::span<const std::span<const float>> frames,
+               std::span<const std::span<const float>> truth);
+
 } // namespace geometry
