@@ -107,6 +107,7 @@ struct Renderer::Impl {
     CasterSet casters;
     std::vector<std::uint32_t> allCasters;
     GpuTimers timers;
+    GpuTimers frameTimer; // one span over the whole frame: FrameStats::gpuFrameMs
     // Methods are built on first use and kept (programs, scratch targets, BVHs), one per name:
     // a method asked for with other parameters is built anew in its place.
     struct BuiltMethod {
@@ -207,6 +208,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     FrameStats stats;
     stats.triangles = m.triangles;
     const auto frameStart = Clock::now();
+    const int frameSlot = m.frameTimer.begin("frame");
     if (m.targets.width != settings.width || m.targets.height != settings.height) {
         m.targets.resize(settings.width, settings.height);
         for (auto& [name, each] : m.methods) each.method->resize(settings.width, settings.height);
@@ -251,9 +253,12 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
         m.shadePass.execute(m.targets);
     }
     checkGl("shade");
+    m.frameTimer.end(frameSlot);
     glFinish();
     stats.frameMs = msSince(frameStart);
     stats.gpu = m.timers.resolve();
+    const std::vector<PassTime> whole = m.frameTimer.resolve();
+    stats.gpuFrameMs = whole.empty() ? 0.0 : whole.front().ms;
     return stats;
 }
 

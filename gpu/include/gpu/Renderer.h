@@ -69,6 +69,7 @@ struct FrameStats {
     std::vector<PassTime> gpu; // per pass, GL timer queries
     std::vector<CpuTime> cpu;  // per CPU stage
     double frameMs = 0.0;      // wall clock of the whole frame, including GPU completion
+    double gpuFrameMs = 0.0;   // GPU time of the whole frame (one timer span; passes may nest)
     std::size_t triangles = 0;
     std::size_t silhouetteEdges = 0;  // directed silhouette edges from the light centre
     std::size_t silhouetteGroups = 0; // groups (geometry/Silhouette.h) from the light centre
