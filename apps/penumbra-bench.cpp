@@ -224,9 +224,13 @@ std::vector<fs::path> expandScenes(const std::vector<std::string>& inputs) {
     for (const std::string& input : inputs) {
         std::error_code ec;
         if (fs::is_directory(input, ec)) {
-            std::vector<fs::path> found;
+            // A folder of scene JSONs (their .gltf meshes beside them are not scenes), or else
+            // a folder of levels.
+            std::vector<fs::path> json, gltf;
             for (const auto& entry : fs::directory_iterator(input))
-                if (entry.is_regular_file() && isScene(entry.path())) found.push_back(entry.path());
+                if (entry.is_regular_file() && isScene(entry.path()))
+                    (entry.path().extension() == ".json" ? json : gltf).push_back(entry.path());
+            std::vector<fs::path> found = json.empty() ? gltf : json;
             std::sort(found.begin(), found.end());
             if (found.empty())
                 throw geometry::InputError(input + ": folder has no .json/.gltf/.glb scene");
@@ -710,7 +714,9 @@ int run(const Options& opt) {
 int main(int argc, char** argv) {
     CLI::App app{"penumbra-bench: scenes x methods x parameters, frame time against error"};
     Options opt;
-    app.add_option("scenes", opt.inputs, "scene JSON files, .gltf/.glb levels, or folders of them")
+    app.add_option("scenes", opt.inputs,
+                   "scene JSON files, .gltf/.glb levels, or folders of them (a folder with any "
+                   ".json gives its .json files only)")
         ->required();
     app.add_option("--methods", opt.methods,
                    "comma-separated method names, or 'all' (every implemented real-time "

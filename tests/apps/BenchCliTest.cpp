@@ -197,6 +197,26 @@ TEST_F(BenchCli, SweepsMultiplyAndHardComesFirst) {
     EXPECT_EQ(heatMaps, rows.size());
 }
 
+TEST_F(BenchCli, AFolderOfScenesGivesItsJsonFiles) {
+    // data/stability holds scene JSONs and the .gltf meshes they load: only the JSONs are scenes.
+    const fs::path out = mDir / "out";
+    std::string log;
+    ASSERT_EQ(run(q(kData / "stability") + " --methods hard --size 16x16 --truth-samples 4 "
+                  "--frames 1 --warmup 0 --flicker-steps 0 --no-chart --out " + q(out), &log), 0)
+        << log;
+    std::vector<std::string> header;
+    const auto rows = readCsv(out / "results.csv", &header);
+    std::size_t scenes = 0;
+    for (const auto& e : fs::directory_iterator(kData / "stability"))
+        scenes += e.path().extension() == ".json";
+    ASSERT_GE(scenes, 10u);
+    ASSERT_EQ(rows.size(), scenes);
+    for (const auto& row : rows) {
+        EXPECT_TRUE(row.at("scene").ends_with(".json")) << row.at("scene");
+        EXPECT_EQ(row.at("status"), "ok") << row.at("scene");
+    }
+}
+
 TEST_F(BenchCli, BadInputExitsTwoAndWritesNothing) {
     const std::string scene = q(kData / "overlap.json");
     const fs::path out = mDir / "out";
