@@ -72,5 +72,6 @@ std::unique_ptr<VisibilityMethod> createMultiplyWedgesMethod(const MethodResourc
 std::unique_ptr<VisibilityMethod> createBlendWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createOcclusionMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createPcssMethod(const MethodResources&);
 
 } // namespace gpu

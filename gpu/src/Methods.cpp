@@ -47,6 +47,24 @@ constexpr MethodParameter kOcclusionParameters[] = {
      "surfaces turned from the light to the diffuse term)"},
 };
 
+// pcss (Fernando 2005): shadow-map size and the samples of its two steps.
+constexpr std::string_view kPcssResolution[] = {"512", "1024", "2048"};
+constexpr std::string_view kPcssSamples[] = {"16", "32", "64"};
+constexpr std::string_view kPcssBias[] = {"0.0", "0.5", "1.5", "3.0"};
+constexpr std::string_view kPcssHorizon[] = {"on", "off"};
+constexpr MethodParameter kPcssParameters[] = {
+    {"resolution", kPcssResolution, "1024", "side of each shadow map in texels"},
+    {"blocker_samples", kPcssSamples, "16",
+     "samples of the blocker search (each reads 2 x 2 texels; a fixed stratified pattern)"},
+    {"pcf_samples", kPcssSamples, "32",
+     "samples of the percentage-closer filter (each 2 x 2 texels, bilinear; a fixed pattern)"},
+    {"bias", kPcssBias, "1.5",
+     "depth bias: the receiver's plane moved this many map texels (their world size at the "
+     "receiver) towards the light; more hides acne and concave corners, less keeps contact"},
+    {"horizon", kPcssHorizon, "on",
+     "V times the fraction of the light in front of the surface (not in the paper; as occlusion's)"},
+};
+
 // auto: which wedge method serves the objects it gives to wedges.
 constexpr std::string_view kAutoWedges[] = {"blend", "additive", "multiply"};
 constexpr MethodParameter kAutoParameters[] = {
@@ -68,7 +86,8 @@ const std::array<MethodInfo, 9> kMethods = {{
      false, createMultiplyWedgesMethod},
     {"occlusion", "occlusion textures (Eisemann & Decoret 2006); honours alpha-tested casters",
      false, createOcclusionMethod, kOcclusionParameters, true},
-    {"pcss", "percentage-closer soft shadows", false, nullptr},
+    {"pcss", "percentage-closer soft shadows (Fernando 2005), shadow maps from the light centre; "
+     "honours alpha-tested casters", false, createPcssMethod, kPcssParameters, true},
     {"auto", "per-object choice (wedges or occlusion textures), composed in one frame", false,
      createAutoMethod, kAutoParameters, true},
 }};

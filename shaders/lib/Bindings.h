@@ -6,6 +6,7 @@
 
 #define BINDING_FRAME_UBO 0
 #define BINDING_OCCLUSION_UBO 1 // OcclusionUniforms (the occlusion method's frame)
+#define BINDING_PCSS_UBO 2      // PcssUniforms (the pcss method's maps and sample pattern)
 
 // Storage buffers (std430). Static: every caster's welded geometry, concatenated (CasterSet).
 #define BINDING_WELDED_POSITIONS 0 // vec4 per welded vertex (w = 1)
@@ -18,6 +19,7 @@
 // Per frame, on the GPU only (wedge methods).
 #define BINDING_WEDGES 5      // GpuWedge per directed edge, built by shaders/wedge-setup.comp
 #define BINDING_WEDGE_STATS 6 // uint counters (WEDGE_STAT_*)
+#define BINDING_PCSS_STATS 7  // pcss: uint, receiver pixels outside both maps (lit)
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
@@ -28,6 +30,7 @@
 #define UNIFORM_MATERIAL_UV 1   // lib/Material.glsl: mat3 (locations 1..3)
 #define UNIFORM_SLICE_LEAKFIX 4 // occlusion-slice.frag: int, 1 = also write the next slice
 #define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter compute: int (N-buffer level, SAT pass)
+#define UNIFORM_PCSS_SIDE 6      // pcss-shadow.vert: int, the side of the light drawn (0: along n)
 
 // GpuWedge::kind
 #define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)
@@ -53,6 +56,9 @@
                              // targets at 8 bits, 4 at 16); the resolve: set k's vCoef at 13 + k
 #define TEXUNIT_MATERIAL 17  // the drawn material's base-colour texture (G-buffer, slicing)
 #define TEXUNIT_OCCLUSION 18 // occlusion: the prefiltered slices (N-buffers, mipmaps or SAT)
+#define TEXUNIT_PCSS 19      // pcss: the shadow maps, one layer per side of the light
+
+#define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 
 #ifdef __cplusplus
 // C++ side: included through gpu/src/ShaderBindings.h, which includes glm first (the GLSL
@@ -90,6 +96,18 @@ PENUMBRA_UBO_BEGIN(OcclusionUniforms, BINDING_OCCLUSION_UBO)
     vec4 range;     // x: zNear, y: slice depth, z: slices, w: 1 if nothing is sliced (V = 1)
     vec4 texels;    // x: resolution R, y: 1 / R, z: top prefilter level built, w: unused
 PENUMBRA_UBO_END(OcclusionUniforms, occlusion)
+
+// The pcss method's frame (geometry/PcssFrame.h) and sample pattern.
+PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
+    mat4 shadowProj[2]; // world -> clip of each side's shadow pass (PcssFrame::projection)
+    vec4 basisU;        // xyz: lateral axis eu, w: the light's half extent along it
+    vec4 basisV;        // xyz: lateral axis ev, w: the light's half extent along it
+    vec4 normal;        // xyz: the light's unit normal n (side 0 looks along it), w: zNear
+    vec4 extent[2];     // per side: xy the map's lower corner lo in m = (x, y) / z, zw 1 / (hi - lo)
+    vec4 sides;         // xy: 1 if side 0 / 1 is drawn; zw: its casters' least depth (0: none)
+    vec4 params;        // x: blocker-search samples, y: filter samples, z: resolution R, w: 1 / R
+    vec4 pattern[PCSS_MAX_SAMPLES]; // xy: filter pattern point i, zw: search point i, in [-1, 1]^2
+PENUMBRA_UBO_END(PcssUniforms, pcss)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
 // triangles lie to the left of v0 -> v1 seen from the light (geometry/Silhouette.h).
@@ -130,6 +148,8 @@ static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
+static_assert(sizeof(PcssUniforms) == 2 * 64 + (7 + PCSS_MAX_SAMPLES) * 16,
+              "PcssUniforms must match std140");
 } // namespace gpu::shader
 #endif
 

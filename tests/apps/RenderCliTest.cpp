@@ -179,8 +179,34 @@ TEST_F(RenderCli, UnknownMethod) {
     expectRejected(write("s.json", kValidScene), "unknown method", "--method softest");
 }
 
-TEST_F(RenderCli, MethodNotImplementedYetIsAClearError) {
-    expectRejected(write("s.json", kValidScene), "not implemented", "--method pcss");
+// pcss, the last method of the contract to be built: its parameters and counters in
+// report.json, and --help lists it with them.
+TEST_F(RenderCli, PcssRendersWithItsParameters) {
+    expectRejected(write("s.json", kValidScene), "512, 1024, 2048",
+                   "--method pcss --param resolution=4096");
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + write("s.json", kValidScene).string() +
+                            "' --method pcss --param resolution=512 --param bias=3.0 --size 48x32 "
+                            "--out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(out / "report.json");
+    const auto report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["parameters"]["resolution"], 512);
+    EXPECT_EQ(report["parameters"]["blocker_samples"], 16);
+    EXPECT_EQ(report["parameters"]["pcf_samples"], 32);
+    EXPECT_EQ(report["parameters"]["bias"], "3.0");
+    EXPECT_EQ(report["parameters"]["horizon"], "on");
+    EXPECT_EQ(report["counters"]["pcss_resolution"], 512);
+    EXPECT_EQ(report["counters"]["pcss_sides"], 1);
+    EXPECT_EQ(report["counters"]["pcss_pixels_outside"], 0);
+    EXPECT_TRUE(report["gpu_ms"].contains("pcss-lookup"));
+    const RunResult help = run("--help");
+    EXPECT_EQ(help.output.find("not implemented"), std::string::npos) << help.output;
+    for (const char* line : {"--param resolution=512|1024|2048 (default 1024)",
+                             "--param blocker_samples=16|32|64 (default 16)",
+                             "--param pcf_samples=16|32|64 (default 32)"})
+        EXPECT_NE(help.output.find(line), std::string::npos) << line << " in:\n" << help.output;
+    EXPECT_LT(help.output.find("pcss:"), help.output.find("--param blocker_samples="));
 }
 
 // Alpha-tested foliage: refused by methods that would shadow with whole cards, rendered by

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 namespace {
@@ -102,4 +103,45 @@ TEST(SamplingTest, MeanIsNearCentre) {
 
 TEST(SamplingTest, RejectsNonPositiveCount) {
     EXPECT_THROW(geometry::stratifiedSquare(0, 1), std::invalid_argument);
+}
+
+// scrambledNet: a (0, k, 2)-net in base 2 — every 2^a x 2^(k-a) grid holds one point per cell.
+TEST(SamplingTest, ScrambledNetHasOnePointInEveryElementaryInterval) {
+    for (int k = 0; k <= 8; ++k) {
+        const int n = 1 << k;
+        SCOPED_TRACE(n);
+        const auto pts = geometry::scrambledNet(n, 11);
+        ASSERT_EQ(pts.size(), static_cast<std::size_t>(n));
+        for (int a = 0; a <= k; ++a) {
+            const int nx = 1 << a, ny = n / nx;
+            std::vector<int> count(static_cast<std::size_t>(n), 0);
+            for (const glm::vec2& p : pts) {
+                ASSERT_GT(p.x, -1.0f);
+                ASSERT_LT(p.x, 1.0f);
+                ASSERT_GT(p.y, -1.0f);
+                ASSERT_LT(p.y, 1.0f);
+                const int i = static_cast<int>((p.x + 1.0f) * 0.5f * nx);
+                const int j = static_cast<int>((p.y + 1.0f) * 0.5f * ny);
+                ++count[static_cast<std::size_t>(j * nx + i)];
+            }
+            for (int c = 0; c < n; ++c)
+                EXPECT_EQ(count[static_cast<std::size_t>(c)], 1) << a << " x-bits, cell " << c;
+        }
+    }
+}
+
+TEST(SamplingTest, ScrambledNetIsDeterministicAndSeeded) {
+    const auto a = geometry::scrambledNet(32, 5), b = geometry::scrambledNet(32, 5);
+    const auto c = geometry::scrambledNet(32, 6);
+    int differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i], b[i]);
+        differ += a[i] != c[i];
+    }
+    EXPECT_GT(differ, 16); // another seed scrambles differently
+}
+
+TEST(SamplingTest, ScrambledNetRejectsOtherCounts) {
+    for (int n : {0, -4, 3, 24, 1 << 17})
+        EXPECT_THROW(geometry::scrambledNet(n, 1), std::invalid_argument) << n;
 }

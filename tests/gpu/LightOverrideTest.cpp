@@ -44,7 +44,7 @@ TEST_F(LightOverride, EqualsTheEditedScene) {
     moved.u *= 0.7f;
     geometry::Scene edited = scene;
     edited.light = moved;
-    for (const char* method : {"hard", "wedges-blend", "occlusion", "reference"}) {
+    for (const char* method : {"hard", "wedges-blend", "occlusion", "pcss", "reference"}) {
         const geometry::FloatImage a = renderWith(scene, method, moved);
         const geometry::FloatImage b = renderWith(edited, method, std::nullopt);
         EXPECT_EQ(differing(a, b, 0.0f), 0u) << method;
