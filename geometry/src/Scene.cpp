@@ -503,6 +503,13 @@ void validateLight(const Scene& scene, const RectLight& light, std::string_view 
     validateLightClear(scene, light, name);
 }
 
+void validateCamera(const Camera& camera, std::string_view what) {
+    const std::string name = what.empty() ? std::string("camera") : std::string(what);
+    checkCamera(camera, [&](const std::string& k, const std::string& w) {
+        throw InputError(name + k.substr(6) + ": " + w); // "camera.eye" -> name + ".eye"
+    });
+}
+
 Scene loadScene(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {

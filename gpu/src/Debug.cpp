@@ -198,6 +198,10 @@ DebugGroup::~DebugGroup() {
 GpuTimers::GpuTimers() = default;
 
 GpuTimers::~GpuTimers() {
+    for (const PendingFrame& f : mPending)
+        for (const Slot& slot : f.slots)
+            for (GLuint q : slot.queries)
+                if (q) mPool.push_back(q);
     for (const Slot& slot : mSlots) {
         for (GLuint q : slot.queries) {
             if (q) mPool.push_back(q);
@@ -232,8 +236,7 @@ void GpuTimers::end(int slot) {
     glQueryCounter(s.queries[1], GL_TIMESTAMP);
 }
 
-std::vector<PassTime> GpuTimers::resolve() {
-    std::vector<PassTime> out;
+void GpuTimers::closeOpenSlots() {
     for (Slot& slot : mSlots) {
         // A pass left open (an exception skipped its end) is closed here rather than dropped, so
         // the pool stays balanced; its time then runs to the end of the frame.
@@ -242,7 +245,21 @@ std::vector<PassTime> GpuTimers::resolve() {
             glQueryCounter(slot.queries[1], GL_TIMESTAMP);
         }
     }
-    for (Slot& slot : mSlots) {
+}
+
+bool GpuTimers::available(const std::vector<Slot>& slots) const {
+    for (const Slot& slot : slots)
+        for (GLuint q : slot.queries) {
+            GLuint ready = GL_FALSE;
+            glGetQueryObjectuiv(q, GL_QUERY_RESULT_AVAILABLE, &ready);
+            if (!ready) return false;
+        }
+    return true;
+}
+
+std::vector<PassTime> GpuTimers::collect(std::vector<Slot>& slots) {
+    std::vector<PassTime> out;
+    for (Slot& slot : slots) {
         // GL_QUERY_RESULT blocks until the GPU has passed the counter.
         GLuint64 t0 = 0, t1 = 0;
         glGetQueryObjectui64v(slot.queries[0], GL_QUERY_RESULT, &t0);
@@ -258,8 +275,33 @@ std::vector<PassTime> GpuTimers::resolve() {
         mPool.push_back(slot.queries[0]);
         mPool.push_back(slot.queries[1]);
     }
-    mSlots.clear();
+    slots.clear();
     return out;
+}
+
+std::vector<PassTime> GpuTimers::resolve() {
+    closeOpenSlots();
+    // Frames left pending by resolveDeferred are older than this one: drop their times.
+    for (PendingFrame& f : mPending) collect(f.slots);
+    mPending.clear();
+    ++mFrameIndex;
+    return collect(mSlots);
+}
+
+std::optional<GpuTimers::Deferred> GpuTimers::resolveDeferred(std::size_t maxInFlight) {
+    closeOpenSlots();
+    const std::uint64_t current = mFrameIndex++;
+    mPending.push_back({std::move(mSlots), current});
+    mSlots.clear();
+    std::optional<Deferred> latest;
+    while (!mPending.empty()) {
+        PendingFrame& oldest = mPending.front();
+        if (!available(oldest.slots) && mPending.size() <= std::max<std::size_t>(maxInFlight, 1))
+            break;
+        latest = Deferred{collect(oldest.slots), static_cast<int>(current - oldest.index)};
+        mPending.pop_front();
+    }
+    return latest;
 }
 
 // ---------------------------------------------------------------------------------------------

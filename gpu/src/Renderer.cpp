@@ -69,6 +69,10 @@ bool sameLight(const geometry::RectLight& a, const geometry::RectLight& b) {
     return a.center == b.center && a.u == b.u && a.v == b.v;
 }
 
+bool sameCamera(const geometry::Camera& a, const geometry::Camera& b) {
+    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDeg == b.fovYDeg;
+}
+
 void checkRepresentable(const geometry::Scene& scene, const MethodInfo& method) {
     if (method.alphaMasks) return;
     std::string honouring;
@@ -96,6 +100,7 @@ struct Renderer::Impl {
     std::size_t triangles = 0;
     float zNear = 0.01f;
     std::optional<geometry::RectLight> checkedLight; // the last RenderSettings::light validated
+    std::optional<geometry::Camera> checkedCamera;   // the last RenderSettings::camera validated
     geometry::Aabb sceneBounds;
     glm::mat4 viewProj{1.0f}; // of the last frame-uniform upload
 
@@ -138,7 +143,7 @@ struct Renderer::Impl {
 
     void uploadFrameUniforms(const RenderSettings& s, const geometry::RectLight& light,
                              float weight) {
-        const auto& cam = scene.camera;
+        const geometry::Camera& cam = s.camera ? *s.camera : scene.camera;
         const float aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
         shader::FrameUniforms u{};
         viewProj = infiniteReversedZ(glm::radians(cam.fovYDeg), aspect, zNear) *
@@ -205,6 +210,10 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
         geometry::validateLight(mScene, light, "RenderSettings::light");
         m.checkedLight = light;
     }
+    if (settings.camera && !(m.checkedCamera && sameCamera(*m.checkedCamera, *settings.camera))) {
+        geometry::validateCamera(*settings.camera, "RenderSettings::camera");
+        m.checkedCamera = settings.camera;
+    }
     FrameStats stats;
     stats.triangles = m.triangles;
     const auto frameStart = Clock::now();
@@ -254,11 +263,24 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     }
     checkGl("shade");
     m.frameTimer.end(frameSlot);
-    glFinish();
+    if (settings.waitForGpu) {
+        glFinish();
+        stats.frameMs = msSince(frameStart);
+        stats.gpu = m.timers.resolve();
+        const std::vector<PassTime> whole = m.frameTimer.resolve();
+        stats.gpuFrameMs = whole.empty() ? 0.0 : whole.front().ms;
+        return stats;
+    }
+    // Both rings advance together: the frame span closes after every pass of its frame.
     stats.frameMs = msSince(frameStart);
-    stats.gpu = m.timers.resolve();
-    const std::vector<PassTime> whole = m.frameTimer.resolve();
-    stats.gpuFrameMs = whole.empty() ? 0.0 : whole.front().ms;
+    auto passes = m.timers.resolveDeferred();
+    auto whole = m.frameTimer.resolveDeferred();
+    stats.gpuTimesLag = -1;
+    if (passes && whole) {
+        stats.gpu = std::move(passes->passes);
+        stats.gpuFrameMs = whole->passes.empty() ? 0.0 : whole->passes.front().ms;
+        stats.gpuTimesLag = whole->lag;
+    }
     return stats;
 }
 

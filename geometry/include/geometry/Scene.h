@@ -46,6 +46,10 @@ void validateScene(const Scene& scene);
 // sweeps, the viewer). `what` names it in messages ("light" when empty). Throws InputError.
 void validateLight(const Scene& scene, const RectLight& light, std::string_view what = {});
 
+// The camera checks of validateScene for another camera than the scene's (the viewer's fly
+// camera). `what` names it in messages ("camera" when empty). Throws InputError.
+void validateCamera(const Camera& camera, std::string_view what = {});
+
 // Camera and light framed on bounds: used when a glTF is given directly.
 Camera defaultCamera(const Aabb& bounds);
 RectLight defaultLight(const Aabb& bounds);

@@ -8,6 +8,9 @@
 
 #include <epoxy/gl.h>
 
+#include <cstdint>
+#include <deque>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -54,12 +57,31 @@ public:
     // starts a new frame.
     std::vector<PassTime> resolve();
 
+    // The same without waiting (an interactive loop): closes this frame's queries and keeps them
+    // in a ring; returns the times of the newest earlier frame whose queries have all completed,
+    // with `lag` = how many frames ago it was (0 = this one), or nothing when none has completed
+    // yet. With more than `maxInFlight` frames pending, the oldest is waited for.
+    struct Deferred {
+        std::vector<PassTime> passes;
+        int lag = 0;
+    };
+    std::optional<Deferred> resolveDeferred(std::size_t maxInFlight = 3);
+
 private:
     struct Slot {
         std::string name;
         GLuint queries[2];
     };
+    struct PendingFrame {
+        std::vector<Slot> slots;
+        std::uint64_t index = 0;
+    };
+    void closeOpenSlots();
+    bool available(const std::vector<Slot>& slots) const;
+    std::vector<PassTime> collect(std::vector<Slot>& slots); // blocks until available
     std::vector<Slot> mSlots;
+    std::deque<PendingFrame> mPending;
+    std::uint64_t mFrameIndex = 0;
     std::vector<GLuint> mPool;
     GLuint acquire();
 };

@@ -37,6 +37,13 @@ struct RenderSettings {
     // It is checked like the scene's (finite, non-zero area, touching no geometry) whenever it
     // changes: a geometry::InputError from renderFrame otherwise.
     std::optional<geometry::RectLight> light;
+    // Replaces the scene's camera for this frame (the viewer's fly camera); checked like the
+    // scene's whenever it changes (geometry::validateCamera).
+    std::optional<geometry::Camera> camera;
+    // true (headless tools): the frame ends with glFinish and FrameStats::gpu holds this frame's
+    // pass times. false (the viewer): nothing waits; FrameStats::gpu holds the newest earlier
+    // frame whose timer queries have completed (a ring of a few frames), gpuTimesLag its age.
+    bool waitForGpu = true;
     int width = 512;
     int height = 512;
     int samples = 1024;       // reference methods: light samples per pixel
@@ -70,6 +77,9 @@ struct FrameStats {
     std::vector<CpuTime> cpu;  // per CPU stage
     double frameMs = 0.0;      // wall clock of the whole frame, including GPU completion
     double gpuFrameMs = 0.0;   // GPU time of the whole frame (one timer span; passes may nest)
+    // Frames between this one and the one `gpu` and gpuFrameMs were measured in: 0 when the
+    // frame waited for the GPU, -1 while no earlier frame has completed (then they are empty).
+    int gpuTimesLag = 0;
     std::size_t triangles = 0;
     std::size_t silhouetteEdges = 0;  // directed silhouette edges from the light centre
     std::size_t silhouetteGroups = 0; // groups (geometry/Silhouette.h) from the light centre

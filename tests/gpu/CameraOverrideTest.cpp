@@ -1,0 +1,109 @@
+// RenderSettings::camera (the viewer's fly camera): a frame rendered with a replaced camera equals
+// a frame of the scene whose camera was edited to match, a replaced camera is validated like the
+// scene's, and frames that do not wait for the GPU still report pass times from an earlier frame.
+#include "GlTestEnv.h"
+#include "RenderTestUtil.h"
+
+#include <geometry/Error.h>
+
+#include <cmath>
+#include <string>
+
+namespace {
+
+class CameraOverride : public GlTest {};
+
+geometry::FloatImage renderWith(const geometry::Scene& scene, const std::string& method,
+                                const std::optional<geometry::Camera>& camera) {
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    gpu::RenderSettings s;
+    s.method = method;
+    s.width = s.height = 96;
+    s.samples = 64;
+    renderer.renderFrame(s); // with the scene's camera first: the override must not reuse it
+    s.camera = camera;
+    renderer.renderFrame(s);
+    return renderer.visibility();
+}
+
+std::size_t differing(const geometry::FloatImage& a, const geometry::FloatImage& b, float tol) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.data.size(); ++i) {
+        const bool na = std::isnan(a.data[i]), nb = std::isnan(b.data[i]);
+        if (na != nb || (!na && std::abs(a.data[i] - b.data[i]) > tol)) ++n;
+    }
+    return n;
+}
+
+TEST_F(CameraOverride, EqualsTheEditedScene) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
+    geometry::Camera moved = scene.camera;
+    moved.eye = moved.target + glm::vec3(0.8f, 0.9f, 1.1f) * (moved.eye - moved.target);
+    moved.fovYDeg *= 0.8f;
+    geometry::Scene edited = scene;
+    edited.camera = moved;
+    for (const char* method : {"hard", "wedges-blend", "occlusion", "pcss"}) {
+        const geometry::FloatImage a = renderWith(scene, method, moved);
+        const geometry::FloatImage b = renderWith(edited, method, std::nullopt);
+        EXPECT_EQ(differing(a, b, 0.0f), 0u) << method;
+        const geometry::FloatImage c = renderWith(scene, method, std::nullopt);
+        EXPECT_GT(differing(a, c, 0.02f), 500u) << method << ": the camera override was ignored";
+    }
+}
+
+TEST_F(CameraOverride, RefusesABadCamera) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    gpu::RenderSettings s;
+    s.width = s.height = 32;
+    geometry::Camera c = scene.camera;
+    c.target = c.eye;
+    s.camera = c;
+    try {
+        renderer.renderFrame(s);
+        FAIL() << "a camera looking nowhere was accepted";
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("RenderSettings::camera.target"), std::string::npos)
+            << e.what();
+    }
+    c = scene.camera;
+    c.eye.x = std::nanf("");
+    s.camera = c;
+    EXPECT_THROW(renderer.renderFrame(s), geometry::InputError);
+}
+
+TEST_F(CameraOverride, FramesThatDoNotWaitReportEarlierPassTimes) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    gpu::RenderSettings s;
+    s.method = "wedges-blend";
+    s.width = s.height = 64;
+    s.waitForGpu = false;
+    int measured = 0;
+    for (int f = 0; f < 12; ++f) {
+        const gpu::FrameStats stats = renderer.renderFrame(s);
+        // The ring holds at most a few frames in flight: times are never older than that.
+        EXPECT_LE(stats.gpuTimesLag, 3) << "frame " << f;
+        EXPECT_GE(stats.gpuTimesLag, -1) << "frame " << f;
+        if (stats.gpuTimesLag < 0) {
+            EXPECT_TRUE(stats.gpu.empty());
+            continue;
+        }
+        ++measured;
+        ASSERT_FALSE(stats.gpu.empty());
+        EXPECT_EQ(stats.gpu.front().name, "gbuffer");
+        EXPECT_GT(stats.gpuFrameMs, 0.0);
+    }
+    // Past the ring's depth every frame has times.
+    EXPECT_GE(measured, 8);
+    // A waiting frame afterwards measures itself.
+    s.waitForGpu = true;
+    const gpu::FrameStats stats = renderer.renderFrame(s);
+    EXPECT_EQ(stats.gpuTimesLag, 0);
+    EXPECT_FALSE(stats.gpu.empty());
+}
+
+} // namespace
