@@ -6,6 +6,7 @@
 
 #include <geometry/Error.h>
 
+#include <stb_image.h>
 #include <stb_image_write.h>
 
 #include <bit>
@@ -171,6 +172,21 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
     out.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
     out.close();
     if (!out) throw std::runtime_error("writePng: failed writing " + path.string());
+}
+
+Rgba8Image readPng(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path.string() + ": cannot open PNG");
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    int w = 0, h = 0, n = 0;
+    stbi_uc* pixels = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                            static_cast<int>(bytes.size()), &w, &h, &n, 4);
+    if (!pixels)
+        throw InputError(path.string() + ": not a decodable PNG (" + stbi_failure_reason() + ")");
+    Rgba8Image image{w, h, {}};
+    image.rgba.assign(pixels, pixels + static_cast<std::size_t>(w) * h * 4);
+    stbi_image_free(pixels);
+    return image;
 }
 
 } // namespace geometry

@@ -342,4 +342,11 @@ std::vector<std::uint8_t> Renderer::imageRgba8() const {
     return out;
 }
 
+void Renderer::blitImage(int x, int y, int width, int height) const {
+    const auto& t = mImpl->targets;
+    if (t.width < 1) return; // nothing rendered yet
+    glBlitNamedFramebuffer(t.imageFbo.id(), 0, 0, 0, t.width, t.height, x, y, x + width,
+                           y + height, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+}
+
 } // namespace gpu

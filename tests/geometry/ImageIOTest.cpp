@@ -208,4 +208,26 @@ TEST_F(ImageIOTest, PngErrors) {
                  std::runtime_error);
 }
 
+TEST_F(ImageIOTest, PngRoundTripsAsRgba) {
+    const int w = 7, h = 4;
+    std::vector<std::uint8_t> rgb(w * h * 3);
+    for (std::size_t i = 0; i < rgb.size(); ++i)
+        rgb[i] = std::uint8_t(i * 13 + 1);
+    geometry::writePng(file("rgb.png"), w, h, 3, rgb.data());
+    const geometry::Rgba8Image img = geometry::readPng(file("rgb.png"));
+    ASSERT_EQ(img.width, w);
+    ASSERT_EQ(img.height, h);
+    ASSERT_EQ(img.rgba.size(), std::size_t(w * h * 4));
+    for (int i = 0; i < w * h; ++i) {
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(img.rgba[4 * i + c], rgb[3 * i + c]) << i;
+        EXPECT_EQ(img.rgba[4 * i + 3], 255);
+    }
+}
+
+TEST_F(ImageIOTest, UnreadablePngIsInputError) {
+    writeBytes("bad.png", "\x89PNG\r\n\x1a\nnot really");
+    EXPECT_THROW(geometry::readPng(file("bad.png")), geometry::InputError);
+    EXPECT_THROW(geometry::readPng(file("missing.png")), geometry::InputError);
+}
+
 } // namespace

@@ -117,6 +117,9 @@ public:
     geometry::FloatImage position() const;   // 3 channels, NaN where no surface
     geometry::FloatImage normal() const;     // 3 channels (viewer-facing), NaN where no surface
     std::vector<std::uint8_t> imageRgba8() const;
+    // Draws the last frame's image into the default framebuffer's viewport (x, y, width, height),
+    // scaled with linear filtering (the viewer's window).
+    void blitImage(int x, int y, int width, int height) const;
 
     const geometry::Scene& scene() const { return mScene; }
     std::size_t triangleCount() const;
