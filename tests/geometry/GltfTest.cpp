@@ -395,8 +395,10 @@ protected:
                 {"translation":[10,0,0],"rotation":[0,0.70710678,0,0.70710678],"scale":[2,2,2],
                  "children":[2]},
                 {"name":"eye","camera":0,"translation":[0,1,0],"rotation":[0,0,0.70710678,0.70710678]},
-                )" + node3 + R"(,
-                {"name":"ortho","camera":1,"translation":[0,0,5]})" + moreNodes + "]";
+                )" +
+            node3 + R"(,
+                {"name":"ortho","camera":1,"translation":[0,0,5]})" +
+            moreNodes + "]";
         return w.json(kOneTriangleMesh, nodes, R"("scene":0,"scenes":[{"nodes":[3,0,1,4]}],)",
                       cameras);
     }
@@ -466,8 +468,9 @@ TEST_F(GltfCameraTest, NonFiniteCameraTranslationNamesTheNode) {
                    kCameras, R"(,{"name":"spawn x","camera":0,"translation":[1e300,-1e300,0]})")),
         {"node 5", "spawn x", "non-finite"});
     // 1e300 is finite in double but not in float.
-    expectCameraError(write("huge.gltf", file(R"({"name":"spawn y","camera":0,"translation":[0,1e300,0]})")),
-                      {"node 3", "spawn y", "not finite"});
+    expectCameraError(
+        write("huge.gltf", file(R"({"name":"spawn y","camera":0,"translation":[0,1e300,0]})")),
+        {"node 3", "spawn y", "not finite"});
 }
 
 TEST_F(GltfCameraTest, DegenerateCamerasAreRefused) {
@@ -477,8 +480,10 @@ TEST_F(GltfCameraTest, DegenerateCamerasAreRefused) {
                       {"node 3", "squashed", "up direction"});
     // Shear: local +y mapped onto local -z's image.
     expectCameraError(
-        write("shear.gltf",
-              file(R"({"name":"sheared","camera":0,"matrix":[1,0,0,0, 0,0,-1,0, 0,0,-1,0, 0,0,0,1]})")),
+        write(
+            "shear.gltf",
+            file(
+                R"({"name":"sheared","camera":0,"matrix":[1,0,0,0, 0,0,-1,0, 0,0,-1,0, 0,0,0,1]})")),
         {"node 3", "sheared", "parallel"});
     expectCameraError(
         write("fov.gltf",
@@ -486,7 +491,8 @@ TEST_F(GltfCameraTest, DegenerateCamerasAreRefused) {
                    R"("cameras":[{"type":"perspective","perspective":{"yfov":3.2,"znear":0.1}},
                                  {"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}}],)")),
         {"node 3", "wide", "yfov"});
-    expectCameraError(write("missing.gltf", file(R"({"camera":7})")), {"node 3", "camera 7", "does not exist"});
+    expectCameraError(write("missing.gltf", file(R"({"camera":7})")),
+                      {"node 3", "camera 7", "does not exist"});
 }
 
 TEST_F(GltfCameraTest, OpenArenaSpawnCameras) {

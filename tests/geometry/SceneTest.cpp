@@ -577,8 +577,9 @@ TEST_F(SceneTest, CameraSourceOfFilesWithoutGltfCameras) {
     std::string text = triangleGltf();
     const std::string nodes = R"("scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)";
     ASSERT_NE(text.find(nodes), std::string::npos);
-    text.replace(text.find(nodes), nodes.size(),
-                 R"("scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0},{"camera":0,"translation":[0,0,5]}],
+    text.replace(
+        text.find(nodes), nodes.size(),
+        R"("scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0},{"camera":0,"translation":[0,0,5]}],
                     "cameras":[{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}}],)");
     const geometry::Scene ortho = geometry::loadScene(write("ortho.gltf", text));
     EXPECT_EQ(ortho.cameraSource, "framed");

@@ -225,9 +225,10 @@ class HardShadowLevel : public HardShadow, public ::testing::WithParamInterface<
 TEST_P(HardShadowLevel, MatchesEmbreeUpToBoundaryPixels) {
     const LevelView& view = GetParam();
     const geometry::Scene scene =
-        view.asLoaded ? geometry::loadScene(testutil::sharedPath(std::string("levels/") + view.asLoaded))
-        : view.spawn  ? testutil::spawnScene(*view.spawn)
-                      : testutil::framedLevel(std::string("levels/") + view.name + ".glb");
+        view.asLoaded
+            ? geometry::loadScene(testutil::sharedPath(std::string("levels/") + view.asLoaded))
+        : view.spawn ? testutil::spawnScene(*view.spawn)
+                     : testutil::framedLevel(std::string("levels/") + view.name + ".glb");
     const Rendered r = testutil::render(scene, "hard", 256, 192, 1);
     const auto c = compareWithEmbree(scene, r, std::string("hard-") + view.name);
     std::printf("%s hard vs Embree: %zu of %zu pixels differ, %zu isolated black\n", view.name,
@@ -242,19 +243,18 @@ constexpr glm::vec3 kOaDm4Spawn2{-1.6256f, -6.858f, -13.0048f};
 
 INSTANTIATE_TEST_SUITE_P(
     Levels, HardShadowLevel,
-    ::testing::Values(
-        LevelView{"kaos2", std::nullopt}, LevelView{"oa_dm4", std::nullopt},
-        LevelView{"oa_dm5", std::nullopt},
-        LevelView{"oa_dm4_spawn2_near_light",
-                  testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f, 3.0f, 1.0f,
-                                      0.15f}},
-        LevelView{"oa_dm4_spawn2_far_light",
-                  testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f, 6.0f, 0.5f,
-                                      0.2f}},
-        LevelView{"kaos2_camera0", std::nullopt, "kaos2.glb"},
-        LevelView{"oa_dm1_camera0", std::nullopt, "oa_dm1.glb"},
-        LevelView{"oa_dm4_camera0", std::nullopt, "oa_dm4.glb"},
-        LevelView{"oa_dm5_camera0", std::nullopt, "oa_dm5.glb"}),
+    ::testing::Values(LevelView{"kaos2", std::nullopt}, LevelView{"oa_dm4", std::nullopt},
+                      LevelView{"oa_dm5", std::nullopt},
+                      LevelView{"oa_dm4_spawn2_near_light",
+                                testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f,
+                                                    3.0f, 1.0f, 0.15f}},
+                      LevelView{"oa_dm4_spawn2_far_light",
+                                testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f,
+                                                    6.0f, 0.5f, 0.2f}},
+                      LevelView{"kaos2_camera0", std::nullopt, "kaos2.glb"},
+                      LevelView{"oa_dm1_camera0", std::nullopt, "oa_dm1.glb"},
+                      LevelView{"oa_dm4_camera0", std::nullopt, "oa_dm4.glb"},
+                      LevelView{"oa_dm5_camera0", std::nullopt, "oa_dm5.glb"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 } // namespace

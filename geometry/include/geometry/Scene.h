@@ -1,7 +1,8 @@
 // Scene description (DESIGN.md §3): camera, one rectangular light, objects in world space.
 // loadScene() accepts the scene JSON or a .gltf/.glb directly (then the light, and the camera when
-// the file has no perspective glTF camera, are framed on the model's bounds). Every problem with the input throws geometry::InputError naming the key or
-// file; nothing is ever silently defaulted except the documented optional keys.
+// the file has no perspective glTF camera, are framed on the model's bounds). Every problem with
+// the input throws geometry::InputError naming the key or file; nothing is ever silently defaulted
+// except the documented optional keys.
 #pragma once
 
 #include <geometry/Types.h>
