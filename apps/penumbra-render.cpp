@@ -1,6 +1,7 @@
 // penumbra-render: headless renderer (DESIGN.md §3 contract).
-// - loads a scene JSON (or a .gltf/.glb framed automatically) and validates every flag first:
-//   bad input exits with code 2 and writes nothing;
+// - loads a scene JSON (or a .gltf/.glb: seen from its first glTF camera, or --camera N, else
+//   framed automatically) and validates every flag first: bad input exits with code 2 and
+//   writes nothing;
 // - renders --frames frames with --method on a surfaceless EGL context (llvmpipe in CI);
 // - writes image.png, visibility.pfm, position.pfm and report.json into --out;
 // - with --compare FILE (a visibility.pfm of the same view, e.g. from --method reference) also
@@ -74,6 +75,7 @@ struct Options {
     std::string comparePath;
     float errorScale = geometry::kDefaultErrorScale;
     std::vector<std::string> parameters; // --param NAME=VALUE, in the order given
+    std::optional<int> camera;           // --camera N: index into the glTF cameras
     bool quiet = false;
 };
 
@@ -99,7 +101,14 @@ int run(const Options& opt) {
         throw geometry::InputError("--error-scale must be in (0, 1]");
 
     auto t0 = std::chrono::steady_clock::now();
-    const geometry::Scene scene = geometry::loadScene(opt.scenePath);
+    geometry::Scene scene = geometry::loadScene(opt.scenePath);
+    if (opt.camera) {
+        try {
+            geometry::selectCamera(scene, *opt.camera);
+        } catch (const geometry::InputError& e) {
+            throw geometry::InputError(std::string("--camera: ") + e.what());
+        }
+    }
     const double loadMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -167,11 +176,13 @@ int run(const Options& opt) {
         report["parameters"][p.name] = parameterJson(p.value);
     report["size"] = {width, height};
     auto vec = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
-    // The view actually rendered (a .glb given directly gets an automatic one).
+    // The view actually rendered (camera_source: the scene JSON, a glTF camera or the framing).
     report["camera"] = {{"eye", vec(scene.camera.eye)},
                         {"target", vec(scene.camera.target)},
                         {"up", vec(scene.camera.up)},
                         {"fov_y_deg", scene.camera.fovYDeg}};
+    report["camera_source"] = scene.cameraSource;
+    report["cameras"] = scene.cameras.size();
     report["light"] = {{"center", vec(scene.light.center)},
                        {"u", vec(scene.light.u)},
                        {"v", vec(scene.light.v)}};
@@ -242,6 +253,12 @@ int run(const Options& opt) {
     if (!opt.quiet) {
         std::printf("%s: %s, %dx%d, %zu triangles, %zu silhouette edges\n", opt.scenePath.c_str(),
                     std::string(method.name).c_str(), width, height, last.triangles, last.silhouetteEdges);
+        std::printf("  camera: %s", scene.cameraSource.c_str());
+        if (!scene.cameras.empty()) std::printf(" (of %zu glTF cameras)", scene.cameras.size());
+        if (scene.skippedCameras > 0)
+            std::printf(" (%d orthographic glTF camera%s skipped)", scene.skippedCameras,
+                        scene.skippedCameras == 1 ? "" : "s");
+        std::printf("\n");
         std::printf("  renderer: %s\n", info.renderer.c_str());
         std::printf("  frame %.2f ms (median of %d)", median(frameMs), opt.frames);
         for (const auto& name : gpuOrder)
@@ -277,7 +294,9 @@ int main(int argc, char** argv) {
                        std::string(p.defaultValue) + "): " + std::string(p.help);
         }
     }
-    app.add_option("--scene", opt.scenePath, "scene JSON, or a .gltf/.glb to frame automatically")
+    app.add_option("--scene", opt.scenePath,
+                   "scene JSON, or a .gltf/.glb: seen from its first perspective glTF camera, "
+                   "else framed automatically")
         ->required();
     app.add_option("--method", opt.methodName, "visibility method, one of:" + methods)->required();
     app.add_option("--size", opt.size, "image size WIDTHxHEIGHT")->capture_default_str();
@@ -296,6 +315,9 @@ int main(int argc, char** argv) {
     app.add_option("--param", opt.parameters,
                    "a parameter of the method, NAME=VALUE (repeatable; listed under --method)")
         ->allow_extra_args(false);
+    app.add_option("--camera", opt.camera,
+                   "with a .gltf/.glb: view from its glTF camera N (0 = the first, the default; "
+                   "report.json camera_source names it)");
     app.add_flag("--quiet", opt.quiet, "print nothing on success");
     try {
         app.parse(argc, argv);

@@ -7,6 +7,8 @@
 //   substitution, and checks every byte range against its buffer (files are untrusted input).
 // - A node transform with negative determinant mirrors the geometry, so winding is flipped to keep
 //   front faces counter-clockwise.
+// - Camera nodes met on the same walk give GltfCameras from their world transform; the list is
+//   sorted by node index afterwards (file order, whatever the hierarchy).
 #include <geometry/GltfLoader.h>
 
 #include <geometry/Error.h>
@@ -22,6 +24,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <string>
 #include <unordered_set>
 
@@ -39,10 +42,11 @@ struct AccessorValues {
 
 class Loader {
 public:
-    Loader(const std::filesystem::path& path, const tinygltf::Model& model)
-        : mPath(path), mModel(model) {}
+    // Without `readMeshes` only cameras are collected (no mesh is required or read).
+    Loader(const std::filesystem::path& path, const tinygltf::Model& model, bool readMeshes)
+        : mPath(path), mModel(model), mReadMeshes(readMeshes) {}
 
-    MeshData load(const glm::mat4& transform);
+    GltfContents load(const glm::mat4& transform);
 
 private:
     [[noreturn]] void fail(const std::string& what) const {
@@ -55,7 +59,10 @@ private:
                  bool normalized, const std::string& what, double* out,
                  std::size_t outStride) const;
 
+    // `node 3 "spawn 1 (info_player_start)"` (the name only when there is one).
+    std::string nodeLabel(int nodeIndex) const;
     void visitNode(int nodeIndex, const glm::dmat4& parent, int depth);
+    void addCamera(int nodeIndex, const glm::dmat4& world);
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world,
                       const std::string& where);
     std::uint32_t materialIndex(int gltfMaterial);
@@ -65,7 +72,10 @@ private:
 
     std::filesystem::path mPath;
     const tinygltf::Model& mModel;
+    bool mReadMeshes = true;
     MeshData mMesh;
+    std::vector<GltfCamera> mCameras;
+    int mOrthographic = 0;
     bool mAnyTexcoords = false;
     std::map<int, std::uint32_t> mMaterialMap; // glTF material (-1 = default) → ours
     std::map<int, int> mTextureMap;            // glTF texture → MeshData::textures
@@ -278,6 +288,11 @@ glm::dmat4 localMatrix(const tinygltf::Node& node) {
     return m;
 }
 
+std::string Loader::nodeLabel(int nodeIndex) const {
+    const std::string& name = mModel.nodes[nodeIndex].name;
+    return "node " + std::to_string(nodeIndex) + (name.empty() ? "" : " \"" + name + "\"");
+}
+
 void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
     if (nodeIndex < 0 || std::size_t(nodeIndex) >= mModel.nodes.size()) {
         fail("node " + std::to_string(nodeIndex) + " does not exist");
@@ -289,10 +304,11 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
     const glm::dmat4 world = parent * localMatrix(node);
     for (int i = 0; i < 16; ++i) {
         if (!std::isfinite(glm::value_ptr(world)[i])) {
-            fail("node " + std::to_string(nodeIndex) + " has a non-finite transform");
+            fail(nodeLabel(nodeIndex) + " has a non-finite transform");
         }
     }
-    if (node.mesh >= 0) {
+    if (node.camera >= 0) addCamera(nodeIndex, world);
+    if (mReadMeshes && node.mesh >= 0) {
         if (std::size_t(node.mesh) >= mModel.meshes.size()) {
             fail("node " + std::to_string(nodeIndex) + " references missing mesh " +
                  std::to_string(node.mesh));
@@ -309,6 +325,53 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
     for (int child : node.children)
         visitNode(child, world, depth + 1);
     mOnPath.pop_back();
+}
+
+void Loader::addCamera(int nodeIndex, const glm::dmat4& world) {
+    const tinygltf::Node& node = mModel.nodes[nodeIndex];
+    const std::string where = nodeLabel(nodeIndex) + ": camera " + std::to_string(node.camera);
+    if (std::size_t(node.camera) >= mModel.cameras.size()) fail(where + " does not exist");
+    const tinygltf::Camera& cam = mModel.cameras[node.camera];
+    if (cam.type == "orthographic") {
+        ++mOrthographic; // no orthographic views here; counted so callers can say so
+        return;
+    }
+    if (cam.type != "perspective") fail(where + ": unknown camera type \"" + cam.type + "\"");
+    const double yfov = cam.perspective.yfov;
+    if (!(std::isfinite(yfov) && yfov > 0.0 && yfov < std::numbers::pi)) {
+        fail(where + ": yfov " + std::to_string(yfov) + " is not in (0, pi) radians");
+    }
+    // The camera looks along its local -Z with +Y up (glTF 2.0 §3.10.1); directions take the
+    // linear part only.
+    const glm::dvec3 eye(world[3]);
+    const glm::dvec3 forward = -glm::dvec3(world[2]);
+    const glm::dvec3 up(world[1]);
+    const double forwardLen = glm::length(forward), upLen = glm::length(up);
+    if (!(forwardLen > 0.0 && std::isfinite(forwardLen))) {
+        fail(where + ": the node's world transform has no view direction (zero scale)");
+    }
+    if (!(upLen > 0.0 && std::isfinite(upLen))) {
+        fail(where + ": the node's world transform has no up direction (zero scale)");
+    }
+    GltfCamera out;
+    out.name = node.name;
+    out.node = nodeIndex;
+    out.camera.eye = glm::vec3(eye);
+    const glm::vec3 f(forward / forwardLen);
+    out.camera.up = glm::vec3(up / upLen);
+    out.camera.target = out.camera.eye + f;
+    out.camera.fovYDeg = float(yfov * 180.0 / std::numbers::pi);
+    auto finite = [](const glm::vec3& v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    if (!finite(out.camera.eye) || !finite(out.camera.target)) {
+        fail(where + ": the eye position is not finite in single precision");
+    }
+    // Only a sheared (near-singular) transform can do this; the same bound as scene cameras.
+    if (!(glm::length(glm::cross(f, out.camera.up)) > 1e-4f)) {
+        fail(where + ": the view and up directions are parallel (degenerate transform)");
+    }
+    mCameras.push_back(std::move(out));
 }
 
 void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world,
@@ -614,7 +677,7 @@ int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool 
     return index;
 }
 
-MeshData Loader::load(const glm::mat4& transform) {
+GltfContents Loader::load(const glm::mat4& transform) {
     for (const auto& ext : mModel.extensionsRequired) {
         // Extensions that only change shading are harmless here; anything touching geometry
         // (Draco, meshopt, quantization) would silently produce wrong shadows.
@@ -622,7 +685,7 @@ MeshData Loader::load(const glm::mat4& transform) {
                               ext == "KHR_texture_transform" || ext == "KHR_lights_punctual";
         if (!harmless) fail("requires unsupported glTF extension " + ext);
     }
-    if (mModel.meshes.empty()) fail("no meshes");
+    if (mReadMeshes && mModel.meshes.empty()) fail("no meshes");
 
     mMesh.name = mPath.stem().string();
     const glm::dmat4 root(transform);
@@ -644,18 +707,28 @@ MeshData Loader::load(const glm::mat4& transform) {
     for (int r : roots)
         visitNode(r, root, 0);
 
-    if (mMesh.triangles.empty()) fail("no triangles (no node of the scene draws a triangle mesh)");
+    if (mReadMeshes && mMesh.triangles.empty())
+        fail("no triangles (no node of the scene draws a triangle mesh)");
     if (mAnyTexcoords) {
         mMesh.texcoords.resize(mMesh.positions.size(), glm::vec2(0.0f));
     } else {
         mMesh.texcoords.clear();
     }
-    return std::move(mMesh);
+    GltfContents result;
+    result.mesh = std::move(mMesh);
+    result.cameras = std::move(mCameras);
+    std::stable_sort(result.cameras.begin(), result.cameras.end(),
+                     [](const GltfCamera& a, const GltfCamera& b) { return a.node < b.node; });
+    for (std::size_t i = 0; i < result.cameras.size(); ++i) {
+        if (result.cameras[i].name.empty()) result.cameras[i].name = "camera " + std::to_string(i);
+    }
+    result.orthographicCameras = mOrthographic;
+    return result;
 }
 
-} // namespace
-
-MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform) {
+// Parses the file (binary or JSON, told by its content) and walks it once.
+GltfContents parseAndLoad(const std::filesystem::path& path, const glm::mat4& transform,
+                          bool readMeshes) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
         throw InputError(path.string() + ": glTF file not found");
@@ -681,7 +754,22 @@ MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform)
         throw InputError(path.string() + ": glTF parse error: " +
                          (err.empty() ? std::string("unknown error") : err));
     }
-    return Loader(path, model).load(transform);
+    return Loader(path, model, readMeshes).load(transform);
+}
+
+} // namespace
+
+MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform) {
+    return parseAndLoad(path, transform, true).mesh;
+}
+
+GltfContents loadGltfWithCameras(const std::filesystem::path& path, const glm::mat4& transform) {
+    return parseAndLoad(path, transform, true);
+}
+
+std::vector<GltfCamera> loadGltfCameras(const std::filesystem::path& path,
+                                        const glm::mat4& transform) {
+    return parseAndLoad(path, transform, false).cameras;
 }
 
 } // namespace geometry

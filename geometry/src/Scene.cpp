@@ -495,6 +495,33 @@ void validateScene(const Scene& scene) {
     validateLightClear(scene);
 }
 
+void selectCamera(Scene& scene, int index) {
+    const std::string origin = scene.source.empty() ? "scene" : scene.source.string();
+    if (scene.cameras.empty()) {
+        throw InputError(origin + ": has no glTF cameras to choose from (camera " +
+                         std::to_string(index) + " asked for)");
+    }
+    if (index < 0 || std::size_t(index) >= scene.cameras.size()) {
+        throw InputError(origin + ": camera " + std::to_string(index) + " does not exist (" +
+                         std::to_string(scene.cameras.size()) + " glTF cameras: 0 to " +
+                         std::to_string(scene.cameras.size() - 1) + ")");
+    }
+    const NamedCamera& c = scene.cameras[std::size_t(index)];
+    checkCamera(c.camera, [&](const std::string& k, const std::string& w) {
+        throw InputError(origin + ": glTF camera " + std::to_string(index) + " (" + c.name +
+                         "): " + k + ": " + w);
+    });
+    scene.camera = c.camera;
+    scene.cameraSource = "gltf camera " + std::to_string(index) + ": " + c.name;
+}
+
+void selectFramedCamera(Scene& scene) {
+    const RectLight light = scene.light;
+    if (!frameInterior(scene)) scene.camera = defaultCamera(scene.bounds());
+    scene.light = light;
+    scene.cameraSource = "framed";
+}
+
 void validateLight(const Scene& scene, const RectLight& light, std::string_view what) {
     const std::string name = what.empty() ? std::string("light") : std::string(what);
     checkLight(light, [&](const std::string& k, const std::string& w) {
@@ -518,20 +545,29 @@ Scene loadScene(const std::filesystem::path& path) {
     const std::string ext = lowerExtension(path);
     Scene scene;
     if (ext == ".gltf" || ext == ".glb") {
+        GltfContents gltf = loadGltfWithCameras(path);
         SceneObject obj;
-        obj.mesh = loadGltf(path);
+        obj.mesh = std::move(gltf.mesh);
         obj.name = path.filename().string();
         scene.objects.push_back(std::move(obj));
         const Aabb b = scene.bounds();
         scene.camera = defaultCamera(b);
         scene.light = defaultLight(b);
         frameInterior(scene); // a game level: look from inside, light under the ceiling
+        scene.cameraSource = "framed";
+        // The file's own view wins over the framing; the light stays framed either way.
+        for (GltfCamera& c : gltf.cameras)
+            scene.cameras.push_back({std::move(c.name), c.camera});
+        scene.skippedCameras = gltf.orthographicCameras;
+        scene.source = path; // named in selectCamera's messages
+        if (!scene.cameras.empty()) selectCamera(scene, 0);
     } else if (ext == ".json") {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw InputError(path.string() + ": cannot open scene file");
         const std::string text((std::istreambuf_iterator<char>(in)),
                                std::istreambuf_iterator<char>());
         scene = parseScene(text, path.parent_path(), path.string());
+        scene.cameraSource = "scene";
     } else {
         throw InputError(path.string() +
                          ": unsupported scene file type (expected .json, .gltf or .glb)");

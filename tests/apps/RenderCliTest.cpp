@@ -1,5 +1,6 @@
 // penumbra-render's command-line contract (DESIGN.md §3): bad input exits with code 2, prints a
 // clear error naming the key or file, and writes nothing; a good run writes the four outputs.
+#include <geometry/GltfLoader.h>
 #include <geometry/ImageIO.h>
 
 #include <gtest/gtest.h>
@@ -227,6 +228,10 @@ TEST_F(RenderCli, FoliageRendersWithOcclusion) {
     std::ifstream in(out / "report.json");
     const auto report = nlohmann::json::parse(in);
     EXPECT_EQ(report["parameters"]["slices"], 16);
+    // A .glb without cameras: the automatic framing.
+    EXPECT_EQ(report["camera_source"], "framed");
+    EXPECT_EQ(report["cameras"], 0);
+    EXPECT_NE(r.output.find("camera: framed"), std::string::npos) << r.output;
     EXPECT_EQ(report["parameters"]["prefilter"], "nbuffers");
     EXPECT_EQ(report["parameters"]["leakfix"], "auto");
     EXPECT_EQ(report["parameters"]["resolution"], 512);
@@ -338,6 +343,8 @@ TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {
                             "gpu_ms", "cpu_ms", "frame_ms", "objects", "camera", "light"})
         EXPECT_TRUE(report.contains(key)) << key;
     EXPECT_EQ(report["method"], "reference");
+    EXPECT_EQ(report["camera_source"], "scene");
+    EXPECT_EQ(report["cameras"], 0);
     EXPECT_EQ(report["size"], nlohmann::json::array({64, 48}));
     EXPECT_EQ(report["triangles"], 14);
     EXPECT_FALSE(report["gl_renderer"].get<std::string>().empty());
@@ -384,6 +391,53 @@ TEST_F(RenderCli, CompareReportsErrorAgainstAReference) {
     EXPECT_EQ(badScale.exitCode, 2) << badScale.output;
     EXPECT_NE(badScale.output.find("--error-scale"), std::string::npos) << badScale.output;
     EXPECT_FALSE(fs::exists(mDir / "y"));
+}
+
+// A level given directly opens at its first glTF camera (a spawn point); --camera N picks
+// another; a camera that is not there is bad input.
+TEST_F(RenderCli, LevelOpensAtItsGltfCameras) {
+    const fs::path level = fs::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm4.glb";
+    ASSERT_TRUE(fs::exists(level)) << level << " missing (the shared levels are part of the suite)";
+    const auto cameras = geometry::loadGltfCameras(level);
+    ASSERT_EQ(cameras.size(), 7u);
+    auto render = [&](const std::string& extra, const std::string& dir) {
+        const fs::path out = mDir / dir;
+        const RunResult r = run("--scene '" + level.string() + "' --method hard --size 64x64 " +
+                                extra + " --out '" + out.string() + "'");
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        nlohmann::json report;
+        std::ifstream(out / "report.json") >> report;
+        return std::make_pair(r, report);
+    };
+    auto expectEye = [](const nlohmann::json& report, const glm::vec3& eye) {
+        ASSERT_EQ(report["camera"]["eye"].size(), 3u);
+        for (int i = 0; i < 3; ++i)
+            EXPECT_FLOAT_EQ(report["camera"]["eye"][i].get<float>(), eye[i]) << i;
+    };
+
+    const auto [first, firstReport] = render("", "first");
+    EXPECT_EQ(firstReport["camera_source"], "gltf camera 0: " + cameras[0].name);
+    EXPECT_EQ(firstReport["camera_source"].get<std::string>().rfind("gltf camera 0: spawn", 0), 0u);
+    EXPECT_EQ(firstReport["cameras"], 7);
+    expectEye(firstReport, cameras[0].camera.eye);
+    EXPECT_FLOAT_EQ(firstReport["camera"]["fov_y_deg"].get<float>(), cameras[0].camera.fovYDeg);
+    EXPECT_NE(first.output.find("camera: gltf camera 0: spawn"), std::string::npos) << first.output;
+
+    const auto [fourth, fourthReport] = render("--camera 3", "fourth");
+    EXPECT_EQ(fourthReport["camera_source"], "gltf camera 3: " + cameras[3].name);
+    expectEye(fourthReport, cameras[3].camera.eye);
+    EXPECT_NE(cameras[3].camera.eye, cameras[0].camera.eye);
+
+    expectRejected(level, "camera 99", "--method hard --camera 99");
+    expectRejected(level, "7 glTF cameras", "--method hard --camera 99");
+    expectRejected(level, "--camera", "--method hard --camera -1");
+    expectRejected(write("s.json", kValidScene), "no glTF cameras", "--method hard --camera 0");
+}
+
+TEST_F(RenderCli, HelpDocumentsCamera) {
+    const RunResult help = run("--help");
+    EXPECT_EQ(help.exitCode, 0);
+    EXPECT_NE(help.output.find("--camera"), std::string::npos) << help.output;
 }
 
 } // namespace

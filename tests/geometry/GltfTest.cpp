@@ -376,6 +376,147 @@ TEST_F(GltfTest, MeshWithoutTrianglesInScene) {
                 "no triangles");
 }
 
+// Cameras: node 1 (scale 2, 90° about +y, at (10, 0, 0)) has the camera node 2 "eye" as a child
+// (at (0, 1, 0), rolled 90° about its z); node 3 is an unnamed root camera listed first in the
+// scene, node 4 an orthographic camera; `moreNodes` (from index 5) are only reached as children.
+class GltfCameraTest : public GltfTest {
+protected:
+    static constexpr const char* kCameras =
+        R"("cameras":[{"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}},
+                      {"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}}],)";
+    static std::string file(const std::string& node3 = R"({"camera":0})",
+                            const std::string& cameras = kCameras,
+                            const std::string& moreNodes = "") {
+        GltfWriter w;
+        w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+        w.indices32({0, 1, 2});
+        const std::string nodes =
+            R"([{"mesh":0},
+                {"translation":[10,0,0],"rotation":[0,0.70710678,0,0.70710678],"scale":[2,2,2],
+                 "children":[2]},
+                {"name":"eye","camera":0,"translation":[0,1,0],"rotation":[0,0,0.70710678,0.70710678]},
+                )" +
+            node3 + R"(,
+                {"name":"ortho","camera":1,"translation":[0,0,5]})" +
+            moreNodes + "]";
+        return w.json(kOneTriangleMesh, nodes, R"("scene":0,"scenes":[{"nodes":[3,0,1,4]}],)",
+                      cameras);
+    }
+    // loadGltfWithCameras expects an InputError containing the file name and every needle.
+    void expectCameraError(const fs::path& path, std::initializer_list<std::string> needles) {
+        try {
+            geometry::loadGltfWithCameras(path);
+            ADD_FAILURE() << path << ": expected InputError";
+        } catch (const geometry::InputError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find(path.filename().string()), std::string::npos) << msg;
+            for (const auto& n : needles)
+                EXPECT_NE(msg.find(n), std::string::npos) << msg;
+        }
+    }
+};
+
+TEST_F(GltfCameraTest, ParentTransformPlacesChildCamera) {
+    glm::mat4 lift(1.0f);
+    lift[3] = glm::vec4(0, 5, 0, 1);
+    const auto g = geometry::loadGltfWithCameras(write("cams.gltf", file()), lift);
+    EXPECT_EQ(g.mesh.triangles.size(), 1u);
+    ASSERT_EQ(g.cameras.size(), 2u);
+    EXPECT_EQ(g.orthographicCameras, 1);
+    // File order (node 2 before node 3), although the scene walks node 3 first.
+    const geometry::GltfCamera& eye = g.cameras[0];
+    EXPECT_EQ(eye.name, "eye");
+    EXPECT_EQ(eye.node, 2);
+    // eye = lift + T(10,0,0) Ry(90°) S(2) (0,1,0) = (10, 2 + 5, 0).
+    expectVec(eye.camera.eye, {10, 7, 0});
+    // Forward: local -z, unchanged by the roll about z, turned by Ry(90°) to -x; unit length
+    // despite the scale.
+    expectVec(eye.camera.target - eye.camera.eye, {-1, 0, 0});
+    // Up: local +y rolled to -x, then Ry(90°) to +z.
+    expectVec(eye.camera.up, {0, 0, 1});
+    EXPECT_NEAR(eye.camera.fovYDeg, 0.5f * 180.0f / 3.14159265f, 1e-4f);
+    // The unnamed root camera: named by its index in the list, identity placement (+ lift).
+    EXPECT_EQ(g.cameras[1].name, "camera 1");
+    EXPECT_EQ(g.cameras[1].node, 3);
+    expectVec(g.cameras[1].camera.eye, {0, 5, 0});
+    expectVec(g.cameras[1].camera.target, {0, 5, -1});
+    expectVec(g.cameras[1].camera.up, {0, 1, 0});
+
+    // Cameras only: the same list; the mesh loader alone still works on the file.
+    const auto only = geometry::loadGltfCameras(mDir / "cams.gltf", lift);
+    ASSERT_EQ(only.size(), 2u);
+    expectVec(only[0].camera.eye, {10, 7, 0});
+    EXPECT_EQ(geometry::loadGltf(mDir / "cams.gltf").triangles.size(), 1u);
+}
+
+TEST_F(GltfCameraTest, CamerasOnlyNeedNoMesh) {
+    const auto path = write("nomesh.gltf", R"({"asset":{"version":"2.0"},"scene":0,
+        "scenes":[{"nodes":[0]}],"nodes":[{"name":"lone","camera":0,"translation":[1,2,3]}],
+        "cameras":[{"type":"perspective","perspective":{"yfov":1.0,"znear":0.1}}]})");
+    const auto cams = geometry::loadGltfCameras(path);
+    ASSERT_EQ(cams.size(), 1u);
+    expectVec(cams[0].camera.eye, {1, 2, 3});
+    expectError(path, "no meshes"); // the mesh loader still needs one
+}
+
+TEST_F(GltfCameraTest, NonFiniteCameraTranslationNamesTheNode) {
+    // JSON has no NaN (and tinygltf refuses 1e400), but a translation of finite doubles can
+    // make one: under a parent whose x row is (1e300, 1e300, ...), x = 1e300² - 1e300² = NaN.
+    expectCameraError(
+        write("nan.gltf",
+              file(R"({"matrix":[1e300,0,0,0, 1e300,1,0,0, 0,0,1,0, 0,0,0,1],"children":[5]})",
+                   kCameras, R"(,{"name":"spawn x","camera":0,"translation":[1e300,-1e300,0]})")),
+        {"node 5", "spawn x", "non-finite"});
+    // 1e300 is finite in double but not in float.
+    expectCameraError(
+        write("huge.gltf", file(R"({"name":"spawn y","camera":0,"translation":[0,1e300,0]})")),
+        {"node 3", "spawn y", "not finite"});
+}
+
+TEST_F(GltfCameraTest, DegenerateCamerasAreRefused) {
+    expectCameraError(write("zero.gltf", file(R"({"name":"flat","camera":0,"scale":[1,1,0]})")),
+                      {"node 3", "flat", "view direction"});
+    expectCameraError(write("noup.gltf", file(R"({"name":"squashed","camera":0,"scale":[1,0,1]})")),
+                      {"node 3", "squashed", "up direction"});
+    // Shear: local +y mapped onto local -z's image.
+    expectCameraError(
+        write(
+            "shear.gltf",
+            file(
+                R"({"name":"sheared","camera":0,"matrix":[1,0,0,0, 0,0,-1,0, 0,0,-1,0, 0,0,0,1]})")),
+        {"node 3", "sheared", "parallel"});
+    expectCameraError(
+        write("fov.gltf",
+              file(R"({"name":"wide","camera":0})",
+                   R"("cameras":[{"type":"perspective","perspective":{"yfov":3.2,"znear":0.1}},
+                                 {"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}}],)")),
+        {"node 3", "wide", "yfov"});
+    expectCameraError(write("missing.gltf", file(R"({"camera":7})")),
+                      {"node 3", "camera 7", "does not exist"});
+}
+
+TEST_F(GltfCameraTest, OpenArenaSpawnCameras) {
+    const auto g = geometry::loadGltfWithCameras(kShared / "levels" / "oa_dm4.glb");
+    EXPECT_EQ(g.mesh.triangles.size(), 4080u); // levels/README.md
+    ASSERT_EQ(g.cameras.size(), 7u);           // 7 spawn points
+    EXPECT_EQ(g.orthographicCameras, 0);
+    const geometry::Aabb b = g.mesh.bounds();
+    for (const auto& c : g.cameras) {
+        SCOPED_TRACE(c.name);
+        EXPECT_EQ(c.name.rfind("spawn ", 0), 0u);
+        EXPECT_TRUE(glm::all(glm::greaterThan(c.camera.eye, b.min)) &&
+                    glm::all(glm::lessThan(c.camera.eye, b.max)));
+        // Spawn views are level: yaw only.
+        expectVec(c.camera.up, {0, 1, 0});
+        EXPECT_NEAR(c.camera.target.y, c.camera.eye.y, 1e-5f);
+        EXPECT_NEAR(c.camera.fovYDeg, 73.7397953f, 1e-4f); // yfov 1.2870022 rad
+    }
+    EXPECT_EQ(g.cameras[0].name, "spawn 1 (info_player_start)");
+    // Spawn 2 (node 2): eye (-1.6256, -6.858, -13.0048), rotated 180° about y: looks along +z.
+    expectVec(g.cameras[1].camera.eye, {-1.6256f, -6.858f, -13.0048f});
+    expectVec(g.cameras[1].camera.target - g.cameras[1].camera.eye, {0, 0, 1});
+}
+
 // An alpha-tested material on one textured triangle, with `material` and `texture` JSON
 // spliced in; the 2×2 image (alpha 0 in its top-left texel) is a PNG beside the .gltf.
 class AlphaMaterialTest : public GltfTest {

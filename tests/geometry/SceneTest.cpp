@@ -1,5 +1,6 @@
 #include <geometry/Error.h>
 #include <geometry/Framing.h>
+#include <geometry/GltfLoader.h>
 #include <geometry/Primitives.h>
 #include <geometry/RayTracer.h>
 #include <geometry/Scene.h>
@@ -454,15 +455,22 @@ TEST_F(SceneTest, GltfLevelGivenDirectlyIsFramedFromInside) {
     auto inside = [&](const glm::vec3& p) {
         return glm::all(glm::greaterThan(p, b.min)) && glm::all(glm::lessThan(p, b.max));
     };
+    // The level's spawn camera is the view; the light is the framing's, which would also give the
+    // camera for a level without cameras.
+    geometry::Scene framed = s;
+    ASSERT_TRUE(geometry::frameInterior(framed));
+    EXPECT_EQ(s.light.center, framed.light.center);
+    EXPECT_EQ(s.light.u, framed.light.u);
+    EXPECT_EQ(s.cameraSource.rfind("gltf camera 0: ", 0), 0u) << s.cameraSource;
     // A roofed level seen from outside shows only its roof: the camera must be inside, with
     // geometry in front of it, and the light under a ceiling (not above the level).
-    EXPECT_TRUE(inside(s.camera.eye));
-    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 70.0f);
+    EXPECT_TRUE(inside(framed.camera.eye));
+    EXPECT_FLOAT_EQ(framed.camera.fovYDeg, 70.0f);
     const geometry::RayTracer tracer(s);
     float t = 0.0f;
     glm::vec3 n;
-    const glm::vec3 view = glm::normalize(s.camera.target - s.camera.eye);
-    ASSERT_TRUE(tracer.intersect(s.camera.eye, view, t, n));
+    const glm::vec3 view = glm::normalize(framed.camera.target - framed.camera.eye);
+    ASSERT_TRUE(tracer.intersect(framed.camera.eye, view, t, n));
     EXPECT_GT(t, 0.5f); // not staring into a wall
 
     const geometry::RectLight& L = s.light;
@@ -474,6 +482,110 @@ TEST_F(SceneTest, GltfLevelGivenDirectlyIsFramedFromInside) {
     const float diag = glm::length(b.extent());
     EXPECT_GT(glm::length(L.u), 0.002f * diag); // shrunk until clear of geometry, not to a point
     EXPECT_LT(glm::length(L.u), 0.031f * diag);
+}
+
+// Every shared level opens at its first spawn camera (levels/README.md: spawn counts), and that
+// view passes validateScene with the framed light: eye in open space above a floor, looking at
+// geometry some way off.
+TEST_F(SceneTest, LevelsOpenAtTheirFirstSpawnCamera) {
+    const std::pair<const char*, std::size_t> levels[] = {
+        {"oa_dm1.glb", 8}, {"oa_dm4.glb", 7}, {"oa_dm5.glb", 7}, {"kaos2.glb", 12}};
+    for (const auto& [file, spawns] : levels) {
+        SCOPED_TRACE(file);
+        const geometry::Scene s = geometry::loadScene(kShared / "levels" / file);
+        ASSERT_EQ(s.cameras.size(), spawns);
+        EXPECT_EQ(s.skippedCameras, 0);
+        EXPECT_EQ(s.cameras[0].name.rfind("spawn 1 (", 0), 0u) << s.cameras[0].name;
+        EXPECT_EQ(s.cameraSource, "gltf camera 0: " + s.cameras[0].name);
+        EXPECT_EQ(s.camera.eye, s.cameras[0].camera.eye);
+        EXPECT_EQ(s.camera.target, s.cameras[0].camera.target);
+        EXPECT_EQ(s.camera.up, s.cameras[0].camera.up);
+        EXPECT_EQ(s.camera.fovYDeg, s.cameras[0].camera.fovYDeg);
+        EXPECT_NO_THROW(geometry::validateScene(s));
+        const geometry::Aabb b = s.bounds();
+        EXPECT_TRUE(glm::all(glm::greaterThan(s.camera.eye, b.min)) &&
+                    glm::all(glm::lessThan(s.camera.eye, b.max)));
+        const geometry::RayTracer tracer(s);
+        float t = 0.0f;
+        glm::vec3 n;
+        // Floor below the eye (a player's eye height, seen from its front side).
+        ASSERT_TRUE(tracer.intersect(s.camera.eye, {0, -1, 0}, t, n));
+        EXPECT_GT(t, 0.3f);
+        EXPECT_LT(t, 3.0f);
+        EXPECT_GT(n.y, 0.5f);
+        const glm::vec3 view = glm::normalize(s.camera.target - s.camera.eye);
+        if (tracer.intersect(s.camera.eye, view, t, n)) {
+            EXPECT_GT(t, 0.5f) << "staring into a wall";
+            EXPECT_LT(glm::dot(n, view), 0.0f) << "looking at a back face (inside a wall?)";
+        }
+    }
+}
+
+TEST_F(SceneTest, OaDm4SpawnCameraIsPickedAndSelectable) {
+    const fs::path level = kShared / "levels" / "oa_dm4.glb";
+    geometry::Scene s = geometry::loadScene(level);
+    const auto gltf = geometry::loadGltfCameras(level);
+    ASSERT_EQ(gltf.size(), 7u);
+    ASSERT_EQ(s.cameras.size(), 7u);
+    for (std::size_t i = 0; i < gltf.size(); ++i) {
+        EXPECT_EQ(s.cameras[i].name, gltf[i].name);
+        EXPECT_EQ(s.cameras[i].camera.eye, gltf[i].camera.eye);
+    }
+    EXPECT_EQ(s.cameraSource, "gltf camera 0: spawn 1 (info_player_start)");
+    EXPECT_EQ(s.camera.eye, gltf[0].camera.eye);
+
+    geometry::selectCamera(s, 3);
+    EXPECT_EQ(s.cameraSource, "gltf camera 3: " + gltf[3].name);
+    EXPECT_EQ(s.camera.eye, gltf[3].camera.eye);
+    EXPECT_EQ(s.camera.target, gltf[3].camera.target);
+    EXPECT_NE(gltf[3].camera.eye, gltf[0].camera.eye);
+    for (int bad : {7, -1, 99}) {
+        try {
+            geometry::selectCamera(s, bad);
+            ADD_FAILURE() << bad;
+        } catch (const geometry::InputError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("oa_dm4.glb"), std::string::npos) << msg;
+            EXPECT_NE(msg.find("camera " + std::to_string(bad)), std::string::npos) << msg;
+            EXPECT_NE(msg.find("7 glTF cameras"), std::string::npos) << msg;
+        }
+    }
+    EXPECT_EQ(s.cameraSource, "gltf camera 3: " + gltf[3].name); // unchanged by the failures
+
+    // Back to the automatic framing (the view of a level without cameras); the light stays.
+    const geometry::RectLight light = s.light;
+    geometry::selectFramedCamera(s);
+    EXPECT_EQ(s.cameraSource, "framed");
+    EXPECT_FLOAT_EQ(s.camera.fovYDeg, 70.0f); // frameInterior's
+    EXPECT_NE(s.camera.eye, gltf[3].camera.eye);
+    EXPECT_EQ(s.light.center, light.center);
+    EXPECT_EQ(s.light.u, light.u);
+}
+
+TEST_F(SceneTest, CameraSourceOfFilesWithoutGltfCameras) {
+    const geometry::Scene json = geometry::loadScene(write("scene.json", scene(kBox)));
+    EXPECT_EQ(json.cameraSource, "scene");
+    EXPECT_TRUE(json.cameras.empty());
+    geometry::Scene copy = json;
+    EXPECT_THROW(geometry::selectCamera(copy, 0), geometry::InputError);
+
+    const geometry::Scene tri = geometry::loadScene(mDir / "models" / "tri.gltf");
+    EXPECT_EQ(tri.cameraSource, "framed");
+    EXPECT_TRUE(tri.cameras.empty());
+
+    // Only an orthographic camera: skipped (counted), the view is framed.
+    std::string text = triangleGltf();
+    const std::string nodes = R"("scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)";
+    ASSERT_NE(text.find(nodes), std::string::npos);
+    text.replace(
+        text.find(nodes), nodes.size(),
+        R"("scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0},{"camera":0,"translation":[0,0,5]}],
+                    "cameras":[{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}}],)");
+    const geometry::Scene ortho = geometry::loadScene(write("ortho.gltf", text));
+    EXPECT_EQ(ortho.cameraSource, "framed");
+    EXPECT_TRUE(ortho.cameras.empty());
+    EXPECT_EQ(ortho.skippedCameras, 1);
+    EXPECT_EQ(ortho.camera.eye, tri.camera.eye);
 }
 
 TEST_F(SceneTest, OpenModelGivenDirectlyIsFramedFromOutside) {

@@ -367,8 +367,10 @@ TEST(WedgeUnionTest, OpenArenaLevelCrop) {
     const std::filesystem::path level =
         std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm1.glb";
     ASSERT_TRUE(std::filesystem::exists(level)) << level << " is missing";
-    // Interior framing: camera inside the arena, light under the ceiling above the viewed spot.
-    const Scene scene = geometry::loadScene(level);
+    // Interior framing: camera inside the arena, light under the ceiling above the viewed spot
+    // (not the level's spawn camera, which loadScene picks).
+    Scene scene = geometry::loadScene(level);
+    geometry::selectFramedCamera(scene);
     // The lower middle of the view: floor and walls under the light, where its shadows fall.
     const Window crop{0.2f, 0.35f, 0.8f, 0.95f};
     const float eps = 1e-6f * sceneDiagonal(scene);

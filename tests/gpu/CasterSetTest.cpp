@@ -168,7 +168,7 @@ TEST_F(CasterSetGl, CameraInsideAVolumeCountsOnEveryRay) {
 TEST_F(CasterSetGl, VolumesOfAnOpenLevelAreClosed) {
     const auto path = fs::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm4.glb";
     ASSERT_TRUE(fs::exists(path)) << path << " missing (the shared levels are part of the suite)";
-    const geometry::Scene scene = geometry::loadScene(path.string());
+    const geometry::Scene scene = testutil::framedLevel("levels/oa_dm4.glb");
     const glm::vec3 eye = scene.light.center - glm::vec3(0.0f, 0.02f, 0.0f) *
                                                    glm::length(scene.bounds().extent());
     const auto counts = fullRayCounts(scene, eye, scene.camera.target, 96);

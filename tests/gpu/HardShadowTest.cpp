@@ -181,7 +181,7 @@ TEST_F(HardShadow, TwoSidedQuadMatchesEmbree) {
 }
 
 TEST_F(HardShadow, OpenArenaLevelMatchesEmbree) {
-    const auto scene = geometry::loadScene(testutil::sharedPath("levels/oa_dm1.glb"));
+    const auto scene = testutil::framedLevel("levels/oa_dm1.glb");
     const Rendered r = testutil::render(scene, "hard", 128);
     const auto c = compareWithEmbree(scene, r, "hard-oa_dm1");
     EXPECT_GT(c.pixels, 4000u);
@@ -192,11 +192,13 @@ TEST_F(HardShadow, OpenArenaLevelMatchesEmbree) {
                 c.pixels, c.meanAbs);
 }
 
-// Views of the shared levels at 256x192: framed from inside as `--scene level.glb` does, and
-// the first view of a player at a spawn point with a small light ahead.
+// Views of the shared levels at 256x192: framed from inside (the automatic view of a .glb
+// without cameras), the first view of a player at a spawn point with a small light ahead, and
+// the view `--scene level.glb` opens at (its first spawn camera, the framed light).
 struct LevelView {
     const char* name;
     std::optional<testutil::SpawnView> spawn; // none: the framed view of `name`.glb
+    const char* asLoaded = nullptr;           // set: loadScene of this level, nothing changed
 };
 
 void PrintTo(const LevelView& v, std::ostream* os) { *os << v.name; }
@@ -223,9 +225,10 @@ class HardShadowLevel : public HardShadow, public ::testing::WithParamInterface<
 TEST_P(HardShadowLevel, MatchesEmbreeUpToBoundaryPixels) {
     const LevelView& view = GetParam();
     const geometry::Scene scene =
-        view.spawn ? testutil::spawnScene(*view.spawn)
-                   : geometry::loadScene(
-                         testutil::sharedPath(std::string("levels/") + view.name + ".glb"));
+        view.asLoaded
+            ? geometry::loadScene(testutil::sharedPath(std::string("levels/") + view.asLoaded))
+        : view.spawn ? testutil::spawnScene(*view.spawn)
+                     : testutil::framedLevel(std::string("levels/") + view.name + ".glb");
     const Rendered r = testutil::render(scene, "hard", 256, 192, 1);
     const auto c = compareWithEmbree(scene, r, std::string("hard-") + view.name);
     std::printf("%s hard vs Embree: %zu of %zu pixels differ, %zu isolated black\n", view.name,
@@ -240,15 +243,18 @@ constexpr glm::vec3 kOaDm4Spawn2{-1.6256f, -6.858f, -13.0048f};
 
 INSTANTIATE_TEST_SUITE_P(
     Levels, HardShadowLevel,
-    ::testing::Values(
-        LevelView{"kaos2", std::nullopt}, LevelView{"oa_dm4", std::nullopt},
-        LevelView{"oa_dm5", std::nullopt},
-        LevelView{"oa_dm4_spawn2_near_light",
-                  testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f, 3.0f, 1.0f,
-                                      0.15f}},
-        LevelView{"oa_dm4_spawn2_far_light",
-                  testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f, 6.0f, 0.5f,
-                                      0.2f}}),
+    ::testing::Values(LevelView{"kaos2", std::nullopt}, LevelView{"oa_dm4", std::nullopt},
+                      LevelView{"oa_dm5", std::nullopt},
+                      LevelView{"oa_dm4_spawn2_near_light",
+                                testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f,
+                                                    3.0f, 1.0f, 0.15f}},
+                      LevelView{"oa_dm4_spawn2_far_light",
+                                testutil::SpawnView{"oa_dm4.glb", "spawn 2", kOaDm4Spawn2, 180.0f,
+                                                    6.0f, 0.5f, 0.2f}},
+                      LevelView{"kaos2_camera0", std::nullopt, "kaos2.glb"},
+                      LevelView{"oa_dm1_camera0", std::nullopt, "oa_dm1.glb"},
+                      LevelView{"oa_dm4_camera0", std::nullopt, "oa_dm4.glb"},
+                      LevelView{"oa_dm5_camera0", std::nullopt, "oa_dm5.glb"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 } // namespace

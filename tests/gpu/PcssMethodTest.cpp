@@ -95,7 +95,7 @@ TEST_F(PcssMethod, RunsOnALevel) {
     // Framed from inside as penumbra-render frames a .glb: the light under the ceiling, walls
     // reaching its plane (beyond the frustum's cap: counted, lit) and a ceiling above it (the
     // second map).
-    const geometry::Scene scene = geometry::loadScene(testutil::sharedPath("levels/oa_dm4.glb"));
+    const geometry::Scene scene = testutil::framedLevel("levels/oa_dm4.glb");
     const Rendered r = testutil::render(scene, "pcss", 128, 96, 1);
     const RangeCheck c = checkRange(r);
     std::printf("  oa_dm4 128x96: %zu surface pixels, %.0f outside the maps, %.0f sides\n",

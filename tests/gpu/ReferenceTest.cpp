@@ -119,7 +119,7 @@ constexpr float kWrongPixel = 0.25f;
 // On a real level the references agree too (no closed form there): open and non-manifold
 // geometry, surfaces whose plane cuts the light, contact shadows.
 TEST_F(Reference, GpuAndEmbreeAgreeOnOpenArenaLevel) {
-    const auto scene = geometry::loadScene(testutil::sharedPath("levels/oa_dm4.glb"));
+    const auto scene = testutil::framedLevel("levels/oa_dm4.glb");
     const Rendered gl = testutil::render(scene, "reference", 96, kSamples);
     const Rendered rt = testutil::render(scene, "raytrace", 96, kSamples);
     const auto e = check("oa_dm4-reference-vs-raytrace", gl, rt.visibility.data);

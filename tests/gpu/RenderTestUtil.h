@@ -24,6 +24,15 @@ inline std::filesystem::path sharedPath(const std::string& name) {
     return std::filesystem::path(PENUMBRA_SHARED_DIR) / name;
 }
 
+// A shared level (path under ../shared) with the automatic framed view instead of its first spawn
+// camera: the view of `--scene level.glb` before glTF cameras were read, on which the level
+// tests were measured. The light is loadScene's either way.
+inline geometry::Scene framedLevel(const std::string& name) {
+    geometry::Scene scene = geometry::loadScene(sharedPath(name));
+    geometry::selectFramedCamera(scene);
+    return scene;
+}
+
 struct Rendered {
     geometry::FloatImage visibility; // NaN where no surface
     geometry::FloatImage position;

@@ -52,7 +52,8 @@ struct ModelCheck {
 };
 
 ModelCheck checkAgainstModel(const std::filesystem::path& path, int size, float tolerance) {
-    const auto scene = geometry::loadScene(path);
+    auto scene = geometry::loadScene(path);
+    if (!scene.cameras.empty()) geometry::selectFramedCamera(scene); // a level: its framed view
     const std::string sceneFile = path.filename().string();
     const Rendered hard = testutil::render(scene, "hard", size);
     const Rendered additive = testutil::render(scene, "wedges-additive", size);
@@ -222,7 +223,7 @@ TEST_F(AdditiveWedges, OpenArenaLevelErrorIsMeasured) {
     // adds light back (light leaks): the method is worse than hard shadows on such a view.
     const auto path = testutil::sharedPath("levels/oa_dm4.glb");
     ASSERT_TRUE(std::filesystem::exists(path)) << path;
-    const auto scene = geometry::loadScene(path);
+    const auto scene = testutil::framedLevel("levels/oa_dm4.glb");
     const Rendered ref = testutil::render(scene, "reference", 128, 96, 64);
     const Rendered hard = testutil::render(scene, "hard", 128, 96, 1);
     const Rendered add = testutil::render(scene, "wedges-additive", 128, 96, 1);
@@ -486,7 +487,7 @@ TEST_F(AdditiveWedges, PerSilhouetteMethodsOnALevelAreMeasured) {
     // which no per-group combination removes): multiply is worse than hard shadows on this view.
     const auto path = testutil::sharedPath("levels/oa_dm4.glb");
     ASSERT_TRUE(std::filesystem::exists(path)) << path;
-    const auto scene = geometry::loadScene(path);
+    const auto scene = testutil::framedLevel("levels/oa_dm4.glb");
     const Rendered ref = testutil::render(scene, "reference", 128, 96, 64);
     const Rendered mul = testutil::render(scene, "wedges-multiply", 128, 96, 1);
     expectValidIn(mul);

@@ -4,12 +4,17 @@
 // doubleSided, baseColorFactor and the base-colour texture (decoded to RGBA8, with its sampler's
 // wrap modes and KHR_texture_transform) for alpha-tested shadows (the occlusion-texture path).
 // An alpha-tested texture read through TEXCOORD_1+ or missing its TEXCOORD_0 is an InputError.
-// Not read: vertex colours (COLOR_0 alpha would also scale alpha), sampler filters.
+// Cameras: every node of the same walk with a perspective `camera` becomes a GltfCamera (see
+// there); orthographic cameras are skipped and counted.
+// Not read: vertex colours (COLOR_0 alpha would also scale alpha), sampler filters, camera
+// aspect ratio and clip planes.
 #pragma once
 
 #include <geometry/Types.h>
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace geometry {
 
@@ -17,5 +22,31 @@ namespace geometry {
 // Throws InputError: missing/unreadable file, parse error, no meshes, no triangles, NaN/Inf
 // positions, out-of-range indices.
 MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform = glm::mat4(1.0f));
+
+// A perspective glTF camera placed by its node's world transform (the meshes' transform chain,
+// `transform` included): eye = the node's world origin, target = eye + the node's world -Z
+// (normalised), up = its world +Y (normalised), fovYDeg = yfov in degrees. A mirroring or
+// non-uniformly scaling transform is not reproduced (the view stays a right-handed look-at).
+struct GltfCamera {
+    std::string name; // the node's name, or "camera N" (N = index in the list) when it has none
+    Camera camera;
+    int node = -1; // glTF node index
+};
+
+struct GltfContents {
+    MeshData mesh;
+    std::vector<GltfCamera> cameras; // perspective cameras, in node (file) order
+    int orthographicCameras = 0;     // camera nodes skipped because they are orthographic
+};
+
+// Mesh and cameras from one parse. Throws what loadGltf throws, and InputError naming the node
+// for a camera node with a missing camera, a non-finite or degenerate placement (zero or parallel
+// forward/up directions) or a yfov outside (0, pi).
+GltfContents loadGltfWithCameras(const std::filesystem::path& path,
+                                 const glm::mat4& transform = glm::mat4(1.0f));
+
+// Cameras only: no mesh is read (a file without meshes is fine). Same camera errors.
+std::vector<GltfCamera> loadGltfCameras(const std::filesystem::path& path,
+                                        const glm::mat4& transform = glm::mat4(1.0f));
 
 } // namespace geometry

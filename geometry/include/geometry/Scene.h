@@ -1,7 +1,8 @@
 // Scene description (DESIGN.md §3): camera, one rectangular light, objects in world space.
-// loadScene() accepts the scene JSON or a .gltf/.glb directly (then camera and light are framed on
-// the model's bounds). Every problem with the input throws geometry::InputError naming the key or
-// file; nothing is ever silently defaulted except the documented optional keys.
+// loadScene() accepts the scene JSON or a .gltf/.glb directly (then the light, and the camera when
+// the file has no perspective glTF camera, are framed on the model's bounds). Every problem with
+// the input throws geometry::InputError naming the key or file; nothing is ever silently defaulted
+// except the documented optional keys.
 #pragma once
 
 #include <geometry/Types.h>
@@ -19,11 +20,25 @@ struct SceneObject {
     MeshData mesh;                             // world space, all transforms applied
 };
 
+// A camera the scene file offers (a glTF camera node: its name, or "camera N").
+struct NamedCamera {
+    std::string name;
+    Camera camera;
+};
+
 struct Scene {
     Camera camera;
     RectLight light;
     std::vector<SceneObject> objects;
     std::filesystem::path source; // the file it was loaded from (empty if built in code)
+    // The perspective cameras of a .gltf/.glb loaded directly, in file order (empty for a scene
+    // JSON), and how many orthographic ones were skipped (not supported).
+    std::vector<NamedCamera> cameras;
+    int skippedCameras = 0;
+    // Where `camera` comes from: "scene" (the scene JSON), "gltf camera N: NAME" (cameras[N]),
+    // "framed" (automatic framing: a .gltf/.glb without a perspective camera); empty when built
+    // in code.
+    std::string cameraSource;
 
     Aabb bounds() const;
     std::size_t triangleCount() const;
@@ -49,6 +64,14 @@ void validateLight(const Scene& scene, const RectLight& light, std::string_view 
 // The camera checks of validateScene for another camera than the scene's (the viewer's fly
 // camera). `what` names it in messages ("camera" when empty). Throws InputError.
 void validateCamera(const Camera& camera, std::string_view what = {});
+
+// Makes cameras[index] the scene's camera and names it in cameraSource. Throws InputError when
+// the scene has no cameras, index is out of range, or the camera fails validateScene's checks.
+void selectCamera(Scene& scene, int index);
+
+// Makes the automatic framing the scene's camera (cameraSource "framed"): the view loadScene
+// gives a .gltf/.glb without cameras (frameInterior's, else defaultCamera). The light is kept.
+void selectFramedCamera(Scene& scene);
 
 // Camera and light framed on bounds: used when a glTF is given directly.
 Camera defaultCamera(const Aabb& bounds);
