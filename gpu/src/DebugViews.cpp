@@ -110,6 +110,9 @@ void DebugViews::draw(const FrameContext& ctx, VisibilityMethod& method,
                    "; showing the shaded image";
         break;
     }
+    // The baseline the shade pass leaves (fill mode, no tests), for whoever draws next (the
+    // viewer's UI).
+    applyState(PipelineState{});
 }
 
 void DebugViews::drawVisibility(const FrameContext& ctx) {

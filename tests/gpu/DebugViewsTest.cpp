@@ -169,6 +169,9 @@ TEST_F(DebugViews, LineViewsDrawOverTheShadedImage) {
     const Frame shaded = renderView(renderer, s, gpu::DebugView::Shaded);
     const Frame edges = renderView(renderer, s, gpu::DebugView::SilhouetteEdges);
     const Frame wedges = renderView(renderer, s, gpu::DebugView::WedgeWireframe);
+    GLint polygonMode[2] = {0, 0}; // the wireframe's line mode must not outlive the frame
+    glGetIntegerv(GL_POLYGON_MODE, polygonMode);
+    EXPECT_EQ(polygonMode[0], GL_FILL);
     writeImage("debug-silhouettes", edges.image, size, size);
     writeImage("debug-wedges", wedges.image, size, size);
     const std::size_t pixels = std::size_t(size) * size;
