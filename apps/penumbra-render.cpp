@@ -6,7 +6,9 @@
 // - writes image.png, visibility.pfm, position.pfm and report.json into --out;
 // - with --compare FILE (a visibility.pfm of the same view, e.g. from --method reference) also
 //   reports the error statistics of DESIGN.md §5 and writes error.png, a false-colour |ΔV| heat
-//   map with its scale (geometry/ErrorImage.h).
+//   map with its scale (geometry/ErrorImage.h);
+// - with --debug-view NAME image.png shows a debug view of the renderer (gpu/Renderer.h
+//   DebugView) instead of the shaded image.
 #include <geometry/Error.h>
 #include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>
@@ -77,6 +79,8 @@ struct Options {
     std::vector<std::string> parameters; // --param NAME=VALUE, in the order given
     std::optional<int> camera;           // --camera N: index into the glTF cameras
     bool quiet = false;
+    std::string debugView = "shaded"; // what image.png shows (gpu::debugViews())
+    int debugGroup = 0;
 };
 
 // A resolved parameter's value for report.json: a number when it is an integer.
@@ -99,6 +103,13 @@ int run(const Options& opt) {
         throw geometry::InputError("--frames must be between 1 and 10000");
     if (!(opt.errorScale > 0.0f && opt.errorScale <= 1.0f))
         throw geometry::InputError("--error-scale must be in (0, 1]");
+    const gpu::DebugViewInfo& debugView = gpu::findDebugView(opt.debugView);
+    // The error view's reference gains RenderSettings::referenceSamplesPerFrame light samples a
+    // frame: render until it is complete.
+    const int perFrame = gpu::RenderSettings{}.referenceSamplesPerFrame;
+    const int frames = debugView.view == gpu::DebugView::ErrorHeatMap
+                           ? std::max(opt.frames, (opt.samples + perFrame - 1) / perFrame)
+                           : opt.frames;
 
     auto t0 = std::chrono::steady_clock::now();
     geometry::Scene scene = geometry::loadScene(opt.scenePath);
@@ -138,6 +149,9 @@ int run(const Options& opt) {
     settings.samples = opt.samples;
     settings.seed = opt.seed;
     settings.parameters = given;
+    settings.debugView = debugView.view;
+    settings.debugGroup = opt.debugGroup;
+    settings.errorScale = opt.errorScale;
     if (!opt.quiet && method.name == "reference")
         settings.progress = [tty = isatty(fileno(stderr)) != 0](int done, int total) {
             // One line per update when logged (CI), an updating line on a terminal.
@@ -149,7 +163,7 @@ int run(const Options& opt) {
     std::map<std::string, std::vector<double>> gpuMs, cpuMs;
     std::vector<std::string> gpuOrder, cpuOrder;
     gpu::FrameStats last;
-    for (int f = 0; f < opt.frames; ++f) {
+    for (int f = 0; f < frames; ++f) {
         last = renderer.renderFrame(settings);
         frameMs.push_back(last.frameMs);
         for (const auto& p : last.gpu) {
@@ -171,7 +185,7 @@ int run(const Options& opt) {
     report["scene"] = opt.scenePath;
     report["parameters"] = {{"samples", method.usesSamples ? opt.samples : 1},
                             {"seed", opt.seed},
-                            {"frames", opt.frames}};
+                            {"frames", frames}};
     for (const gpu::ParameterValue& p : parameters) // every one the method has, as used
         report["parameters"][p.name] = parameterJson(p.value);
     report["size"] = {width, height};
@@ -186,6 +200,8 @@ int run(const Options& opt) {
     report["light"] = {{"center", vec(scene.light.center)},
                        {"u", vec(scene.light.u)},
                        {"v", vec(scene.light.v)}};
+    if (debugView.view != gpu::DebugView::Shaded)
+        report["debug_view"] = {{"name", debugView.name}, {"note", last.debugNote}};
     report["gl_renderer"] = info.renderer;
     report["gl_version"] = info.version;
     report["triangles"] = last.triangles;
@@ -260,7 +276,8 @@ int run(const Options& opt) {
                         scene.skippedCameras == 1 ? "" : "s");
         std::printf("\n");
         std::printf("  renderer: %s\n", info.renderer.c_str());
-        std::printf("  frame %.2f ms (median of %d)", median(frameMs), opt.frames);
+        if (!last.debugNote.empty()) std::printf("  %s\n", last.debugNote.c_str());
+        std::printf("  frame %.2f ms (median of %d)", median(frameMs), frames);
         for (const auto& name : gpuOrder)
             std::printf(", %s %.2f", name.c_str(), median(gpuMs[name]));
         std::printf(" (GPU ms)\n");
@@ -318,6 +335,17 @@ int main(int argc, char** argv) {
     app.add_option("--camera", opt.camera,
                    "with a .gltf/.glb: view from its glTF camera N (0 = the first, the default; "
                    "report.json camera_source names it)");
+    std::string views;
+    for (const gpu::DebugViewInfo& v : gpu::debugViews())
+        views += "\n    " + std::string(v.name) + ": " + std::string(v.help);
+    app.add_option("--debug-view", opt.debugView,
+                   "what image.png shows (error: renders at least ceil(samples / 16) frames, "
+                   "until its reference is complete; --error-scale sets its scale), one of:" +
+                       views)
+        ->capture_default_str();
+    app.add_option("--debug-group", opt.debugGroup,
+                   "with --debug-view group-parts: the silhouette group shown (wrapped)")
+        ->capture_default_str();
     app.add_flag("--quiet", opt.quiet, "print nothing on success");
     try {
         app.parse(argc, argv);

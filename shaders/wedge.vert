@@ -8,6 +8,7 @@
 //   ray leaves through), and full-screen wedges: one clockwise (back-facing) triangle at
 //   infinite depth over the screen rectangle of the group's influence bounds;
 // - anything else: every vertex at one point, nothing is rasterised.
+// WEDGE_DEPTH_BIAS (the wedges debug view): depth scaled by 1 + bias.
 #include "lib/Bindings.h"
 #include "lib/WedgeHull.glsl"
 
@@ -68,4 +69,10 @@ void main() {
     } else {
         gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
     }
+#ifdef WEDGE_DEPTH_BIAS
+    // The wedges debug view's lines: pulled nearer by a relative distance (reversed Z), so that
+    // hull edges on the occluder pass the depth test (a polygon offset in line mode scales with
+    // the face's slope, which is huge for hull faces seen edge-on).
+    gl_Position.z *= 1.0 + WEDGE_DEPTH_BIAS;
+#endif
 }

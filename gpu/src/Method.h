@@ -51,11 +51,21 @@ struct FrameContext {
     void addCounter(std::string_view name, double value) const;
 };
 
+class DebugViews; // DebugViews.h
+
 class VisibilityMethod {
 public:
     virtual ~VisibilityMethod() = default;
     virtual void resize(int /*width*/, int /*height*/) {}
     virtual void execute(const FrameContext& ctx) = 0;
+    // The method's share of a debug view (WedgeWireframe, GroupParts), drawn over Targets::image
+    // after this frame's execute() and the shade pass, with `debug`'s helpers; may set
+    // debug.note. false: the method has nothing for `view` (it drew nothing; the renderer says
+    // so in FrameStats::debugNote).
+    virtual bool drawDebug(DebugView /*view*/, const FrameContext& /*ctx*/,
+                           DebugViews& /*debug*/) {
+        return false;
+    }
 };
 
 using Clock = std::chrono::steady_clock;

@@ -9,6 +9,7 @@
 #include <geometry/Error.h>
 #include <gpu/State.h>
 
+#include "DebugViews.h"
 #include "Method.h"
 #include "ShaderBindings.h"
 #include "Targets.h"
@@ -43,6 +44,48 @@ void FrameContext::addCounter(std::string_view name, double value) const {
             return;
         }
     stats.counters.push_back({std::string(name), value});
+}
+
+namespace {
+
+constexpr DebugViewInfo kDebugViews[] = {
+    {DebugView::Shaded, "shaded", "the shaded image"},
+    {DebugView::Visibility, "visibility", "V as grey (white lit, black umbra)"},
+    {DebugView::SilhouetteEdges, "silhouettes",
+     "the light centre's silhouette edges over the shaded image (dim where hidden)"},
+    {DebugView::WedgeWireframe, "wedges",
+     "the wedge hulls of the method's wedge pass as lines (wedge methods, auto)"},
+    {DebugView::StencilCount, "stencil",
+     "the light centre's z-fail shadow-volume count: grey 0, blue 1, green 2, red 3+"},
+    {DebugView::GroupParts, "group-parts",
+     "wedges-blend: one silhouette group's per-part visibility buffers as tiles (--debug-group)"},
+    {DebugView::ErrorHeatMap, "error",
+     "|V - V_ref| heat map against a reference accumulated over frames (16 samples a frame)"},
+};
+
+std::string debugViewNames() {
+    std::string names;
+    for (const DebugViewInfo& v : kDebugViews)
+        names += (names.empty() ? "" : ", ") + std::string(v.name);
+    return names;
+}
+
+} // namespace
+
+std::span<const DebugViewInfo> debugViews() { return kDebugViews; }
+
+const DebugViewInfo& findDebugView(std::string_view name) {
+    for (const DebugViewInfo& v : kDebugViews)
+        if (v.name == name) return v;
+    throw geometry::InputError("unknown debug view '" + std::string(name) +
+                               "' (known: " + debugViewNames() + ")");
+}
+
+const DebugViewInfo& debugViewInfo(DebugView view) {
+    for (const DebugViewInfo& v : kDebugViews)
+        if (v.view == view) return v;
+    throw geometry::InputError("RenderSettings::debugView: not a DebugView (" +
+                               std::to_string(static_cast<int>(view)) + ")");
 }
 
 namespace {
@@ -109,6 +152,7 @@ struct Renderer::Impl {
     SceneGeometry sceneGeometry;
     GBufferPass gbufferPass;
     ShadePass shadePass;
+    DebugViews debugViews;
     CasterSet casters;
     std::vector<std::uint32_t> allCasters;
     GpuTimers timers;
@@ -122,7 +166,8 @@ struct Renderer::Impl {
     std::map<std::string, BuiltMethod, std::less<>> methods;
 
     Impl(const geometry::Scene& s, const ShaderLoader& sh)
-        : scene(s), shaders(sh), sceneGeometry(s), gbufferPass(sh), shadePass(sh), casters(s) {
+        : scene(s), shaders(sh), sceneGeometry(s), gbufferPass(sh), shadePass(sh), debugViews(sh),
+          casters(s) {
         allCasters.resize(casters.size());
         std::iota(allCasters.begin(), allCasters.end(), 0u);
     }
@@ -203,6 +248,14 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
         throw geometry::InputError("samples must be at least 1");
     std::vector<ParameterValue> parameters = resolveParameters(info, settings.parameters);
     checkRepresentable(mScene, info);
+    debugViewInfo(settings.debugView); // a valid enumerator
+    if (settings.debugView == DebugView::ErrorHeatMap) {
+        if (settings.samples < 1) throw geometry::InputError("samples must be at least 1");
+        if (settings.referenceSamplesPerFrame < 1)
+            throw geometry::InputError("referenceSamplesPerFrame must be at least 1");
+        if (!(settings.errorScale > 0.0f) || !std::isfinite(settings.errorScale))
+            throw geometry::InputError("errorScale must be positive");
+    }
 
     auto& m = *mImpl;
     const geometry::RectLight& light = settings.light ? *settings.light : mScene.light;
@@ -220,6 +273,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const int frameSlot = m.frameTimer.begin("frame");
     if (m.targets.width != settings.width || m.targets.height != settings.height) {
         m.targets.resize(settings.width, settings.height);
+        m.debugViews.resize(m.targets);
         for (auto& [name, each] : m.methods) each.method->resize(settings.width, settings.height);
     }
     VisibilityMethod& method = m.method(info, std::move(parameters)); // sized on creation
@@ -262,6 +316,12 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
         m.shadePass.execute(m.targets);
     }
     checkGl("shade");
+    if (settings.debugView != DebugView::Shaded) {
+        ScopedPass pass(&m.timers, "debug-view");
+        m.debugViews.draw(ctx, method, info.name);
+        stats.debugNote = m.debugViews.note;
+        checkGl("debug view");
+    }
     m.frameTimer.end(frameSlot);
     if (settings.waitForGpu) {
         glFinish();
@@ -306,6 +366,20 @@ geometry::FloatImage Renderer::visibility() const {
     return img;
 }
 
+geometry::FloatImage Renderer::referenceVisibility() const {
+    const auto& t = mImpl->targets;
+    const Texture& sum = mImpl->debugViews.referenceSum();
+    if (!sum.id()) return {};
+    geometry::FloatImage img{t.width, t.height, 1, sum.readFloat(1)};
+    const float scale = mImpl->debugViews.referenceScale();
+    const std::vector<float> pos = t.position.readFloat(4);
+    for (std::size_t i = 0; i < img.data.size(); ++i)
+        img.data[i] = pos[4 * i + 3] == 0.0f ? std::numeric_limits<float>::quiet_NaN()
+                                             : img.data[i] * scale;
+    flipRows(img.data, t.width, t.height, 1);
+    return img;
+}
+
 namespace {
 
 geometry::FloatImage readXyz(const Texture& texture, const Texture& position) {
@@ -342,11 +416,21 @@ std::vector<std::uint8_t> Renderer::imageRgba8() const {
     return out;
 }
 
-void Renderer::blitImage(int x, int y, int width, int height) const {
+void Renderer::blitImage(int x, int y, int width, int height, unsigned int framebuffer) const {
     const auto& t = mImpl->targets;
-    if (t.width < 1) return; // nothing rendered yet
-    glBlitNamedFramebuffer(t.imageFbo.id(), 0, 0, 0, t.width, t.height, x, y, x + width,
+    if (t.width == 0) return; // no frame yet
+    // A blit honours the scissor test (and, on some drivers, the colour mask): off for it, then
+    // back as the caller had them. The image holds sRGB-encoded bytes: the target must not
+    // encode again (GL_FRAMEBUFFER_SRGB off).
+    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+    GLboolean mask[4];
+    glGetBooleani_v(GL_COLOR_WRITEMASK, 0, mask);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glBlitNamedFramebuffer(t.imageFbo.id(), framebuffer, 0, 0, t.width, t.height, x, y, x + width,
                            y + height, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    glColorMaski(0, mask[0], mask[1], mask[2], mask[3]);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
 }
 
 } // namespace gpu

@@ -54,7 +54,9 @@ void applyState(const PipelineState& state) {
     setCap(GL_CULL_FACE, state.cull);
     glCullFace(state.cullFace);
 
+    glPolygonMode(GL_FRONT_AND_BACK, state.polygonMode);
     setCap(GL_POLYGON_OFFSET_FILL, state.polygonOffset);
+    setCap(GL_POLYGON_OFFSET_LINE, state.polygonOffset);
     glPolygonOffset(state.polygonOffsetFactor, state.polygonOffsetUnits);
 
     setCap(GL_DEPTH_CLAMP, state.depthClamp);

@@ -20,6 +20,7 @@
 #define BINDING_WEDGES 5      // GpuWedge per directed edge, built by shaders/wedge-setup.comp
 #define BINDING_WEDGE_STATS 6 // uint counters (WEDGE_STAT_*)
 #define BINDING_PCSS_STATS 7  // pcss: uint, receiver pixels outside both maps (lit)
+#define BINDING_DEBUG_SUMS 8  // error debug view: vec2 per work group (sum |dV|, pixels)
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
@@ -57,6 +58,7 @@
 #define TEXUNIT_MATERIAL 17  // the drawn material's base-colour texture (G-buffer, slicing)
 #define TEXUNIT_OCCLUSION 18 // occlusion: the prefiltered slices (N-buffers, mipmaps or SAT)
 #define TEXUNIT_PCSS 19      // pcss: the shadow maps, one layer per side of the light
+#define TEXUNIT_DEBUG0 20    // debug views: their own inputs (reference, part visibility)
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 

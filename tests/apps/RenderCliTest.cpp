@@ -440,4 +440,30 @@ TEST_F(RenderCli, HelpDocumentsCamera) {
     EXPECT_NE(help.output.find("--camera"), std::string::npos) << help.output;
 }
 
+// --debug-view: a bad name is bad input naming the views; `error` renders until its progressive
+// reference is complete (ceil(samples / 16) frames) and says so; --help lists the views.
+TEST_F(RenderCli, DebugViews) {
+    const fs::path scene = write("s.json", kValidScene);
+    expectRejected(scene, "unknown debug view 'nope'", "--method hard --debug-view nope");
+    expectRejected(scene, "group-parts", "--method hard --debug-view nope");
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + scene.string() +
+                            "' --method wedges-blend --samples 40 --size 48x48 --debug-view error "
+                            "--out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    nlohmann::json report;
+    std::ifstream(out / "report.json") >> report;
+    EXPECT_EQ(report["parameters"]["frames"], 3);
+    EXPECT_EQ(report["debug_view"]["name"], "error");
+    const std::string note = report["debug_view"]["note"];
+    EXPECT_NE(note.find("reference 40/40 samples (complete)"), std::string::npos) << note;
+    EXPECT_NE(r.output.find(note), std::string::npos) << r.output;
+    EXPECT_EQ(pngSize(out / "image.png"), std::make_pair(48u, 48u));
+
+    const RunResult help = run("--help");
+    for (const char* line : {"--debug-view", "--debug-group", "shaded:", "visibility:",
+                             "silhouettes:", "wedges:", "stencil:", "group-parts:", "error:"})
+        EXPECT_NE(help.output.find(line), std::string::npos) << line << " in:\n" << help.output;
+}
+
 } // namespace

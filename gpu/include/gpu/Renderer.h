@@ -5,6 +5,7 @@
 // name.
 #pragma once
 
+#include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>
 #include <geometry/ImageIO.h>
 #include <geometry/Scene.h>
@@ -18,7 +19,9 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace geometry {
@@ -26,6 +29,32 @@ class RayTracer;
 } // namespace geometry
 
 namespace gpu {
+
+// What Targets::image shows (the viewer's toggles, penumbra-render --debug-view): composited
+// after the shade pass, so imageRgba8() and blitImage() return it. Views that need something the
+// method does not have (wedges, silhouette groups) show the shaded image and say so in
+// FrameStats::debugNote.
+enum class DebugView {
+    Shaded,          // the shaded image (no extra work)
+    Visibility,      // V as grey
+    SilhouetteEdges, // the light centre's directed silhouette edges over the shaded image
+    WedgeWireframe,  // the method's wedge hulls as lines over the shaded image
+    StencilCount,    // the light centre's z-fail count as a colour ramp
+    GroupParts,      // wedges-blend: one silhouette group's per-part visibility buffers
+    ErrorHeatMap,    // |V - V_ref| against a reference accumulated over frames
+};
+
+struct DebugViewInfo {
+    DebugView view;
+    std::string_view name; // for flags and the UI: "shaded", "visibility", ...
+    std::string_view help; // one line
+};
+
+// Every view, in DebugView order.
+std::span<const DebugViewInfo> debugViews();
+// The entry for `name`; throws geometry::InputError listing the names for an unknown one.
+const DebugViewInfo& findDebugView(std::string_view name);
+const DebugViewInfo& debugViewInfo(DebugView view);
 
 // One settings struct for the renderer, the command line and (later) the viewer UI.
 struct RenderSettings {
@@ -52,6 +81,19 @@ struct RenderSettings {
     float exposure = 1.0f;    // shading only
     // Called during long reference renders with (done, total) samples. May be empty.
     std::function<void(int, int)> progress;
+
+    // What Targets::image shows (DebugView).
+    DebugView debugView = DebugView::Shaded;
+    // GroupParts: the silhouette group shown, an index into the frame's groups (of the casters
+    // the wedge method serves), wrapped into range (negative counts from the end);
+    // FrameStats::debugNote names the one shown.
+    int debugGroup = 0;
+    // ErrorHeatMap: light samples (of the `samples`/`seed` pattern, as the `reference` method
+    // takes them) added per frame to the progressive reference; it restarts when the camera,
+    // light, size, samples or seed change and stops adding once all `samples` are in.
+    int referenceSamplesPerFrame = 16;
+    // ErrorHeatMap: |dV| at the top of the colour scale (geometry::heatColour).
+    float errorScale = geometry::kDefaultErrorScale;
 };
 
 struct CpuTime {
@@ -87,6 +129,11 @@ struct FrameStats {
     std::size_t silhouetteUploadBytes = 0; // per-frame upload of the centre's silhouettes
     std::vector<Counter> counters;         // method-specific counts
     std::vector<ObjectChoice> objectChoices; // per casting object, for methods that choose
+    // One line for the UI about the debug view: what it shows, or why it shows only the shaded
+    // image; empty for Shaded.
+    std::string debugNote;
+    // ErrorHeatMap: light samples in the progressive reference after this frame (0 otherwise).
+    int referenceSamplesDone = 0;
 };
 
 // What the renderer made of each scene object (welded topology of the shadow casters).
@@ -116,10 +163,16 @@ public:
     geometry::FloatImage visibility() const; // 1 channel, NaN where no surface
     geometry::FloatImage position() const;   // 3 channels, NaN where no surface
     geometry::FloatImage normal() const;     // 3 channels (viewer-facing), NaN where no surface
-    std::vector<std::uint8_t> imageRgba8() const;
-    // Draws the last frame's image into the default framebuffer's viewport (x, y, width, height),
-    // scaled with linear filtering (the viewer's window).
-    void blitImage(int x, int y, int width, int height) const;
+    std::vector<std::uint8_t> imageRgba8() const; // the image incl. its debug view
+    // The ErrorHeatMap view's progressive reference: the mean of V over the light samples added
+    // so far (FrameStats::referenceSamplesDone; all of them: the `reference` method's V for the
+    // same samples and seed), NaN where no surface; empty (0x0) before the view was first shown.
+    geometry::FloatImage referenceVisibility() const;
+
+    // Draws the last frame's image (with its debug view) into `framebuffer` (0: the window's)
+    // at the viewport (x, y, width, height), lower-left origin, linearly filtered. Leaves the
+    // caller's framebuffer bindings and scissor as they were.
+    void blitImage(int x, int y, int width, int height, unsigned int framebuffer = 0) const;
 
     const geometry::Scene& scene() const { return mScene; }
     std::size_t triangleCount() const;

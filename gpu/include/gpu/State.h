@@ -54,6 +54,8 @@ struct PipelineState {
     float polygonOffsetFactor = 0.0f;
     float polygonOffsetUnits = 0.0f;
     bool depthClamp = false;
+    // GL_LINE: polygons as their edges (debug wireframes); the polygon offset applies then too.
+    GLenum polygonMode = GL_FILL;
     bool scissor = false;
     ScissorRect scissorRect; // set at draw time by passes that scissor (e.g. per group)
     // Per-attachment blend and colour masks (MRT passes that treat targets differently).

@@ -4,6 +4,7 @@
 //   pixel inside it subtracting the edge's signed coverage of the light;
 // - exact for one silhouette; where penumbrae of different silhouettes overlap the sum
 //   double-counts (DESIGN.md §4): the resolve counts the pixels its clamp touched.
+#include "../DebugViews.h"
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
@@ -42,6 +43,10 @@ public:
         addWedgeCounters(ctx, c, runs);
         ctx.addCounter("groups_culled", countCulledGroups(ctx));
         ctx.addCounter("pixels_clamped", c.clampedPixels);
+    }
+
+    bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
+        return view == DebugView::WedgeWireframe && drawWedgeWireframe(ctx, mWedges, debug);
     }
 
 private:

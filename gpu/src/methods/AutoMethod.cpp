@@ -3,6 +3,7 @@
 // occlusion textures — run each on its own casters and composed in one frame as
 // V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path
 // is decided the first frame it is seen and then kept, so that a moving light never flips it.
+#include "../DebugViews.h"
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../ShaderBindings.h"
@@ -61,6 +62,7 @@ public:
         ctx.addCounter("auto_wedge_objects", static_cast<double>(wedgeCasters.size()));
         ctx.addCounter("auto_occlusion_objects", static_cast<double>(occlusionCasters.size()));
 
+        mWedgeCasters = wedgeCasters;
         if (occlusionCasters.empty()) {
             mWedges->execute(subContext(ctx, wedgeCasters));
             return;
@@ -86,6 +88,18 @@ public:
             mMultiply.execute(t.visibilityFbo, t.width, t.height, kMultiplyState,
                               [] { glUniform1f(0, 0.0f); }); // blend-multiply: clamp(0 + V)
         }
+    }
+
+    // Wedge views are the wedge method's, on the casters it served this frame.
+    bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
+        if (view != DebugView::WedgeWireframe && view != DebugView::GroupParts) return false;
+        if (mWedgeCasters.empty()) {
+            debug.note = std::string(debugViewInfo(view).name) +
+                         ": auto gave every caster to occlusion textures (no wedges); showing "
+                         "the shaded image";
+            return false;
+        }
+        return mWedges->drawDebug(view, subContext(ctx, mWedgeCasters), debug);
     }
 
 private:
@@ -142,6 +156,7 @@ private:
     Texture mSaved;
     int mWidth = 0, mHeight = 0;
     std::vector<geometry::ShadowPathChoice> mChoices; // per caster
+    std::vector<std::uint32_t> mWedgeCasters;         // this frame's, for the debug views
 };
 
 } // namespace

@@ -35,15 +35,18 @@
 // of a set: 2 targets at 8 bits (rect; vCoef | centroid << 8), 4 at 16 (rect min, rect max,
 // vCoef | centroid x << 16, centroid y), one component per part (R = 1: R32UI). R = 8 draws the
 // batch's wedges twice (the wedge-fragment counter counts the first set's draw only).
+#include "../DebugViews.h"
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
 #include "../passes/WedgePass.h"
 #include "../ShaderBindings.h"
+#include "../passes/VolumeStates.h"
 #include "GroupBatches.h"
 #include "MethodUtil.h"
 
 #include <array>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -113,7 +116,8 @@ public:
           mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}, mLayout.defines()),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
           mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{},
-                   mLayout.defines()) {}
+                   mLayout.defines()),
+          mShaders(r.shaders) {}
 
     void resize(int width, int height) override {
         std::vector<FramebufferAttachment> parts;
@@ -139,6 +143,7 @@ public:
             }
             mFinalFbo[set] = Framebuffer({.attachments = finals, .label = "blend-final"});
         }
+        mDebugParts = Texture(); // the group-parts view's, made again on use
     }
 
     void execute(const FrameContext& ctx) override {
@@ -174,7 +179,96 @@ public:
         }
     }
 
+    bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
+        if (view == DebugView::WedgeWireframe) return drawWedgeWireframe(ctx, mWedges, debug);
+        if (view != DebugView::GroupParts) return false;
+        drawGroupParts(ctx, debug);
+        return true;
+    }
+
 private:
+    // The GroupParts debug view: group ctx.settings.debugGroup (wrapped) of the casters served,
+    // alone: its own volume (the centre state C) and wedges (the per-part sums), then per part
+    // the visibility 1 - clamp(C + coverage) that blend-parts.frag resolves, before any
+    // blending, as the tiles of a mosaic (R = 1: the whole image, 4: 2x2, 8: 3x3).
+    void drawGroupParts(const FrameContext& ctx, DebugViews& debug) {
+        const Targets& t = ctx.targets;
+        std::size_t total = 0;
+        for (const std::uint32_t c : ctx.casterSubset) total += ctx.casters.frame(c).groups.size();
+        if (total == 0) {
+            debug.note = "group-parts: no silhouette groups this frame; showing the shaded image";
+            return;
+        }
+        const long n = static_cast<long>(total);
+        const long shown = ((ctx.settings.debugGroup % n) + n) % n;
+        long k = shown;
+        std::uint32_t caster = 0;
+        for (const std::uint32_t c : ctx.casterSubset) {
+            const long groups = static_cast<long>(ctx.casters.frame(c).groups.size());
+            if (k < groups) {
+                caster = c;
+                break;
+            }
+            k -= groups;
+        }
+        const CasterRange& range = ctx.casters.range(caster);
+        const geometry::SilhouetteGroup& group =
+            ctx.casters.frame(caster).groups[static_cast<std::size_t>(k)];
+        DrawSet set;
+        set.add(range.firstTriangle + group.firstTriangle, group.triangleCount,
+                range.firstEdge + group.firstEdge, group.edgeCount);
+
+        if (!mDebugParts.id()) {
+            mDebugParts = Texture({.width = t.width, .height = t.height, .format = GL_RGBA32F,
+                                   .label = "debug-group-parts"});
+            mDebugFbo = Framebuffer({.attachments = {{GL_COLOR_ATTACHMENT0, &mDebugParts}},
+                                     .label = "debug-group-parts"});
+            mDebugResolve.emplace(mShaders, "debug-group-parts.frag", "debug-group-parts",
+                                  PipelineState{}, mLayout.defines());
+        }
+        glNamedFramebufferTexture(mDebugFbo.id(), GL_DEPTH_STENCIL_ATTACHMENT,
+                                  t.depthStencil.id(), 0);
+        clearStencil(t);
+        ctx.casters.bind();
+        mVolumes.drawCentre(t.visibilityFbo, t, set);
+        const int grid = mLayout.parts == 1 ? 1 : mLayout.parts == 4 ? 2 : 3;
+        const int perSet = mLayout.parts == 1 ? 1 : 4;
+        debug.clearImage(t);
+        for (int s = 0; s < mLayout.sets(); ++s) {
+            applyState(PipelineState{}); // whole-frame clears
+            clearPartTargets();
+            if (mLayout.sets() > 1) glProgramUniform1i(mWedges.drawProgram(), kPartSetLocation, s);
+            mWedges.draw(mPartsFbo, t, set, nullptr, /*markTouched=*/false,
+                         /*countFragments=*/false);
+            glBindTextureUnit(TEXUNIT_PARTS0, mParts[0].id());
+            for (const bool occluded : {false, true}) {
+                PipelineState state;
+                state.stencilTest = true;
+                state.stencilWriteMask = 0;
+                state.stencilFront = {.func = GLenum(occluded ? GL_NOTEQUAL : GL_EQUAL),
+                                      .ref = 0,
+                                      .readMask = kStencilCountMask};
+                state.stencilBack = state.stencilFront;
+                mDebugResolve->execute(mDebugFbo, t.width, t.height, state,
+                                       [&] { glUniform1f(0, occluded ? 1.0f : 0.0f); });
+            }
+            debug.drawPartTiles(t, mDebugParts, grid, perSet * s, perSet);
+        }
+        if (mLayout.sets() > 1) glProgramUniform1i(mWedges.drawProgram(), kPartSetLocation, 0);
+        const std::string& object = ctx.scene.objects[ctx.casters.sceneObject(caster)].name;
+        debug.note = "group-parts: group " + std::to_string(shown) + " of " +
+                     std::to_string(total) + " (object '" + object + "', " +
+                     std::to_string(group.edgeCount) + " edges" +
+                     (boxOutsideFrustum(group.influenceBounds, ctx.viewProj)
+                          ? ", outside the view: its wedges are culled"
+                          : "") +
+                     "): per-part visibility 1 - clamp(C + coverage) before blending, " +
+                     (grid == 1 ? std::string("the whole light")
+                                : std::to_string(mLayout.parts) + " parts as " +
+                                      std::to_string(grid) + "x" + std::to_string(grid) +
+                                      " tiles, part 0 top left");
+    }
+
     void clearFinalState() {
         for (int set = 0; set < mLayout.sets(); ++set)
             for (int i = 0; i < mLayout.finalTargets(); ++i)
@@ -240,6 +334,11 @@ private:
     Framebuffer mPartsFbo;
     std::array<std::array<Texture, kMaxFinalTargets>, kMaxSets> mFinal;
     std::array<Framebuffer, kMaxSets> mFinalFbo;
+    const ShaderLoader& mShaders;
+    // The GroupParts debug view's (built on first use).
+    std::optional<FullscreenPass> mDebugResolve;
+    Texture mDebugParts; // per-part visibility of one set
+    Framebuffer mDebugFbo;
 };
 
 } // namespace

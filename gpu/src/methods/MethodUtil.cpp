@@ -1,5 +1,7 @@
 #include "MethodUtil.h"
 
+#include "../DebugViews.h"
+
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
 #include "../passes/VolumeStates.h"
@@ -64,6 +66,21 @@ std::uint32_t countCulledGroups(const FrameContext& ctx) {
         for (const geometry::SilhouetteGroup& g : ctx.casters.frame(c).groups)
             culled += boxOutsideFrustum(g.influenceBounds, ctx.viewProj);
     return culled;
+}
+
+bool drawWedgeWireframe(const FrameContext& ctx, WedgePass& wedges, DebugViews& debug) {
+    DrawSet set;
+    std::uint32_t edges = 0;
+    for (const CasterRange& r : casterRuns(ctx.casters, ctx.casterSubset)) {
+        set.add(r);
+        edges += r.edgeCount;
+    }
+    ctx.casters.bind();
+    debug.drawWedgeLines(wedges, ctx.targets, set);
+    debug.note = "wedges: " + std::to_string(edges) +
+                 " wedge hulls as drawn (cyan; dim where behind a surface; full-screen wedges as "
+                 "a triangle over their group's screen rectangle)";
+    return true;
 }
 
 void addWedgeCounters(const FrameContext& ctx, const WedgeCounts& c,

@@ -35,6 +35,12 @@ bool boxOutsideFrustum(const geometry::Aabb& box, const glm::mat4& viewProj);
 // Groups of the casters in `ctx.casterSubset` whose influence bounds miss the view frustum.
 std::uint32_t countCulledGroups(const FrameContext& ctx);
 
+class WedgePass;
+class DebugViews;
+// The WedgeWireframe debug view of a wedge method: the hulls of the wedges `wedges` set up this
+// frame for ctx.casterSubset, with a note. true (the method has wedges).
+bool drawWedgeWireframe(const FrameContext& ctx, WedgePass& wedges, DebugViews& debug);
+
 struct WedgeCounts;
 // The wedge counters of the report (kinds, culled, around the camera, fragments) for the edges
 // of `runs`.

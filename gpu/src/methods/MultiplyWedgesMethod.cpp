@@ -8,6 +8,7 @@
 //   coverage) (exact for one group: the additive method's arithmetic, with no other group in
 //   the sum), and where only the volume reached (the group's umbra), by 0.
 // The wedges of every group are built once per frame (one compute dispatch), not per batch.
+#include "../DebugViews.h"
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
@@ -67,6 +68,10 @@ public:
                  },
              .umbra = [&](const GroupBatch&,
                           const UmbraStates& states) { multiply(t, states.zero, 0.0f); }});
+    }
+
+    bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
+        return view == DebugView::WedgeWireframe && drawWedgeWireframe(ctx, mWedges, debug);
     }
 
 private:

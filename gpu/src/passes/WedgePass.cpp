@@ -50,6 +50,8 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
 void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
                      const ScissorRect* scissor, bool markTouched, bool countFragments) {
     if (set.edgeFirst.empty()) return;
+    // Another wedge pass (auto's, a debug view's) may have bound its own since beginFrame.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGES, mWedges.id());
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, t.width, t.height);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
@@ -90,6 +92,21 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
         multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
     }
     if (countFragments) glEndQuery(GL_SAMPLES_PASSED);
+}
+
+void WedgePass::drawHulls(const Framebuffer& target, const Targets& t, const DrawSet& set,
+                          GLuint program, const PipelineState& state) {
+    if (set.edgeFirst.empty()) return;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGES, mWedges.id());
+    glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+    glViewport(0, 0, t.width, t.height);
+    glUseProgram(program);
+    glBindVertexArray(mVao.id());
+    applyState(state);
+    for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
+        glUniform1ui(0, drawPass);
+        multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
+    }
 }
 
 void WedgePass::resolve(const Targets& t) {

@@ -91,6 +91,11 @@ public:
     void draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
               const ScissorRect* scissor = nullptr, bool markTouched = false,
               bool countFragments = true);
+    // The hulls of `set`'s wedges as the two draws above place them (entry and exit faces,
+    // full-screen triangles), with another program on wedge.vert (a debug view: its fragment
+    // stage and `state`, e.g. line mode, are the caller's). No query, no counters.
+    void drawHulls(const Framebuffer& target, const Targets& t, const DrawSet& set,
+                   GLuint program, const PipelineState& state);
     void resolve(const Targets& t);
     // Reads the counters back (waits for the GPU).
     WedgeCounts counts();
