@@ -7,6 +7,7 @@ packages=(
     cmake g++ make pkg-config git
     libopenmesh-dev libglm-dev libtinygltf-dev libembree-dev nlohmann-json3-dev libcli11-dev
     libstb-dev libglfw3-dev libepoxy-dev libegl-dev libgl-dev libimgui-dev
+    xvfb xauth libglx-mesa0               # a display for the viewer tests and scripted captures
     libgtest-dev libbenchmark-dev
     libegl-mesa0 libgl1-mesa-dri          # EGL + llvmpipe: the headless renderer and GL tests
     python3 python3-matplotlib python3-numpy

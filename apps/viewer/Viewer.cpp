@@ -1,0 +1,798 @@
+#include "Viewer.h"
+
+#include "ViewerCore.h"
+
+#include <geometry/Error.h>
+#include <geometry/ImageIO.h>
+#include <geometry/Scene.h>
+#include <gpu/Context.h>
+#include <gpu/Renderer.h>
+
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace viewer {
+
+namespace {
+
+std::pair<int, int> parseSize(const std::string& s) {
+    static const std::regex re(R"((\d{1,5})x(\d{1,5}))");
+    std::smatch m;
+    if (!std::regex_match(s, m, re))
+        throw geometry::InputError("--size: expected WIDTHxHEIGHT (e.g. 960x540), got '" + s + "'");
+    const int w = std::stoi(m[1]), h = std::stoi(m[2]);
+    if (w < 64 || h < 64 || w > 8192 || h > 8192)
+        throw geometry::InputError("--size: each side must be between 64 and 8192, got '" + s + "'");
+    return {w, h};
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string cpuName() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            if (colon != std::string::npos) return line.substr(colon + 2);
+        }
+    return "unknown CPU";
+}
+
+// A named view of the scene: its glTF cameras (spawn points) in file order, or the scene's own.
+struct View {
+    std::string name;
+    geometry::Camera camera;
+};
+
+std::vector<View> sceneViews(const geometry::Scene& scene) {
+    std::vector<View> views;
+    for (const auto& c : scene.cameras) views.push_back({c.name, c.camera});
+    if (views.empty())
+        views.push_back({scene.cameraSource.empty() ? "scene camera" : scene.cameraSource,
+                         scene.camera});
+    return views;
+}
+
+std::string timestampedName() {
+    const std::time_t t = std::time(nullptr);
+    char buf[64];
+    std::strftime(buf, sizeof buf, "penumbra-%Y%m%d-%H%M%S", std::localtime(&t));
+    std::string name = buf;
+    for (int i = 2; fs::exists(name + ".png"); ++i) name = std::string(buf) + "-" + std::to_string(i);
+    return name + ".png";
+}
+
+struct ScriptedKey {
+    int frame = 0;
+    int key = GLFW_KEY_UNKNOWN; // or
+    std::string drop;           // a dropped file
+};
+
+std::vector<ScriptedKey> parseKeys(const std::string& text) {
+    static const std::pair<const char*, int> names[] = {
+        {"F1", GLFW_KEY_F1}, {"F12", GLFW_KEY_F12}, {"P", GLFW_KEY_P},     {"R", GLFW_KEY_R},
+        {"C", GLFW_KEY_C},   {"O", GLFW_KEY_O},     {"L", GLFW_KEY_L},     {"Tab", GLFW_KEY_TAB},
+        {"Esc", GLFW_KEY_ESCAPE}, {"W", GLFW_KEY_W}, {"A", GLFW_KEY_A},    {"S", GLFW_KEY_S},
+        {"D", GLFW_KEY_D},   {"Q", GLFW_KEY_Q},     {"E", GLFW_KEY_E},     {"V", GLFW_KEY_V}};
+    std::vector<ScriptedKey> keys;
+    std::stringstream in(text);
+    std::string item;
+    static const std::regex re(R"((\d{1,7}):(.+))");
+    while (std::getline(in, item, ',')) {
+        std::smatch m;
+        if (!std::regex_match(item, m, re))
+            throw geometry::InputError("--keys: expected FRAME:KEY, got '" + item + "'");
+        ScriptedKey k;
+        k.frame = std::stoi(m[1]);
+        const std::string key = m[2];
+        if (key.rfind("drop=", 0) == 0) {
+            k.drop = key.substr(5);
+        } else {
+            for (const auto& [name, code] : names)
+                if (key == name) k.key = code;
+            if (k.key == GLFW_KEY_UNKNOWN)
+                throw geometry::InputError("--keys: unknown key '" + key +
+                                           "' (F1 F12 P R C O L V Tab Esc W A S D Q E, drop=PATH)");
+        }
+        keys.push_back(std::move(k));
+    }
+    return keys;
+}
+
+bool heldKey(int key) {
+    return key == GLFW_KEY_W || key == GLFW_KEY_A || key == GLFW_KEY_S || key == GLFW_KEY_D ||
+           key == GLFW_KEY_Q || key == GLFW_KEY_E;
+}
+
+class App {
+public:
+    explicit App(const Options& opt) : mOpt(opt) {
+        // Everything about the input is checked before a window opens.
+        const gpu::MethodInfo& method = gpu::findMethod(opt.method);
+        std::vector<gpu::ParameterValue> given;
+        for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
+        gpu::resolveParameters(method, given);
+        std::tie(mWidth, mHeight) = parseSize(opt.size);
+        if (opt.samples < 1 || opt.samples > 65536)
+            throw geometry::InputError("--samples must be between 1 and 65536");
+        if (opt.frames < 0 || opt.frames > 1000000)
+            throw geometry::InputError("--frames must be between 0 and 1000000");
+        if (opt.legFrames < 1) throw geometry::InputError("--leg-frames must be at least 1");
+        if (!opt.screenshot.empty() && opt.frames == 0)
+            throw geometry::InputError("--screenshot needs --frames N (the frame to capture)");
+        if ((!opt.report.empty() || !opt.visibility.empty()) && opt.frames == 0)
+            throw geometry::InputError("--report and --visibility need --frames N");
+        for (const std::string& out : {opt.screenshot, opt.report, opt.visibility}) {
+            if (out.empty()) continue;
+            const fs::path p(out);
+            if (fs::is_directory(p)) throw geometry::InputError(out + ": is a directory");
+            const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+            if (!fs::is_directory(dir))
+                throw geometry::InputError(out + ": folder " + dir.string() + " does not exist");
+        }
+        if (opt.file.empty() == opt.scenePath.empty())
+            throw geometry::InputError(
+                "give one scene: a .glb/.gltf file, or --scene FILE.json");
+        mKeys = parseKeys(opt.keys);
+        if (!mKeys.empty() && opt.frames == 0)
+            throw geometry::InputError("--keys needs --frames N");
+        mSettings.debugView = gpu::findDebugView(opt.debugView).view;
+        mSettings.method = std::string(method.name);
+        mSettings.parameters = given;
+        mSettings.samples = opt.samples;
+        mSettings.waitForGpu = false;
+        mAnimateLight = opt.animateLight;
+        mShowPanel = !opt.hideUi;
+        mShowOverlay = !opt.hideUi;
+
+        mScene = std::make_unique<geometry::Scene>(
+            geometry::loadScene(opt.file.empty() ? opt.scenePath : opt.file));
+        mViews = sceneViews(*mScene);
+        if (opt.camera < 0 || opt.camera >= static_cast<int>(mViews.size()))
+            throw geometry::InputError("--camera " + std::to_string(opt.camera) + ": " +
+                                       (opt.file.empty() ? opt.scenePath : opt.file) + " has " +
+                                       std::to_string(mViews.size()) + " view(s), 0.." +
+                                       std::to_string(mViews.size() - 1));
+        mViewIndex = opt.camera;
+    }
+
+    ~App() {
+        if (mImGui) {
+            ImGui_ImplOpenGL3_Shutdown();
+            ImGui_ImplGlfw_Shutdown();
+            ImGui::DestroyContext();
+        }
+        mRenderer.reset(); // GL objects go before the context
+        mShaders.reset();
+    }
+
+    int run();
+
+private:
+    void openWindow();
+    void resetSceneState();
+    void loadDropped(const std::string& path);
+    void handleInput(float seconds);
+    geometry::Camera currentCamera() const;
+    void renderScene();
+    void drawPanel();
+    void drawOverlay();
+    void screenshot(const fs::path& path);
+    void reloadShaders();
+
+    static App& self(GLFWwindow* w) { return *static_cast<App*>(glfwGetWindowUserPointer(w)); }
+    static void onKey(GLFWwindow* w, int key, int, int action, int mods);
+    static void onScroll(GLFWwindow* w, double, double dy);
+    static void onDrop(GLFWwindow* w, int count, const char** paths);
+
+    Options mOpt;
+    int mWidth = 960, mHeight = 540;
+    std::unique_ptr<geometry::Scene> mScene;
+    std::vector<View> mViews;
+    int mViewIndex = 0;
+
+    std::unique_ptr<gpu::GlfwContext> mContext;
+    std::string mRendererName;
+    std::unique_ptr<gpu::ShaderLoader> mShaders;
+    std::unique_ptr<gpu::Renderer> mRenderer;
+    bool mImGui = false;
+
+    gpu::RenderSettings mSettings;
+    gpu::FrameStats mStats;
+    std::vector<gpu::PassTime> mShownGpu; // the newest completed GPU times
+    double mShownGpuFrameMs = 0.0;
+    int mShownGpuLag = -1;
+
+    FlyCamera mFly;
+    OrbitCamera mOrbit;
+    bool mOrbitMode = false;
+    LightRig mRig, mSceneRig;
+    bool mLightEdited = false;
+    bool mAnimateLight = false;
+    float mLightTime = 0.0f;
+    std::optional<geometry::RectLight> mLastGoodLight;
+
+    bool mShowPanel = true, mShowOverlay = true;
+    std::string mRenderError;  // the last frame's refusal (input), shown until a frame succeeds
+    std::string mShaderError;  // the last failed reload
+    std::string mStatus;       // last action (screenshot written, scene loaded, ...)
+    std::string mPendingDrop;
+    bool mScreenshotRequested = false;
+    bool mReloadRequested = false;
+
+    std::vector<ScriptedKey> mKeys;
+    std::vector<int> mHeld; // scripted keys held this frame
+    void setStatus(std::string text) {
+        if (mOpt.frames > 0 && text != mStatus) std::printf("  frame %d: %s\n", mFrame, text.c_str());
+        mStatus = std::move(text);
+    }
+    std::deque<double> mLoopMs; // wall clock per loop iteration, the last 120
+    std::vector<double> mAllLoopMs, mAllGpuMs; // automation report
+    double mLastMouseX = 0.0, mLastMouseY = 0.0;
+    int mFrame = 0;
+};
+
+void App::openWindow() {
+    // GLFW reports a missing display only from glfwInit; say plainly what is needed instead.
+    const char* display = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if ((!display || !*display) && (!wayland || !*wayland))
+        throw gpu::ContextError(
+            "no display: DISPLAY and WAYLAND_DISPLAY are unset. The viewer needs a window; "
+            "run it under Xvfb for scripted captures (xvfb-run -a penumbra-viewer ...), or use "
+            "penumbra-render for headless images");
+    mContext = std::make_unique<gpu::GlfwContext>(
+        gpu::GlfwContextDesc{.width = mWidth, .height = mHeight, .title = "penumbra-viewer"});
+    mRendererName = mContext->info().renderer;
+    GLFWwindow* w = mContext->window();
+    glfwSetWindowUserPointer(w, this);
+    // Ours first: ImGui chains to callbacks installed before it.
+    glfwSetKeyCallback(w, onKey);
+    glfwSetScrollCallback(w, onScroll);
+    glfwSetDropCallback(w, onDrop);
+    glfwSwapInterval(mOpt.frames > 0 ? 0 : 1);
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working directory
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(w, true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+    mImGui = true;
+}
+
+void App::resetSceneState() {
+    mViews = sceneViews(*mScene);
+    mViewIndex = std::clamp(mViewIndex, 0, static_cast<int>(mViews.size()) - 1);
+    mFly = FlyCamera::fromCamera(mViews[static_cast<std::size_t>(mViewIndex)].camera);
+    const geometry::Aabb b = mScene->bounds();
+    const float diagonal = b.empty() ? 1.0f : glm::length(b.extent());
+    mFly.speed = std::max(0.05f * diagonal, 0.1f); // crosses the scene in ~20 s
+    mOrbit = OrbitCamera::around(mFly, 0.15f * diagonal);
+    mSceneRig = mRig = LightRig::fromLight(mScene->light);
+    mLightEdited = false;
+    mLastGoodLight.reset();
+    mRenderError.clear();
+}
+
+void App::loadDropped(const std::string& path) {
+    try {
+        auto scene = std::make_unique<geometry::Scene>(geometry::loadScene(path));
+        auto renderer = std::make_unique<gpu::Renderer>(*scene, *mShaders);
+        mRenderer = std::move(renderer); // the old renderer refers to the old scene: it goes first
+        mScene = std::move(scene);
+        mViewIndex = 0;
+        resetSceneState();
+        setStatus("loaded " + path);
+    } catch (const std::exception& e) {
+        setStatus(std::string("could not load ") + path + ": " + e.what());
+    }
+}
+
+geometry::Camera App::currentCamera() const { return mOrbitMode ? mOrbit.camera() : mFly.camera(); }
+
+void App::onKey(GLFWwindow* w, int key, int, int action, int mods) {
+    App& app = self(w);
+    if (action != GLFW_PRESS) return;
+    if (key == GLFW_KEY_ESCAPE) {
+        glfwSetWindowShouldClose(w, GLFW_TRUE);
+        return;
+    }
+    if (app.mImGui && ImGui::GetIO().WantCaptureKeyboard) return; // typing into the panel
+    switch (key) {
+    case GLFW_KEY_F1: app.mShowOverlay = !app.mShowOverlay; break;
+    case GLFW_KEY_TAB: app.mShowPanel = !app.mShowPanel; break;
+    case GLFW_KEY_F12:
+    case GLFW_KEY_P: app.mScreenshotRequested = true; break;
+    case GLFW_KEY_R: app.mReloadRequested = true; break;
+    case GLFW_KEY_O:
+        app.mOrbitMode = !app.mOrbitMode;
+        if (app.mOrbitMode) {
+            app.mOrbit = OrbitCamera::around(app.mFly, app.mOrbit.distance);
+        } else {
+            app.mFly = FlyCamera::fromCamera(app.mOrbit.camera());
+            app.mFly.speed = std::max(app.mFly.speed, 0.1f);
+        }
+        break;
+    case GLFW_KEY_L: app.mAnimateLight = !app.mAnimateLight; break;
+    case GLFW_KEY_V: { // next (Shift: previous) debug view
+        const auto views = gpu::debugViews();
+        const int n = static_cast<int>(views.size());
+        int i = 0;
+        while (i < n && views[static_cast<std::size_t>(i)].view != app.mSettings.debugView) ++i;
+        i = (i + ((mods & GLFW_MOD_SHIFT) ? n - 1 : 1)) % n;
+        app.mSettings.debugView = views[static_cast<std::size_t>(i)].view;
+        break;
+    }
+    case GLFW_KEY_C: {
+        const int n = static_cast<int>(app.mViews.size());
+        app.mViewIndex = (app.mViewIndex + ((mods & GLFW_MOD_SHIFT) ? n - 1 : 1)) % n;
+        const float speed = app.mFly.speed;
+        app.mFly = FlyCamera::fromCamera(app.mViews[static_cast<std::size_t>(app.mViewIndex)].camera);
+        app.mFly.speed = speed;
+        app.mOrbitMode = false;
+        break;
+    }
+    default: break;
+    }
+}
+
+void App::onScroll(GLFWwindow* w, double, double dy) {
+    App& app = self(w);
+    if (app.mImGui && ImGui::GetIO().WantCaptureMouse) return;
+    const float factor = std::pow(1.2f, static_cast<float>(dy));
+    if (app.mOrbitMode)
+        app.mOrbit.zoom(1.0f / factor);
+    else
+        app.mFly.speed = std::clamp(app.mFly.speed * factor, 1e-3f, 1e4f);
+}
+
+void App::onDrop(GLFWwindow* w, int count, const char** paths) {
+    if (count > 0) self(w).mPendingDrop = paths[0];
+}
+
+void App::handleInput(float seconds) {
+    GLFWwindow* w = mContext->window();
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(w, &x, &y);
+    const float dx = static_cast<float>(x - mLastMouseX), dy = static_cast<float>(y - mLastMouseY);
+    mLastMouseX = x;
+    mLastMouseY = y;
+    const ImGuiIO& io = ImGui::GetIO();
+    const float radiansPerPixel = 0.004f;
+    if (!io.WantCaptureMouse) {
+        if (mOrbitMode && (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||
+                           glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS))
+            mOrbit.rotate(-dx * radiansPerPixel, dy * radiansPerPixel);
+        else if (!mOrbitMode && glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS)
+            mFly.look(-dx * radiansPerPixel, -dy * radiansPerPixel);
+    }
+    if (io.WantCaptureKeyboard || mOrbitMode) return;
+    auto down = [&](int key) {
+        return glfwGetKey(w, key) == GLFW_PRESS ||
+                       std::find(mHeld.begin(), mHeld.end(), key) != mHeld.end()
+                   ? 1.0f
+                   : 0.0f;
+    };
+    const glm::vec3 local(down(GLFW_KEY_D) - down(GLFW_KEY_A), down(GLFW_KEY_E) - down(GLFW_KEY_Q),
+                          down(GLFW_KEY_W) - down(GLFW_KEY_S));
+    const float boost = (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS) ? 4.0f : 1.0f;
+    if (local != glm::vec3(0.0f)) mFly.move(local, seconds * boost);
+}
+
+void App::renderScene() {
+    glfwGetFramebufferSize(mContext->window(), &mSettings.width, &mSettings.height);
+    mSettings.width = std::max(mSettings.width, 1);
+    mSettings.height = std::max(mSettings.height, 1);
+    mSettings.camera = currentCamera();
+    std::optional<geometry::RectLight> light;
+    if (mAnimateLight)
+        light = mRig.animated(mLightTime, std::max(mRig.halfU, mRig.halfV));
+    else if (mLightEdited)
+        light = mRig.light();
+    mSettings.light = light;
+    try {
+        mStats = mRenderer->renderFrame(mSettings);
+        if (light) mLastGoodLight = light;
+        mRenderError.clear();
+    } catch (const geometry::InputError& e) {
+        mRenderError = e.what();
+        // A light moved into geometry: keep showing the last light that was clear, say why.
+        const bool lightRefused = light && mRenderError.find("RenderSettings::light") != std::string::npos;
+        if (mOpt.frames > 0 && !lightRefused) throw; // scripted: no silent fallback
+        if (lightRefused) {
+            mSettings.light = mLastGoodLight;
+            mStats = mRenderer->renderFrame(mSettings);
+        }
+    }
+    if (mStats.gpuTimesLag >= 0) {
+        mShownGpu = mStats.gpu;
+        mShownGpuFrameMs = mStats.gpuFrameMs;
+        mShownGpuLag = mStats.gpuTimesLag;
+    }
+}
+
+void App::screenshot(const fs::path& path) {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(mContext->window(), &w, &h);
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * h * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    const std::size_t row = static_cast<std::size_t>(w) * 4;
+    for (int y = 0; y < h / 2; ++y)
+        std::swap_ranges(rgba.begin() + y * row, rgba.begin() + (y + 1) * row,
+                         rgba.begin() + (h - 1 - y) * row);
+    for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255; // the window is opaque
+    geometry::writePng(path, w, h, 4, rgba.data());
+    setStatus("wrote " + path.string());
+}
+
+void App::reloadShaders() {
+    // A new loader and renderer, tried on this frame's settings; on any error the running one
+    // (its programs known good) stays and the message is shown.
+    try {
+        auto shaders = std::make_unique<gpu::ShaderLoader>(gpu::defaultShaderDir());
+        auto renderer = std::make_unique<gpu::Renderer>(*mScene, *shaders);
+        renderer->renderFrame(mSettings);
+        mRenderer = std::move(renderer);
+        mShaders = std::move(shaders);
+        mShaderError.clear();
+        setStatus("shaders reloaded from " + gpu::defaultShaderDir().string());
+    } catch (const std::exception& e) {
+        mShaderError = e.what();
+        setStatus(std::string("shader reload failed, keeping the previous programs: ") + e.what());
+    }
+}
+
+void App::drawOverlay() {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.55f);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                                   ImGuiWindowFlags_NoInputs;
+    if (ImGui::Begin("##overlay", nullptr, flags)) {
+        const double ms = median({mLoopMs.begin(), mLoopMs.end()});
+        ImGui::Text("%s  %dx%d", mSettings.method.c_str(), mSettings.width, mSettings.height);
+        ImGui::Text("%.1f fps  frame %.1f ms  GPU %.1f ms", ms > 0 ? 1000.0 / ms : 0.0, ms,
+                    mShownGpuFrameMs);
+        ImGui::Text("%s%s", mOrbitMode ? "orbit" : "fly",
+                    mAnimateLight ? "  light animated" : "");
+        ImGui::TextUnformatted(mRendererName.c_str());
+        if (mSettings.debugView != gpu::DebugView::Shaded)
+            ImGui::Text("view %s: %s", std::string(gpu::debugViewInfo(mSettings.debugView).name).c_str(),
+                        mStats.debugNote.c_str());
+        if (!mRenderError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "render refused");
+    }
+    ImGui::End();
+}
+
+void App::drawPanel() {
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(vp->WorkSize.x - 8, 8), ImGuiCond_FirstUseEver, ImVec2(1, 0));
+    ImGui::SetNextWindowSize(ImVec2(std::min(340.0f, 0.45f * vp->WorkSize.x), vp->WorkSize.y - 16),
+                             ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (!ImGui::Begin("penumbra")) {
+        ImGui::End();
+        return;
+    }
+    const ImVec4 red(1.0f, 0.45f, 0.45f, 1.0f);
+    ImGui::TextWrapped("%s", mRendererName.c_str());
+    if (!mStatus.empty()) ImGui::TextWrapped("%s", mStatus.c_str());
+    if (!mRenderError.empty()) ImGui::TextColored(red, "%s", mRenderError.c_str());
+    if (!mShaderError.empty()) {
+        ImGui::TextColored(red, "shader reload failed (R to retry):");
+        ImGui::TextWrapped("%s", mShaderError.c_str());
+    }
+
+    // Method and its parameters.
+    if (ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (ImGui::BeginCombo("method", mSettings.method.c_str())) {
+            for (const gpu::MethodInfo& m : gpu::methodTable()) {
+                if (!m.implemented()) continue;
+                const bool selected = m.name == mSettings.method;
+                if (ImGui::Selectable(std::string(m.name).c_str(), selected)) {
+                    mSettings.method = std::string(m.name);
+                    mSettings.parameters.clear();
+                }
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(m.summary).c_str());
+            }
+            ImGui::EndCombo();
+        }
+        const gpu::MethodInfo& info = gpu::findMethod(mSettings.method);
+        const auto resolved = gpu::resolveParameters(info, mSettings.parameters);
+        for (const gpu::MethodParameter& p : info.parameters) {
+            const std::string current(gpu::parameterValue(resolved, p.name));
+            const std::string label(p.name);
+            if (ImGui::BeginCombo(label.c_str(), current.c_str())) {
+                for (std::string_view v : p.values) {
+                    if (ImGui::Selectable(std::string(v).c_str(), v == current)) {
+                        auto it = std::find_if(mSettings.parameters.begin(), mSettings.parameters.end(),
+                                               [&](const auto& pv) { return pv.name == p.name; });
+                        if (it == mSettings.parameters.end())
+                            mSettings.parameters.push_back({label, std::string(v)});
+                        else
+                            it->value = std::string(v);
+                    }
+                }
+                ImGui::EndCombo();
+            }
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(p.help).c_str());
+        }
+        if (info.usesSamples) ImGui::SliderInt("samples", &mSettings.samples, 1, 1024);
+    }
+
+    if (ImGui::CollapsingHeader("Debug view", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const gpu::DebugViewInfo& current = gpu::debugViewInfo(mSettings.debugView);
+        if (ImGui::BeginCombo("view", std::string(current.name).c_str())) {
+            for (const gpu::DebugViewInfo& v : gpu::debugViews()) {
+                if (ImGui::Selectable(std::string(v.name).c_str(), v.view == mSettings.debugView))
+                    mSettings.debugView = v.view;
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(v.help).c_str());
+            }
+            ImGui::EndCombo();
+        }
+        if (mSettings.debugView == gpu::DebugView::GroupParts)
+            ImGui::InputInt("group", &mSettings.debugGroup);
+        if (mSettings.debugView == gpu::DebugView::ErrorHeatMap) {
+            ImGui::SliderInt("reference samples", &mSettings.samples, 16, 4096, "%d",
+                             ImGuiSliderFlags_Logarithmic);
+            ImGui::SliderInt("samples per frame", &mSettings.referenceSamplesPerFrame, 1, 64);
+            ImGui::SliderFloat("error scale", &mSettings.errorScale, 0.01f, 1.0f, "%.2f");
+        }
+        if (!mStats.debugNote.empty()) ImGui::TextWrapped("%s", mStats.debugNote.c_str());
+    }
+
+    if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const std::string& name = mViews[static_cast<std::size_t>(mViewIndex)].name;
+        if (ImGui::BeginCombo("view (C)", name.c_str())) {
+            for (std::size_t i = 0; i < mViews.size(); ++i)
+                if (ImGui::Selectable(mViews[i].name.c_str(), static_cast<int>(i) == mViewIndex)) {
+                    mViewIndex = static_cast<int>(i);
+                    const float speed = mFly.speed;
+                    mFly = FlyCamera::fromCamera(mViews[i].camera);
+                    mFly.speed = speed;
+                    mOrbitMode = false;
+                }
+            ImGui::EndCombo();
+        }
+        bool orbit = mOrbitMode;
+        if (ImGui::Checkbox("orbit (O)", &orbit) && orbit != mOrbitMode) {
+            mOrbitMode = orbit;
+            if (orbit) mOrbit = OrbitCamera::around(mFly, mOrbit.distance);
+            else {
+                const float speed = mFly.speed;
+                mFly = FlyCamera::fromCamera(mOrbit.camera());
+                mFly.speed = speed;
+            }
+        }
+        ImGui::SliderFloat("speed m/s", &mFly.speed, 0.01f, 100.0f, "%.2f",
+                           ImGuiSliderFlags_Logarithmic);
+        const geometry::Camera c = currentCamera();
+        ImGui::Text("eye %.2f %.2f %.2f", c.eye.x, c.eye.y, c.eye.z);
+    }
+
+    if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) {
+        bool changed = false;
+        changed |= ImGui::DragFloat3("centre", &mRig.center.x, 0.01f * std::max(mFly.speed, 0.1f));
+        changed |= ImGui::DragFloat("half-width u", &mRig.halfU, 0.005f, 1e-4f, 100.0f, "%.3f",
+                                    ImGuiSliderFlags_Logarithmic);
+        changed |= ImGui::DragFloat("half-width v", &mRig.halfV, 0.005f, 1e-4f, 100.0f, "%.3f",
+                                    ImGuiSliderFlags_Logarithmic);
+        changed |= ImGui::SliderFloat("yaw", &mRig.yawDeg, -180.0f, 180.0f, "%.1f deg");
+        changed |= ImGui::SliderFloat("pitch", &mRig.pitchDeg, -89.0f, 89.0f, "%.1f deg");
+        changed |= ImGui::SliderFloat("roll", &mRig.rollDeg, -180.0f, 180.0f, "%.1f deg");
+        if (changed) mLightEdited = true;
+        ImGui::Checkbox("animate (L)", &mAnimateLight);
+        ImGui::SameLine();
+        if (ImGui::Button("scene light")) {
+            mRig = mSceneRig;
+            mLightEdited = false;
+        }
+        const geometry::RectLight l = mSettings.light ? *mSettings.light : mScene->light;
+        ImGui::Text("area %.4f m^2", 4.0f * glm::length(glm::cross(l.u, l.v)));
+    }
+
+    if (ImGui::CollapsingHeader("Frame", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const double ms = median({mLoopMs.begin(), mLoopMs.end()});
+        ImGui::Text("%.1f fps, %.2f ms per frame (median of %zu)", ms > 0 ? 1000.0 / ms : 0.0, ms,
+                    mLoopMs.size());
+        ImGui::Text("renderer CPU (submit) %.2f ms", mStats.frameMs);
+        if (mShownGpuLag >= 0)
+            ImGui::Text("GPU frame %.2f ms (%d frame%s ago)", mShownGpuFrameMs, mShownGpuLag,
+                        mShownGpuLag == 1 ? "" : "s");
+        if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
+            for (const auto& p : mShownGpu) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::Text("GPU %s", p.name.c_str());
+                ImGui::TableNextColumn();
+                ImGui::Text("%.2f ms", p.ms);
+            }
+            for (const auto& c : mStats.cpu) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::Text("CPU %s", c.name.c_str());
+                ImGui::TableNextColumn();
+                ImGui::Text("%.2f ms", c.ms);
+            }
+            ImGui::EndTable();
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Counts", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::Text("triangles %zu", mStats.triangles);
+        ImGui::Text("silhouette groups %zu, edges %zu", mStats.silhouetteGroups,
+                    mStats.silhouetteEdges);
+        ImGui::Text("shadow-volume triangles %zu", mStats.volumeTriangles);
+        for (const auto& c : mStats.counters) ImGui::Text("%s %.0f", c.name.c_str(), c.value);
+        for (const auto& choice : mStats.objectChoices)
+            ImGui::TextWrapped("object %zu: %s (%s)", choice.object, choice.path.c_str(),
+                               choice.reason.c_str());
+    }
+    ImGui::TextDisabled("WASD QE fly, right mouse look, wheel speed, O orbit, C next view,");
+    ImGui::TextDisabled("L light animation, V debug view, F1 overlay, Tab panel, F12/P screenshot,");
+    ImGui::TextDisabled("R reload shaders, Esc quit; drop a .glb to open it");
+    ImGui::End();
+}
+
+int App::run() {
+    openWindow();
+    mShaders = std::make_unique<gpu::ShaderLoader>(gpu::defaultShaderDir());
+    mRenderer = std::make_unique<gpu::Renderer>(*mScene, *mShaders);
+    resetSceneState();
+    if (mOpt.frames > 0)
+        std::printf("penumbra-viewer: %s, %s, %dx%d, view '%s'\n  renderer: %s\n  CPU: %s\n",
+                    (mOpt.file.empty() ? mOpt.scenePath : mOpt.file).c_str(),
+                    mSettings.method.c_str(), mWidth, mHeight,
+                    mViews[static_cast<std::size_t>(mViewIndex)].name.c_str(),
+                    mRendererName.c_str(), cpuName().c_str());
+    std::fflush(stdout); // scripts watch for this line
+
+    GLFWwindow* window = mContext->window();
+    auto last = std::chrono::steady_clock::now();
+    glfwGetCursorPos(window, &mLastMouseX, &mLastMouseY);
+    while (!glfwWindowShouldClose(window)) {
+        const auto now = std::chrono::steady_clock::now();
+        const double loopMs = std::chrono::duration<double, std::milli>(now - last).count();
+        last = now;
+        if (mFrame > 0) {
+            mLoopMs.push_back(loopMs);
+            if (mLoopMs.size() > 120) mLoopMs.pop_front();
+            mAllLoopMs.push_back(loopMs);
+        }
+        // Scripted runs step time by a fixed 1/30 s so that captures repeat exactly.
+        const float seconds =
+            mOpt.frames > 0 ? 1.0f / 30.0f : static_cast<float>(std::min(loopMs, 100.0) * 1e-3);
+
+        glfwPollEvents();
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        mHeld.clear();
+        for (const ScriptedKey& k : mKeys) {
+            if (k.frame != mFrame) continue;
+            if (!k.drop.empty())
+                mPendingDrop = k.drop;
+            else if (heldKey(k.key))
+                mHeld.push_back(k.key);
+            else
+                onKey(window, k.key, 0, GLFW_PRESS, 0);
+        }
+        if (!mPendingDrop.empty()) {
+            loadDropped(mPendingDrop);
+            mPendingDrop.clear();
+        }
+        handleInput(seconds);
+        if (mOpt.flyThrough) {
+            std::vector<geometry::Camera> tour; // the views of the scene shown now (drops change it)
+            for (const View& v : mViews) tour.push_back(v.camera);
+            mFly = FlyCamera::fromCamera(flyThrough(tour, mFrame, mOpt.legFrames));
+            mOrbitMode = false;
+        }
+        if (mAnimateLight) mLightTime += seconds;
+
+        if (mReloadRequested) {
+            mReloadRequested = false;
+            reloadShaders();
+        }
+        renderScene();
+
+        int fbw = 0, fbh = 0;
+        glfwGetFramebufferSize(window, &fbw, &fbh);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, fbw, fbh);
+        glClearColor(0.05f, 0.05f, 0.06f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        mRenderer->blitImage(0, 0, fbw, fbh);
+        if (mShowOverlay) drawOverlay();
+        if (mShowPanel) drawPanel();
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        gpu::checkGl("viewer frame");
+        if (mShownGpuLag >= 0 && mStats.gpuTimesLag >= 0) mAllGpuMs.push_back(mShownGpuFrameMs);
+
+        const bool lastFrame = mOpt.frames > 0 && mFrame + 1 >= mOpt.frames;
+        if (lastFrame && !mOpt.screenshot.empty()) screenshot(mOpt.screenshot);
+        if (lastFrame && !mOpt.visibility.empty())
+            geometry::writePfm(mOpt.visibility, mRenderer->visibility());
+        if (mScreenshotRequested) {
+            mScreenshotRequested = false;
+            screenshot(timestampedName());
+        }
+        mContext->swapBuffers();
+        char title[256];
+        std::snprintf(title, sizeof title, "penumbra-viewer — %s — %.1f fps", mSettings.method.c_str(),
+                      mLoopMs.empty() ? 0.0 : 1000.0 / median({mLoopMs.begin(), mLoopMs.end()}));
+        glfwSetWindowTitle(window, title);
+        ++mFrame;
+        if (lastFrame) break;
+    }
+
+    if (mOpt.frames > 0 && mFrame < mOpt.frames)
+        std::printf("  quit (Esc) at frame %d of %d%s\n", mFrame, mOpt.frames,
+                    mOpt.screenshot.empty() ? "" : ": no screenshot written");
+    if (mOpt.frames > 0) {
+        glFinish();
+        const double ms = median(mAllLoopMs);
+        const double gpuMs = median(mAllGpuMs);
+        std::printf("  %d frames: median frame %.2f ms (%.1f fps), GPU frame %.2f ms\n", mFrame, ms,
+                    ms > 0 ? 1000.0 / ms : 0.0, gpuMs);
+        if (!mOpt.screenshot.empty()) std::printf("  wrote %s\n", mOpt.screenshot.c_str());
+        if (!mOpt.report.empty()) {
+            nlohmann::json r;
+            r["scene"] = mOpt.file.empty() ? mOpt.scenePath : mOpt.file;
+            r["method"] = mSettings.method;
+            r["size"] = {mWidth, mHeight};
+            r["view"] = mViews[static_cast<std::size_t>(mOpt.camera)].name;
+            r["fly_through"] = mOpt.flyThrough;
+            r["animate_light"] = mOpt.animateLight;
+            r["frames"] = mFrame;
+            r["frame_ms_median"] = ms;
+            r["fps"] = ms > 0 ? 1000.0 / ms : 0.0;
+            r["gpu_frame_ms_median"] = gpuMs;
+            r["triangles"] = mStats.triangles;
+            r["gl_renderer"] = mRendererName;
+            r["cpu"] = cpuName();
+            std::ofstream(mOpt.report) << r.dump(2) << "\n";
+        }
+    }
+    return 0;
+}
+
+} // namespace
+
+int run(const Options& options) {
+    App app(options);
+    return app.run();
+}
+
+} // namespace viewer

@@ -1,0 +1,315 @@
+// penumbra-viewer end to end, in a real window under Xvfb (GLX on llvmpipe): it opens a level at
+// its first glTF camera, renders frames with every registered method and writes a screenshot
+// that shows lit and shadowed surfaces; without a display it exits 2 with a clear message.
+// Xvfb is a dependency like any other: with CI set, a missing Xvfb fails these tests.
+#include <geometry/ImageIO.h>
+
+#include <gpu/Methods.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kViewer = std::string(PENUMBRA_BIN_DIR) + "/penumbra-viewer";
+const std::string kLevel = std::string(PENUMBRA_SHARED_DIR) + "/levels/oa_dm4.glb";
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output;
+};
+
+RunResult runCommand(const std::string& command, const fs::path& log) {
+    const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
+    RunResult r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.output = ss.str();
+    return r;
+}
+
+// One Xvfb server for the suite, on a display number it picks itself (-displayfd).
+class Xvfb {
+public:
+    bool start(std::string& why) {
+        int fds[2];
+        if (pipe(fds) != 0) {
+            why = "pipe failed";
+            return false;
+        }
+        mPid = fork();
+        if (mPid == 0) {
+            close(fds[0]);
+            const std::string fd = std::to_string(fds[1]);
+            execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1280x1024x24",
+                   "-nolisten", "tcp", static_cast<char*>(nullptr));
+            _exit(127);
+        }
+        close(fds[1]);
+        std::string number;
+        pollfd p{fds[0], POLLIN, 0};
+        char c = 0;
+        while (poll(&p, 1, 20000) > 0 && read(fds[0], &c, 1) == 1 && c != '\n') number += c;
+        close(fds[0]);
+        if (number.empty()) {
+            why = "Xvfb did not start (is the Debian package xvfb installed?)";
+            stop();
+            return false;
+        }
+        mDisplay = ":" + number;
+        return true;
+    }
+    void stop() {
+        if (mPid > 0) {
+            kill(mPid, SIGTERM);
+            waitpid(mPid, nullptr, 0);
+            mPid = -1;
+        }
+    }
+    const std::string& display() const { return mDisplay; }
+
+private:
+    pid_t mPid = -1;
+    std::string mDisplay;
+};
+
+class Viewer : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        sServer = new Xvfb;
+        if (!sServer->start(sWhy)) {
+            delete sServer;
+            sServer = nullptr;
+        }
+    }
+    static void TearDownTestSuite() {
+        if (sServer) sServer->stop();
+        delete sServer;
+        sServer = nullptr;
+    }
+    void SetUp() override {
+        mDir = fs::temp_directory_path() / ("penumbra-viewer-" + std::to_string(std::random_device{}()));
+        fs::create_directories(mDir);
+    }
+    // The viewer writes its F12/P screenshots into the working directory: run it in mDir.
+    RunResult viewerIn(const std::string& args) {
+        return runCommand("cd '" + mDir.string() + "' && DISPLAY=" + sServer->display() + " '" +
+                              kViewer + "' " + args,
+                          mDir / "log.txt");
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+
+    void requireDisplay() {
+        if (sServer) return;
+        if (std::getenv("CI")) FAIL() << sWhy;
+        GTEST_SKIP() << sWhy;
+    }
+    RunResult viewer(const std::string& args) {
+        return runCommand("DISPLAY=" + sServer->display() + " '" + kViewer + "' " + args,
+                          mDir / "log.txt");
+    }
+
+    static Xvfb* sServer;
+    static std::string sWhy;
+    fs::path mDir;
+};
+
+Xvfb* Viewer::sServer = nullptr;
+std::string Viewer::sWhy;
+
+TEST_F(Viewer, EveryMethodRendersALevelFromItsSpawnCamera) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    for (const gpu::MethodInfo& m : gpu::methodTable()) {
+        if (!m.implemented()) continue;
+        const std::string name(m.name);
+        SCOPED_TRACE(name);
+        const fs::path shot = mDir / (name + ".png"), vis = mDir / (name + ".pfm"),
+                       report = mDir / (name + ".json");
+        const RunResult r = viewer("'" + kLevel + "' --method " + name +
+                                   " --size 160x96 --frames 3 --samples 16 --hide-ui"
+                                   " --screenshot '" + shot.string() + "' --visibility '" +
+                                   vis.string() + "' --report '" + report.string() + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        // It opened at the first spawn point.
+        EXPECT_NE(r.output.find("view 'spawn"), std::string::npos) << r.output;
+        const geometry::Rgba8Image img = geometry::readPng(shot);
+        ASSERT_EQ(img.width, 160);
+        ASSERT_EQ(img.height, 96);
+        const geometry::FloatImage v = geometry::readPfm(vis);
+        ASSERT_EQ(v.width, 160);
+        // Lit and shadowed surfaces, and the screenshot shows them: shadowed pixels are darker.
+        double litLum = 0.0, darkLum = 0.0;
+        int lit = 0, dark = 0, bad = 0;
+        for (int i = 0; i < 160 * 96; ++i) {
+            const float x = v.data[static_cast<std::size_t>(i)];
+            if (std::isnan(x)) continue;
+            if (!(x >= 0.0f && x <= 1.0f)) ++bad;
+            const double lum = img.rgba[4 * i] + img.rgba[4 * i + 1] + img.rgba[4 * i + 2];
+            if (x > 0.95f) {
+                ++lit;
+                litLum += lum;
+            } else if (x < 0.05f) {
+                ++dark;
+                darkLum += lum;
+            }
+        }
+        EXPECT_EQ(bad, 0) << "V outside [0, 1]";
+        EXPECT_GT(lit, 160 * 96 / 50) << "fewer than 2% lit pixels";
+        EXPECT_GT(dark, 160 * 96 / 50) << "fewer than 2% shadowed pixels";
+        // Shadowed pixels show ambient light only; lit ones add n.l (grazing on this view's floor,
+        // so the margin is modest): lit pixels are brighter on average and nearly all brighter
+        // than the shadowed mean.
+        if (lit > 0 && dark > 0) {
+            const double darkMean = darkLum / dark;
+            EXPECT_GT(litLum / lit, 1.2 * darkMean) << "shadows do not show in the screenshot";
+            int brighter = 0;
+            for (int i = 0; i < 160 * 96; ++i) {
+                const float x = v.data[static_cast<std::size_t>(i)];
+                if (!std::isnan(x) && x > 0.95f)
+                    brighter += img.rgba[4 * i] + img.rgba[4 * i + 1] + img.rgba[4 * i + 2] > darkMean;
+            }
+            EXPECT_GT(brighter, lit * 9 / 10) << "lit pixels as dark as shadowed ones";
+        }
+        std::ifstream in(report);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        EXPECT_EQ(j["method"], name);
+        EXPECT_EQ(j["frames"], 3);
+        EXPECT_GT(j["frame_ms_median"].get<double>(), 0.0);
+    }
+}
+
+TEST_F(Viewer, FlyThroughAndLightAnimationRun) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    const fs::path shot = mDir / "tour.png";
+    const RunResult r = viewer("'" + kLevel + "' --method wedges-blend --size 128x80 --frames 12"
+                               " --fly-through --leg-frames 4 --animate-light --screenshot '" +
+                               shot.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(shot));
+}
+
+TEST_F(Viewer, ScriptedKeysDriveTheApp) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    const fs::path shot = mDir / "keys.png";
+    const std::string scene = std::string(PENUMBRA_SOURCE_DIR) + "/data/plates-three.json";
+    // C next view, O orbit, L light animation, W forward, P screenshot, F1/Tab hide the UI,
+    // R reload shaders, then a scene dropped on the window.
+    const RunResult r = viewerIn("'" + kLevel + "' --method hard --size 128x80 --frames 12 --keys "
+                               "2:C,3:O,4:L,5:W,6:P,7:F1,8:Tab,9:R,10:drop='" + scene +
+                               "' --screenshot '" + shot.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("frame 6: wrote penumbra-"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("frame 9: shaders reloaded"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("frame 10: loaded " + scene), std::string::npos) << r.output;
+    int timestamped = 0;
+    for (const auto& e : fs::directory_iterator(mDir))
+        timestamped += e.path().filename().string().rfind("penumbra-", 0) == 0;
+    EXPECT_EQ(timestamped, 1) << "P writes one timestamped PNG into the working directory";
+    // Esc ends a scripted run early and says so.
+    const RunResult esc = viewer("'" + kLevel + "' --method hard --size 64x64 --frames 50 --keys 3:Esc");
+    EXPECT_EQ(esc.exitCode, 0) << esc.output;
+    EXPECT_NE(esc.output.find("quit (Esc) at frame 4 of 50"), std::string::npos) << esc.output;
+    // A bad drop is reported and the level stays.
+    const RunResult bad = viewer("'" + kLevel + "' --method hard --size 64x64 --frames 4 --keys "
+                                 "1:drop=/no/such.glb");
+    EXPECT_EQ(bad.exitCode, 0) << bad.output;
+    EXPECT_NE(bad.output.find("could not load /no/such.glb"), std::string::npos) << bad.output;
+}
+
+TEST_F(Viewer, AFailedShaderReloadKeepsThePreviousPrograms) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    const fs::path shaders = mDir / "shaders";
+    fs::copy(std::string(PENUMBRA_SOURCE_DIR) + "/shaders", shaders, fs::copy_options::recursive);
+    const fs::path log = mDir / "reload.txt", shot = mDir / "reload.png";
+    // The viewer starts on good shaders; once it is rendering, the G-buffer shader is broken and
+    // R is pressed (scripted, well after the break); the frames after it must still render.
+    const std::string cmd = "DISPLAY=" + sServer->display() + " PENUMBRA_SHADER_DIR='" +
+                            shaders.string() + "' '" + kViewer + "' '" + kLevel +
+                            "' --method hard --size 64x64 --hide-ui --frames 700 --keys 600:R"
+                            " --screenshot '" + shot.string() + "' > '" + log.string() +
+                            "' 2>&1; echo $? >> '" + log.string() + "'";
+    FILE* proc = popen(("(" + cmd + ") &").c_str(), "r");
+    ASSERT_NE(proc, nullptr);
+    pclose(proc);
+    auto readLog = [&] {
+        std::ifstream in(log);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    };
+    for (int i = 0; i < 400 && readLog().find("renderer:") == std::string::npos; ++i) usleep(50000);
+    ASSERT_NE(readLog().find("renderer:"), std::string::npos) << readLog();
+    std::ofstream(shaders / "gbuffer.frag", std::ios::app) << "\nthis is not GLSL;\n";
+    std::string out;
+    for (int i = 0; i < 1200; ++i) { // up to 60 s
+        out = readLog();
+        if (out.find("wrote " + shot.string() + "\n") != std::string::npos &&
+            (out.back() == '\n' && out.rfind("\n0\n") != std::string::npos))
+            break;
+        usleep(50000);
+    }
+    EXPECT_NE(out.find("frame 600: shader reload failed, keeping the previous programs"),
+              std::string::npos) << out;
+    EXPECT_NE(out.find("gbuffer.frag:"), std::string::npos) << "names file:line: " << out;
+    EXPECT_NE(out.find("\n0\n"), std::string::npos) << "exit code 0 expected: " << out;
+    const geometry::Rgba8Image img = geometry::readPng(shot);
+    int nonBackground = 0;
+    for (std::size_t i = 0; i < img.rgba.size(); i += 4) nonBackground += img.rgba[i] > 20;
+    EXPECT_GT(nonBackground, 64 * 64 / 2) << "frames after the failed reload still render";
+}
+
+TEST(ViewerNoDisplay, ExitsTwoWithAClearMessage) {
+    const fs::path log = fs::temp_directory_path() / "penumbra-viewer-nodisplay.txt";
+    const RunResult r = runCommand("env -u DISPLAY -u WAYLAND_DISPLAY '" + kViewer + "' '" + kLevel +
+                                       "' --frames 1",
+                                   log);
+    fs::remove(log);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("Xvfb"), std::string::npos) << "says how to run it headless";
+}
+
+TEST(ViewerNoDisplay, BadInputIsRefusedBeforeAWindowOpens) {
+    const fs::path log = fs::temp_directory_path() / "penumbra-viewer-badinput.txt";
+    struct Case {
+        std::string args, needle;
+    } cases[] = {
+        {"'" + kLevel + "' --method nope", "nope"},
+        {"'" + kLevel + "' --size 10x10", "--size"},
+        {"'" + kLevel + "' --camera 99", "--camera 99"},
+        {"/no/such/file.glb", "not found"},
+        {"", "give one scene"},
+        {"'" + kLevel + "' --screenshot /tmp/x.png", "--frames"},
+        {"'" + kLevel + "' --frames 1 --screenshot /no/such/dir/x.png", "does not exist"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = runCommand("env -u DISPLAY -u WAYLAND_DISPLAY '" + kViewer + "' " + c.args, log);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    }
+    fs::remove(log);
+}
+
+} // namespace
