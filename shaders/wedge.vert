@@ -1,4 +1,5 @@
-// Wedge pass, vertex pulling: 24 vertices per wedge (gl_VertexID / 24 = the edge's index), in
+// Wedge pass, vertex pulling: 6 hull corners per wedge (gl_VertexID / 6 = the edge's index; an
+// index buffer makes the hull's 8 triangles of them: WedgePass), in
 // two draws (uPass) so that every pixel is processed once per wedge:
 // - WEDGE_PASS_ENTRY: bounded hulls with the camera outside: the 8 triangles of the hull,
 //   outward wound, w = 0 at infinity; the pass culls back faces, so a pixel whose eye ray meets
@@ -44,8 +45,24 @@ vec4 screenRect(vec3 lo, vec3 hi) {
 }
 
 void main() {
-    uint w = uint(gl_VertexID) / 24u;
-    int k = gl_VertexID % 24;
+    uint w = uint(gl_VertexID) / 6u;
+    int corner = gl_VertexID % 6; // 0 e0, 1 e1, 2..5 the rays g1..g4
+    // Most wedges draw nothing in a given pass (culled, or drawn by the other pass): decide from
+    // two words before reading the whole wedge (on a software rasteriser, vertex shading runs
+    // for all 24 vertices of every wedge of the set, twice, and dominated the frame).
+    uint kind = wedges[w].kind;
+    bool bounded = kind == WEDGE_BOUNDED;
+    bool inside = bounded && wedges[w].eyeInside != 0u;
+    bool drawn = uPass == WEDGE_PASS_ENTRY ? bounded && !inside
+                                           : inside || kind == WEDGE_FULLSCREEN;
+    if (!drawn) {
+        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+        vE0 = vec4(0.0);
+        vE1 = vec4(0.0);
+        for (int i = 0; i < 4; ++i) vPlanes[i] = vec4(0.0);
+        vBounded = 0u;
+        return;
+    }
     GpuWedge wedge = wedges[w];
     vE0 = wedge.e0;
     vE1 = wedge.e1;
@@ -54,17 +71,19 @@ void main() {
     bool entry = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside == 0u;
     bool exit = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside != 0u;
     if ((uPass == WEDGE_PASS_ENTRY && entry) || (uPass == WEDGE_PASS_EXIT && exit)) {
-        int corner = kWedgeHullIndex[k]; // 0 e0, 1 e1, 2..5 the rays g1..g4
         vec4 world = corner == 0   ? vec4(wedge.e0.xyz, 1.0)
                      : corner == 1 ? vec4(wedge.e1.xyz, 1.0)
                                    : vec4(wedge.rays[corner - 2].xyz, 0.0);
         gl_Position = frame.viewProj * world;
-    } else if (uPass == WEDGE_PASS_EXIT && wedge.kind == WEDGE_FULLSCREEN && k < 3) {
+    } else if (uPass == WEDGE_PASS_EXIT && wedge.kind == WEDGE_FULLSCREEN) {
         GpuGroup g = groups[wedge.group];
         vec4 r = screenRect(g.influenceMin.xyz, g.influenceMax.xyz);
         vec2 size = max(r.zw - r.xy, vec2(0.0));
-        // (x0, y0), (x0, y0 + 2h), (x0 + 2w, y0): clockwise, covers the rectangle.
-        vec2 p = r.xy + vec2(k == 2 ? 2.0 * size.x : 0.0, k == 1 ? 2.0 * size.y : 0.0);
+        // The hull's first triangle (corners 1, 0, 2) becomes (x0, y0), (x0, y0 + 2h),
+        // (x0 + 2w, y0): clockwise, covering the rectangle. Corners 3..5 sit on corner 2, so every
+        // other triangle is degenerate except (0, 1, 5), the same one counter-clockwise, which
+        // the exit pass culls as a front face.
+        vec2 p = r.xy + vec2(corner >= 2 ? 2.0 * size.x : 0.0, corner == 0 ? 2.0 * size.y : 0.0);
         gl_Position = vec4(p, 0.0, 1.0); // depth 0: infinitely far, behind every surface
     } else {
         gl_Position = vec4(0.0, 0.0, 0.0, 1.0);

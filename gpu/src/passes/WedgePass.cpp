@@ -4,6 +4,7 @@
 #include "VolumeStates.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <utility>
 
 namespace gpu {
@@ -28,6 +29,17 @@ void WedgePass::beginFrame(std::uint32_t edgeCount) {
         mWedgeCapacity = std::max(needed, 2 * mWedgeCapacity);
         mWedges = Buffer({.size = mWedgeCapacity * sizeof(shader::GpuWedge), .flags = 0,
                           .label = "wedges"});
+        // The hull's 8 triangles index its 6 corners (e0, e1, the rays g1..g4): vertex shading
+        // runs once per corner, and the post-transform cache of indexed draws reuses it.
+        static constexpr std::uint32_t kCorner[24] = {1, 0, 2, 1, 2, 3, 0, 1, 5, 0, 5, 4,
+                                                      0, 4, 2, 1, 3, 5, 2, 4, 5, 2, 5, 3};
+        std::vector<std::uint32_t> indices(24 * mWedgeCapacity);
+        for (std::size_t w = 0; w < mWedgeCapacity; ++w)
+            for (int k = 0; k < 24; ++k)
+                indices[24 * w + k] = static_cast<std::uint32_t>(6 * w) + kCorner[k];
+        mIndices = Buffer({.size = indices.size() * sizeof(std::uint32_t), .data = indices.data(),
+                           .flags = 0, .label = "wedge-indices"});
+        mVao.elementBuffer(mIndices);
     }
     const std::uint32_t zero = 0;
     glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -45,6 +57,18 @@ void WedgePass::setup(std::span<const CasterRange> runs) {
     }
     // The set-up's buffer writes must be visible to the wedge draws' vertex and fragment shaders.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void WedgePass::drawIndexed(const DrawSet& set) {
+    mOffsets.resize(set.edgeFirst.size());
+    mCounts.resize(set.edgeCount.size());
+    for (std::size_t i = 0; i < set.edgeFirst.size(); ++i) {
+        mOffsets[i] = reinterpret_cast<const void*>(static_cast<std::uintptr_t>(set.edgeFirst[i]) *
+                                                    24 * sizeof(std::uint32_t));
+        mCounts[i] = 24 * set.edgeCount[i];
+    }
+    glMultiDrawElements(GL_TRIANGLES, mCounts.data(), GL_UNSIGNED_INT, mOffsets.data(),
+                        static_cast<GLsizei>(mCounts.size()));
 }
 
 void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet& set,
@@ -89,7 +113,7 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
         }
         applyState(state);
         glUniform1ui(0, drawPass);
-        multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
+        drawIndexed(set);
     }
     if (countFragments) glEndQuery(GL_SAMPLES_PASSED);
 }
@@ -105,7 +129,7 @@ void WedgePass::drawHulls(const Framebuffer& target, const Targets& t, const Dra
     applyState(state);
     for (GLuint drawPass = 0; drawPass < 2; ++drawPass) {
         glUniform1ui(0, drawPass);
-        multiDrawElements(GL_TRIANGLES, set.edgeFirst, set.edgeCount, 24, mFirsts, mCounts);
+        drawIndexed(set);
     }
 }
 

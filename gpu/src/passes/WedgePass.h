@@ -1,7 +1,8 @@
 // Penumbra wedges on the GPU, from the frame's directed silhouette edges (CasterSet):
 // - setup(): a compute pass builds every wedge of a range of edges (conservative hull, kind,
 //   frustum culling by group; shaders/wedge-setup.comp) into a GPU-only buffer;
-// - draw(): 24 pulled vertices per wedge (shaders/wedge.vert) in two draws: entry faces of
+// - draw(): 8 triangles per wedge over its 6 hull corners, pulled by index (shaders/wedge.vert;
+//   6 vertex invocations per wedge rather than 24), in two draws: entry faces of
 //   hulls the camera is outside of (depth GEQUAL against the surface), exit faces of the others
 //   (LEQUAL), so that every pixel is processed once per wedge, camera inside a wedge or not;
 //   the fragment shader (shaders/wedge.frag) subtracts the edge's signed coverage from V;
@@ -105,9 +106,11 @@ private:
     Program mSetup, mDraw, mResolve;
     VertexArray mVao;
     Buffer mWedges, mStats;
+    Buffer mIndices; // 24 per wedge: 6 * wedge + its hull corner (kWedgeHullIndex)
     std::size_t mWedgeCapacity = 0;
-    std::vector<GLint> mFirsts;
+    std::vector<const void*> mOffsets;
     std::vector<GLsizei> mCounts;
+    void drawIndexed(const DrawSet& set);
     std::vector<Query> mQueries; // GL_SAMPLES_PASSED, one per draw() this frame
     std::size_t mQueriesUsed = 0;
 
