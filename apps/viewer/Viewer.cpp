@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -143,6 +144,9 @@ public:
             throw geometry::InputError("--samples must be between 1 and 65536");
         if (opt.frames < 0 || opt.frames > 1000000)
             throw geometry::InputError("--frames must be between 0 and 1000000");
+        if (!(opt.renderScale >= 0.125f && opt.renderScale <= 1.0f))
+            throw geometry::InputError("--render-scale must be between 0.125 and 1");
+        mRenderScale = opt.renderScale;
         if (opt.legFrames < 1) throw geometry::InputError("--leg-frames must be at least 1");
         if (!opt.screenshot.empty() && opt.frames == 0)
             throw geometry::InputError("--screenshot needs --frames N (the frame to capture)");
@@ -239,6 +243,7 @@ private:
     std::optional<geometry::RectLight> mLastGoodLight;
 
     bool mShowPanel = true, mShowOverlay = true;
+    float mRenderScale = 1.0f;
     std::string mRenderError;  // the last frame's refusal (input), shown until a frame succeeds
     std::string mShaderError;  // the last failed reload
     std::string mStatus;       // last action (screenshot written, scene loaded, ...)
@@ -407,9 +412,10 @@ void App::handleInput(float seconds) {
 }
 
 void App::renderScene() {
-    glfwGetFramebufferSize(mContext->window(), &mSettings.width, &mSettings.height);
-    mSettings.width = std::max(mSettings.width, 1);
-    mSettings.height = std::max(mSettings.height, 1);
+    int fbw = 0, fbh = 0;
+    glfwGetFramebufferSize(mContext->window(), &fbw, &fbh);
+    mSettings.width = std::max(static_cast<int>(std::lround(fbw * mRenderScale)), 1);
+    mSettings.height = std::max(static_cast<int>(std::lround(fbh * mRenderScale)), 1);
     mSettings.camera = currentCamera();
     std::optional<geometry::RectLight> light;
     if (mAnimateLight)
@@ -625,7 +631,9 @@ void App::drawPanel() {
         const double ms = median({mLoopMs.begin(), mLoopMs.end()});
         ImGui::Text("%.1f fps, %.2f ms per frame (median of %zu)", ms > 0 ? 1000.0 / ms : 0.0, ms,
                     mLoopMs.size());
-        ImGui::Text("renderer CPU (submit) %.2f ms", mStats.frameMs);
+        ImGui::SliderFloat("render scale", &mRenderScale, 0.125f, 1.0f, "%.3f");
+        ImGui::Text("rendering %dx%d; renderer CPU (submit) %.2f ms", mSettings.width,
+                    mSettings.height, mStats.frameMs);
         if (mShownGpuLag >= 0)
             ImGui::Text("GPU frame %.2f ms (%d frame%s ago)", mShownGpuFrameMs, mShownGpuLag,
                         mShownGpuLag == 1 ? "" : "s");
@@ -670,9 +678,9 @@ int App::run() {
     mRenderer = std::make_unique<gpu::Renderer>(*mScene, *mShaders);
     resetSceneState();
     if (mOpt.frames > 0)
-        std::printf("penumbra-viewer: %s, %s, %dx%d, view '%s'\n  renderer: %s\n  CPU: %s\n",
+        std::printf("penumbra-viewer: %s, %s, %dx%d (render scale %.3g), view '%s'\n  renderer: %s\n  CPU: %s\n",
                     (mOpt.file.empty() ? mOpt.scenePath : mOpt.file).c_str(),
-                    mSettings.method.c_str(), mWidth, mHeight,
+                    mSettings.method.c_str(), mWidth, mHeight, mRenderScale,
                     mViews[static_cast<std::size_t>(mViewIndex)].name.c_str(),
                     mRendererName.c_str(), cpuName().c_str());
     std::fflush(stdout); // scripts watch for this line
@@ -772,6 +780,7 @@ int App::run() {
             r["scene"] = mOpt.file.empty() ? mOpt.scenePath : mOpt.file;
             r["method"] = mSettings.method;
             r["size"] = {mWidth, mHeight};
+            r["render_size"] = {mSettings.width, mSettings.height};
             r["view"] = mViews[static_cast<std::size_t>(mOpt.camera)].name;
             r["fly_through"] = mOpt.flyThrough;
             r["animate_light"] = mOpt.animateLight;

@@ -14,6 +14,7 @@ struct Options {
     std::string file;       // a .glb/.gltf (positional) or
     std::string scenePath;  // --scene FILE.json
     std::string size = "960x540";
+    float renderScale = 1.0f;            // render at this fraction of the window, scaled up
     std::string method = "auto";
     std::vector<std::string> parameters; // --param NAME=VALUE
     int samples = 64;                    // reference / raytrace, and the error view's reference

@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
     app.add_option("file", opt.file, "a .glb/.gltf to open (at its first glTF camera)");
     app.add_option("--scene", opt.scenePath, "a scene JSON instead of a glTF file");
     app.add_option("--size", opt.size, "window size WIDTHxHEIGHT")->capture_default_str();
+    app.add_option("--render-scale", opt.renderScale,
+                   "render at this fraction of the window (0.125..1), scaled up when shown")
+        ->capture_default_str();
     app.add_option("--method", opt.method,
                    "visibility method at start (" + gpu::methodNameList(true) + ")")
         ->capture_default_str();

@@ -205,6 +205,18 @@ TEST_F(Viewer, FlyThroughAndLightAnimationRun) {
                                shot.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(fs::exists(shot));
+    // Rendering at half the window's size: V has half the pixels each way, the screenshot all.
+    const fs::path half = mDir / "half.png", vis = mDir / "half.pfm";
+    const RunResult h = viewer("'" + kLevel + "' --method hard --size 128x80 --render-scale 0.5 "
+                               "--frames 2 --hide-ui --screenshot '" + half.string() +
+                               "' --visibility '" + vis.string() + "'");
+    ASSERT_EQ(h.exitCode, 0) << h.output;
+    const geometry::FloatImage v = geometry::readPfm(vis);
+    EXPECT_EQ(v.width, 64);
+    EXPECT_EQ(v.height, 40);
+    const geometry::Rgba8Image img = geometry::readPng(half);
+    EXPECT_EQ(img.width, 128);
+    EXPECT_EQ(img.height, 80);
 }
 
 TEST_F(Viewer, ScriptedKeysDriveTheApp) {
@@ -297,6 +309,9 @@ TEST(ViewerNoDisplay, BadInputIsRefusedBeforeAWindowOpens) {
     } cases[] = {
         {"'" + kLevel + "' --method nope", "nope"},
         {"'" + kLevel + "' --size 10x10", "--size"},
+        {"'" + kLevel + "' --render-scale 2", "--render-scale"},
+        {"'" + kLevel + "' --keys 3:X --frames 5", "unknown key 'X'"},
+        {"'" + kLevel + "' --debug-view nope", "nope"},
         {"'" + kLevel + "' --camera 99", "--camera 99"},
         {"/no/such/file.glb", "not found"},
         {"", "give one scene"},
