@@ -34,6 +34,33 @@ struct Candidate {
 
 } // namespace
 
+std::optional<RectLight> hangLight(const Scene& scene, const RayTracer& tracer,
+                                   std::span<const glm::vec3> bases) {
+    const Aabb bounds = scene.bounds();
+    const float diag = bounds.empty() ? 0.0f : glm::length(bounds.extent());
+    if (!(diag > 0.0f)) return std::nullopt;
+    // Lowered and shrunk until it touches nothing: a light inside geometry is invalid input.
+    const glm::vec3 up(0.0f, 1.0f, 0.0f);
+    const float tolerance = 1e-5f * diag;
+    for (const glm::vec3& base : bases) {
+        float t = 0.0f;
+        glm::vec3 n;
+        if (!tracer.intersect(base, up, t, n)) continue; // open sky above
+        for (float height : {0.85f, 0.7f, 0.5f}) {
+            // A small area light (a lamp, not a skylight) that grows with the room.
+            for (float half = std::clamp(0.1f * t, 0.005f * diag, 0.03f * diag);
+                 half > 0.002f * diag; half *= 0.5f) {
+                RectLight light;
+                light.center = base + height * t * up;
+                light.u = glm::vec3(half, 0.0f, 0.0f);
+                light.v = glm::vec3(0.0f, 0.0f, half);
+                if (!findLightContact(scene, light, tolerance)) return light;
+            }
+        }
+    }
+    return std::nullopt;
+}
+
 bool frameInterior(Scene& scene) {
     const Aabb bounds = scene.bounds();
     if (bounds.empty()) return false;
@@ -96,32 +123,9 @@ bool frameInterior(Scene& scene) {
     camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
     camera.fovYDeg = 70.0f;
 
-    // Light: under the ceiling above the middle of the view (or above the camera), lowered and
-    // shrunk until it touches nothing: a light inside geometry is invalid input.
-    const glm::vec3 up(0.0f, 1.0f, 0.0f);
-    const float tolerance = 1e-5f * diag;
-    std::optional<RectLight> light;
-    for (const glm::vec3& base : {camera.target, camera.eye}) {
-        float t = 0.0f;
-        glm::vec3 n;
-        if (!tracer.intersect(base, up, t, n)) continue; // open sky above
-        for (float height : {0.85f, 0.7f, 0.5f}) {
-            // A small area light (a lamp, not a skylight) that grows with the room.
-            for (float half = std::clamp(0.1f * t, 0.005f * diag, 0.03f * diag);
-                 half > 0.002f * diag && !light; half *= 0.5f) {
-                Scene trial;
-                trial.light.center = base + height * t * up;
-                trial.light.u = glm::vec3(half, 0.0f, 0.0f);
-                trial.light.v = glm::vec3(0.0f, 0.0f, half);
-                std::swap(trial.objects, scene.objects); // borrow the geometry, no copy
-                const bool clear = !findLightContact(trial, tolerance);
-                std::swap(trial.objects, scene.objects);
-                if (clear) light = trial.light;
-            }
-            if (light) break;
-        }
-        if (light) break;
-    }
+    // Light: under the ceiling above the middle of the view (or above the camera).
+    const glm::vec3 bases[] = {camera.target, camera.eye};
+    const std::optional<RectLight> light = hangLight(scene, tracer, bases);
     if (!light) return false;
     scene.light = *light;
 

@@ -3,6 +3,9 @@
 
 #include <geometry/Scene.h>
 
+#include <optional>
+#include <span>
+
 namespace geometry {
 
 // For an enclosed model (a game level): finds the most open point of its interior by casting
@@ -11,5 +14,14 @@ namespace geometry {
 // leaving the scene unchanged, when no candidate point is enclosed (an object seen from outside:
 // then defaultCamera/defaultLight frame its bounds from outside).
 bool frameInterior(Scene& scene);
+
+class RayTracer;
+
+// A small area light (a lamp, facing down) hung under the ceiling above the first of `bases` with
+// a ceiling over it: 0.85, 0.7 or 0.5 of the way up, its half-width 0.1 × the ceiling height
+// (clamped to 0.5–3% of the scene diagonal) and halved until it touches nothing. Nothing when
+// every base sees open sky or no size fits. `tracer` is built on `scene`.
+std::optional<RectLight> hangLight(const Scene& scene, const RayTracer& tracer,
+                                   std::span<const glm::vec3> bases);
 
 } // namespace geometry
