@@ -3,7 +3,9 @@
 #include "ViewerCore.h"
 
 #include <geometry/Error.h>
+#include <geometry/Framing.h>
 #include <geometry/ImageIO.h>
+#include <geometry/RayTracer.h>
 #include <geometry/Scene.h>
 #include <gpu/Context.h>
 #include <gpu/Renderer.h>
@@ -100,7 +102,8 @@ std::vector<ScriptedKey> parseKeys(const std::string& text) {
         {"F1", GLFW_KEY_F1}, {"F12", GLFW_KEY_F12}, {"P", GLFW_KEY_P},     {"R", GLFW_KEY_R},
         {"C", GLFW_KEY_C},   {"O", GLFW_KEY_O},     {"L", GLFW_KEY_L},     {"Tab", GLFW_KEY_TAB},
         {"Esc", GLFW_KEY_ESCAPE}, {"W", GLFW_KEY_W}, {"A", GLFW_KEY_A},    {"S", GLFW_KEY_S},
-        {"D", GLFW_KEY_D},   {"Q", GLFW_KEY_Q},     {"E", GLFW_KEY_E},     {"V", GLFW_KEY_V}};
+        {"D", GLFW_KEY_D},   {"Q", GLFW_KEY_Q},     {"E", GLFW_KEY_E},     {"V", GLFW_KEY_V},
+        {"H", GLFW_KEY_H}};
     std::vector<ScriptedKey> keys;
     std::stringstream in(text);
     std::string item;
@@ -119,7 +122,7 @@ std::vector<ScriptedKey> parseKeys(const std::string& text) {
                 if (key == name) k.key = code;
             if (k.key == GLFW_KEY_UNKNOWN)
                 throw geometry::InputError("--keys: unknown key '" + key +
-                                           "' (F1 F12 P R C O L V Tab Esc W A S D Q E, drop=PATH)");
+                                           "' (F1 F12 P R C O L V H Tab Esc W A S D Q E, drop=PATH)");
         }
         keys.push_back(std::move(k));
     }
@@ -209,6 +212,8 @@ private:
     void drawOverlay();
     void screenshot(const fs::path& path);
     void reloadShaders();
+    void goToView(int index);
+    void hangLamp(); // a lamp under the ceiling above what the camera looks at (H)
 
     static App& self(GLFWwindow* w) { return *static_cast<App*>(glfwGetWindowUserPointer(w)); }
     static void onKey(GLFWwindow* w, int key, int, int action, int mods);
@@ -238,6 +243,8 @@ private:
     bool mOrbitMode = false;
     LightRig mRig, mSceneRig;
     bool mLightEdited = false;
+    bool mLampAtView = false; // hang a lamp at each glTF camera the viewer goes to
+    std::unique_ptr<geometry::RayTracer> mTracer; // for hangLamp, built on first use
     bool mAnimateLight = false;
     float mLightTime = 0.0f;
     std::optional<geometry::RectLight> mLastGoodLight;
@@ -304,6 +311,38 @@ void App::resetSceneState() {
     mLightEdited = false;
     mLastGoodLight.reset();
     mRenderError.clear();
+    mTracer.reset();
+    mLampAtView = !mScene->cameras.empty() && !mOpt.sceneLight;
+    if (mLampAtView) hangLamp();
+}
+
+void App::goToView(int index) {
+    mViewIndex = index;
+    const float speed = mFly.speed;
+    mFly = FlyCamera::fromCamera(mViews[static_cast<std::size_t>(index)].camera);
+    mFly.speed = speed;
+    mOrbitMode = false;
+    if (mLampAtView) hangLamp();
+}
+
+void App::hangLamp() {
+    if (!mTracer) mTracer = std::make_unique<geometry::RayTracer>(*mScene);
+    const geometry::Camera c = currentCamera();
+    const glm::vec3 forward = glm::normalize(c.target - c.eye);
+    std::vector<glm::vec3> bases;
+    float t = 0.0f;
+    glm::vec3 n;
+    if (mTracer->intersect(c.eye, forward, t, n)) bases.push_back(c.eye + 0.5f * t * forward);
+    bases.push_back(c.eye);
+    const std::optional<geometry::RectLight> lamp = geometry::hangLight(*mScene, *mTracer, bases);
+    if (!lamp) {
+        setStatus("no ceiling above this view to hang a lamp under; the light stays");
+        return;
+    }
+    mRig = LightRig::fromLight(*lamp);
+    mLightEdited = true;
+    setStatus("lamp hung at " + std::to_string(lamp->center.x) + " " +
+              std::to_string(lamp->center.y) + " " + std::to_string(lamp->center.z));
 }
 
 void App::loadDropped(const std::string& path) {
@@ -357,13 +396,10 @@ void App::onKey(GLFWwindow* w, int key, int, int action, int mods) {
     }
     case GLFW_KEY_C: {
         const int n = static_cast<int>(app.mViews.size());
-        app.mViewIndex = (app.mViewIndex + ((mods & GLFW_MOD_SHIFT) ? n - 1 : 1)) % n;
-        const float speed = app.mFly.speed;
-        app.mFly = FlyCamera::fromCamera(app.mViews[static_cast<std::size_t>(app.mViewIndex)].camera);
-        app.mFly.speed = speed;
-        app.mOrbitMode = false;
+        app.goToView((app.mViewIndex + ((mods & GLFW_MOD_SHIFT) ? n - 1 : 1)) % n);
         break;
     }
+    case GLFW_KEY_H: app.hangLamp(); break;
     default: break;
     }
 }
@@ -581,13 +617,8 @@ void App::drawPanel() {
         const std::string& name = mViews[static_cast<std::size_t>(mViewIndex)].name;
         if (ImGui::BeginCombo("view (C)", name.c_str())) {
             for (std::size_t i = 0; i < mViews.size(); ++i)
-                if (ImGui::Selectable(mViews[i].name.c_str(), static_cast<int>(i) == mViewIndex)) {
-                    mViewIndex = static_cast<int>(i);
-                    const float speed = mFly.speed;
-                    mFly = FlyCamera::fromCamera(mViews[i].camera);
-                    mFly.speed = speed;
-                    mOrbitMode = false;
-                }
+                if (ImGui::Selectable(mViews[i].name.c_str(), static_cast<int>(i) == mViewIndex))
+                    goToView(static_cast<int>(i));
             ImGui::EndCombo();
         }
         bool orbit = mOrbitMode;
@@ -622,7 +653,11 @@ void App::drawPanel() {
         if (ImGui::Button("scene light")) {
             mRig = mSceneRig;
             mLightEdited = false;
+            mLampAtView = false;
         }
+        ImGui::SameLine();
+        if (ImGui::Button("lamp here (H)")) hangLamp();
+        ImGui::Checkbox("lamp at each view", &mLampAtView);
         const geometry::RectLight l = mSettings.light ? *mSettings.light : mScene->light;
         ImGui::Text("area %.4f m^2", 4.0f * glm::length(glm::cross(l.u, l.v)));
     }
@@ -667,7 +702,8 @@ void App::drawPanel() {
                                choice.reason.c_str());
     }
     ImGui::TextDisabled("WASD QE fly, right mouse look, wheel speed, O orbit, C next view,");
-    ImGui::TextDisabled("L light animation, V debug view, F1 overlay, Tab panel, F12/P screenshot,");
+    ImGui::TextDisabled("L light animation, H lamp here, V debug view, F1 overlay, Tab panel,");
+    ImGui::TextDisabled("F12/P screenshot,");
     ImGui::TextDisabled("R reload shaders, Esc quit; drop a .glb to open it");
     ImGui::End();
 }

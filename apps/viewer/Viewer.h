@@ -1,7 +1,8 @@
 // penumbra-viewer: a GLFW window on the renderer of penumbra-render, with a Dear ImGui panel.
 // Opens a level at its first glTF camera (spawn point) and cycles through the others; flies
 // (WASD + QE, right mouse to look, wheel for speed) or orbits (O); switches method, light and
-// debug view live; F1 stats overlay, F12/P screenshot, R reload shaders, Esc quit, drop a .glb.
+// debug view live; at each glTF camera hangs a lamp under the ceiling ahead (H: here);
+// F1 stats overlay, F12/P screenshot, R reload shaders, Esc quit, drop a .glb.
 // `--frames N [--screenshot FILE]` renders N frames and exits (scripted captures, CI).
 #pragma once
 
@@ -26,8 +27,9 @@ struct Options {
     bool flyThrough = false;             // move along the views, --leg-frames per leg
     int legFrames = 90;
     bool animateLight = false;
+    bool sceneLight = false;             // keep the file's light at glTF cameras (no lamp per view)
     bool hideUi = false;
-    // Scripted key presses: "FRAME:KEY,..." with KEY one of F1 F12 P R C O L V Tab Esc (pressed)
+    // Scripted key presses: "FRAME:KEY,..." with KEY one of F1 F12 P R C O L V H Tab Esc (pressed)
     // or W A S D Q E (held for that frame), or drop=PATH (a file dropped on the window).
     std::string keys;
     std::string debugView = "shaded"; // gpu::debugViews() name

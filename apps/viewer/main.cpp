@@ -40,9 +40,12 @@ int main(int argc, char** argv) {
                  "move the camera from each glTF camera to the next");
     app.add_option("--leg-frames", opt.legFrames, "frames per leg of --fly-through")
         ->capture_default_str();
+    app.add_flag("--scene-light", opt.sceneLight,
+                 "keep the file's light at glTF cameras (default: a lamp under the ceiling ahead "
+                 "of each)");
     app.add_flag("--animate-light", opt.animateLight, "move the light on a circle in its plane");
     app.add_option("--keys", opt.keys,
-                   "with --frames: scripted keys, FRAME:KEY,... (F1 F12 P R C O L V Tab Esc, W A S D "
+                   "with --frames: scripted keys, FRAME:KEY,... (F1 F12 P R C O L V H Tab Esc, W A S D "
                    "Q E held one frame, drop=FILE)");
     std::string views;
     for (const gpu::DebugViewInfo& v : gpu::debugViews()) views += (views.empty() ? "" : ", ") + std::string(v.name);

@@ -291,6 +291,37 @@ TEST_F(Viewer, AFailedShaderReloadKeepsThePreviousPrograms) {
     EXPECT_GT(nonBackground, 64 * 64 / 2) << "frames after the failed reload still render";
 }
 
+// At a glTF camera the viewer hangs a lamp under the ceiling ahead (the level's framed light
+// rarely reaches a spawn room): more of the view is lit than under --scene-light.
+TEST_F(Viewer, ALampIsHungAtEachSpawnView) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    auto litShare = [&](const std::string& extra, std::string& output) {
+        const fs::path vis = mDir / "lamp.pfm";
+        const RunResult r = viewer("'" + kLevel + "' --method hard --size 96x64 --frames 2 " +
+                                   extra + " --visibility '" + vis.string() + "'");
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        output = r.output;
+        const geometry::FloatImage v = geometry::readPfm(vis);
+        int lit = 0, surface = 0;
+        for (float x : v.data)
+            if (!std::isnan(x)) {
+                ++surface;
+                lit += x > 0.5f;
+            }
+        return surface > 0 ? double(lit) / surface : 0.0;
+    };
+    std::string withLamp, withScene, hung;
+    const double lamp = litShare("", withLamp);
+    const double scene = litShare("--scene-light", withScene);
+    EXPECT_NE(withLamp.find("frame 0: lamp hung at"), std::string::npos) << withLamp;
+    EXPECT_EQ(withScene.find("lamp hung"), std::string::npos) << withScene;
+    EXPECT_GT(lamp, scene + 0.2) << "lamp " << lamp << " vs scene light " << scene;
+    // H hangs one wherever the camera is, also under --scene-light.
+    litShare("--scene-light --keys 1:C,1:H", hung);
+    EXPECT_NE(hung.find("frame 1: lamp hung at"), std::string::npos) << hung;
+}
+
 TEST(ViewerNoDisplay, ExitsTwoWithAClearMessage) {
     const fs::path log = fs::temp_directory_path() / "penumbra-viewer-nodisplay.txt";
     const RunResult r = runCommand("env -u DISPLAY -u WAYLAND_DISPLAY '" + kViewer + "' '" + kLevel +
