@@ -517,7 +517,9 @@ void App::reloadShaders() {
 void App::drawOverlay() {
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.55f);
-    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+    // Fixed width, height fitted to the content each frame (0 = auto): a long debug note wraps.
+    ImGui::SetNextWindowSize(ImVec2(ImGui::GetFontSize() * 26.0f, 0.0f), ImGuiCond_Always);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration |
                                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                    ImGuiWindowFlags_NoInputs;
     if (ImGui::Begin("##overlay", nullptr, flags)) {
@@ -528,9 +530,9 @@ void App::drawOverlay() {
         ImGui::Text("%s%s", mOrbitMode ? "orbit" : "fly",
                     mAnimateLight ? "  light animated" : "");
         ImGui::TextUnformatted(mRendererName.c_str());
-        if (mSettings.debugView != gpu::DebugView::Shaded)
-            ImGui::Text("view %s: %s", std::string(gpu::debugViewInfo(mSettings.debugView).name).c_str(),
-                        mStats.debugNote.c_str());
+        if (mSettings.debugView != gpu::DebugView::Shaded) {
+            ImGui::TextWrapped("%s", mStats.debugNote.c_str());
+        }
         if (!mRenderError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "render refused");
     }
     ImGui::End();
