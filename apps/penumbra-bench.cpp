@@ -11,6 +11,7 @@
 // Rows go to results.csv as they finish (a valid CSV at every moment: Ctrl-C keeps the runs done),
 // results.json gets the same plus the machine, and chart.png is drawn by apps/bench/chart.py with
 // Debian's matplotlib. Input is checked before any work: bad input exits 2, nothing written.
+#include "AppSize.h"
 #include <geometry/Error.h>
 #include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>
@@ -75,17 +76,6 @@ std::vector<std::string> splitList(const std::string& s, char sep = ',') {
     while (std::getline(in, item, sep))
         if (!item.empty()) out.push_back(item);
     return out;
-}
-
-std::pair<int, int> parseSize(const std::string& s) {
-    static const std::regex re(R"((\d{1,5})x(\d{1,5}))");
-    std::smatch m;
-    if (!std::regex_match(s, m, re))
-        throw geometry::InputError("--size: expected WIDTHxHEIGHT (e.g. 256x256), got '" + s + "'");
-    const int w = std::stoi(m[1]), h = std::stoi(m[2]);
-    if (w < 1 || h < 1 || w > 8192 || h > 8192)
-        throw geometry::InputError("--size: each side must be between 1 and 8192, got '" + s + "'");
-    return {w, h};
 }
 
 std::string csvField(const std::string& s) {
@@ -679,7 +669,7 @@ int run(const Options& opt) {
     if (opt.truthSamples < 1 || opt.truthSamples > (1 << 16))
         throw geometry::InputError("--truth-samples must be between 1 and 65536");
     const std::vector<RunSpec> runs = expandRuns(withHard, opt.sweeps, opt.truthSamples);
-    const auto [width, height] = parseSize(opt.size);
+    const auto [width, height] = apps::parseSize(opt.size, 1, 8192, "256x256");
     if (opt.frames < 1 || opt.frames > 1000)
         throw geometry::InputError("--frames must be between 1 and 1000");
     if (opt.warmup < 0 || opt.warmup > 100)

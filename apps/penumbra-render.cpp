@@ -9,6 +9,7 @@
 //   map with its scale (geometry/ErrorImage.h);
 // - with --debug-view NAME image.png shows a debug view of the renderer (gpu/Renderer.h
 //   DebugView) instead of the shaded image.
+#include "AppSize.h"
 #include <geometry/Error.h>
 #include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>
@@ -48,17 +49,6 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::pair<int, int> parseSize(const std::string& s) {
-    static const std::regex re(R"((\d{1,5})x(\d{1,5}))");
-    std::smatch m;
-    if (!std::regex_match(s, m, re))
-        throw geometry::InputError("--size: expected WIDTHxHEIGHT (e.g. 512x512), got '" + s + "'");
-    const int w = std::stoi(m[1]), h = std::stoi(m[2]);
-    if (w < 1 || h < 1 || w > 16384 || h > 16384)
-        throw geometry::InputError("--size: each side must be between 1 and 16384, got '" + s + "'");
-    return {w, h};
-}
-
 nlohmann::json errorJson(const geometry::ErrorStats& e) {
     return {{"pixels", e.pixels},         {"mismatched_coverage", e.mismatchedCoverage},
             {"mean_abs_err", e.meanAbs},  {"rmse", e.rmse},
@@ -96,7 +86,7 @@ int run(const Options& opt) {
     std::vector<gpu::ParameterValue> given;
     for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
     const std::vector<gpu::ParameterValue> parameters = gpu::resolveParameters(method, given);
-    const auto [width, height] = parseSize(opt.size);
+    const auto [width, height] = apps::parseSize(opt.size, 1, 16384, "512x512");
     if (opt.samples < 1 || opt.samples > (1 << 20))
         throw geometry::InputError("--samples must be between 1 and 1048576");
     if (opt.frames < 1 || opt.frames > 10000)

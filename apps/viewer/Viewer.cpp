@@ -1,5 +1,6 @@
 #include "Viewer.h"
 
+#include "../AppSize.h"
 #include "ViewerCore.h"
 
 #include <geometry/Error.h>
@@ -37,17 +38,6 @@ namespace fs = std::filesystem;
 namespace viewer {
 
 namespace {
-
-std::pair<int, int> parseSize(const std::string& s) {
-    static const std::regex re(R"((\d{1,5})x(\d{1,5}))");
-    std::smatch m;
-    if (!std::regex_match(s, m, re))
-        throw geometry::InputError("--size: expected WIDTHxHEIGHT (e.g. 960x540), got '" + s + "'");
-    const int w = std::stoi(m[1]), h = std::stoi(m[2]);
-    if (w < 64 || h < 64 || w > 8192 || h > 8192)
-        throw geometry::InputError("--size: each side must be between 64 and 8192, got '" + s + "'");
-    return {w, h};
-}
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -142,7 +132,7 @@ public:
         std::vector<gpu::ParameterValue> given;
         for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
         gpu::resolveParameters(method, given);
-        std::tie(mWidth, mHeight) = parseSize(opt.size);
+        std::tie(mWidth, mHeight) = apps::parseSize(opt.size, 64, 8192, "960x540");
         if (opt.samples < 1 || opt.samples > 65536)
             throw geometry::InputError("--samples must be between 1 and 65536");
         if (opt.frames < 0 || opt.frames > 1000000)

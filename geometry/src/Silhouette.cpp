@@ -614,10 +614,6 @@ SilhouetteExtractor& SilhouetteExtractor::operator=(SilhouetteExtractor&&) noexc
 
 namespace {
 
-bool sameLight(const RectLight& a, const RectLight& b) {
-    return a.center == b.center && a.u == b.u && a.v == b.v;
-}
-
 bool sameBounds(const Aabb& a, const Aabb& b) { return a.min == b.min && a.max == b.max; }
 
 bool sameSettings(const SilhouetteSettings& a, const SilhouetteSettings& b) {
@@ -1212,7 +1208,7 @@ Aabb occluderConeBounds(const Aabb& occluder, const LightBox& light, const Aabb&
 const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
                                                    const Aabb& sceneBounds,
                                                    const SilhouetteSettings& settings) {
-    if (mHasFrame && sameLight(light, mLight) && sameBounds(sceneBounds, mBounds) &&
+    if (mHasFrame && light == mLight && sameBounds(sceneBounds, mBounds) &&
         sameSettings(settings, mSettings)) {
         mReused = true;
         return mFrame;

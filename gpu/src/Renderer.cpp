@@ -108,14 +108,6 @@ bool hasAlphaCutout(const geometry::MeshData& mesh) {
 }
 
 // Throws for scenes `method` cannot represent (before it draws anything).
-bool sameLight(const geometry::RectLight& a, const geometry::RectLight& b) {
-    return a.center == b.center && a.u == b.u && a.v == b.v;
-}
-
-bool sameCamera(const geometry::Camera& a, const geometry::Camera& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDeg == b.fovYDeg;
-}
-
 void checkRepresentable(const geometry::Scene& scene, const MethodInfo& method) {
     if (method.alphaMasks) return;
     std::string honouring;
@@ -259,11 +251,11 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
 
     auto& m = *mImpl;
     const geometry::RectLight& light = settings.light ? *settings.light : mScene.light;
-    if (settings.light && !(m.checkedLight && sameLight(*m.checkedLight, light))) {
+    if (settings.light && !(m.checkedLight && *m.checkedLight == light)) {
         geometry::validateLight(mScene, light, "RenderSettings::light");
         m.checkedLight = light;
     }
-    if (settings.camera && !(m.checkedCamera && sameCamera(*m.checkedCamera, *settings.camera))) {
+    if (settings.camera && !(m.checkedCamera && *m.checkedCamera == *settings.camera)) {
         geometry::validateCamera(*settings.camera, "RenderSettings::camera");
         m.checkedCamera = settings.camera;
     }

@@ -16,6 +16,8 @@ struct Camera {
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float fovYDeg = 50.0f;
+
+    bool operator==(const Camera&) const = default; // exact: "has it changed?"
 };
 
 // The light is the set center + s*u + t*v for s, t in [-1, 1] (DESIGN.md §2).
@@ -28,6 +30,8 @@ struct RectLight {
     float area() const { return 4.0f * glm::length(glm::cross(u, v)); }
     // Point of the light at (s, t) in [-1, 1]^2.
     glm::vec3 point(float s, float t) const { return center + s * u + t * v; }
+
+    bool operator==(const RectLight&) const = default; // exact: "has it changed?"
 };
 
 struct Aabb {

@@ -131,8 +131,7 @@ private:
     void updateFrame(const FrameContext& ctx) {
         const geometry::RectLight& light = ctx.light;
         std::vector<std::uint32_t> subset(ctx.casterSubset.begin(), ctx.casterSubset.end());
-        if (mFitted && light.center == mLight.center && light.u == mLight.u &&
-            light.v == mLight.v && subset == mSubset)
+        if (mFitted && light == mLight && subset == mSubset)
             return;
         const auto t0 = Clock::now();
         mObjects.clear();

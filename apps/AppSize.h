@@ -1,0 +1,27 @@
+// --size WIDTHxHEIGHT for the apps: the format, then each side in [minSide, maxSide]; a
+// geometry::InputError naming the flag otherwise (bad input: exit 2).
+#pragma once
+
+#include <geometry/Error.h>
+
+#include <regex>
+#include <string>
+#include <utility>
+
+namespace apps {
+
+inline std::pair<int, int> parseSize(const std::string& s, int minSide, int maxSide,
+                                     const char* example) {
+    static const std::regex re(R"((\d{1,5})x(\d{1,5}))");
+    std::smatch m;
+    if (!std::regex_match(s, m, re))
+        throw geometry::InputError(std::string("--size: expected WIDTHxHEIGHT (e.g. ") + example +
+                                   "), got '" + s + "'");
+    const int w = std::stoi(m[1]), h = std::stoi(m[2]);
+    if (w < minSide || h < minSide || w > maxSide || h > maxSide)
+        throw geometry::InputError("--size: each side must be between " + std::to_string(minSide) +
+                                   " and " + std::to_string(maxSide) + ", got '" + s + "'");
+    return {w, h};
+}
+
+} // namespace apps
