@@ -8,7 +8,7 @@
 // - WEDGE_PASS_EXIT: bounded hulls around the camera, by their back faces (the one face each
 //   ray leaves through), and full-screen wedges: one clockwise (back-facing) triangle at
 //   infinite depth over the screen rectangle of the group's influence bounds;
-// - anything else: every vertex at one point, nothing is rasterised.
+// - anything else: every vertex at one point outside the view, nothing is rasterised.
 // WEDGE_DEPTH_BIAS (the wedges debug view): depth scaled by 1 + bias.
 #include "lib/Bindings.h"
 #include "lib/WedgeHull.glsl"
@@ -56,7 +56,7 @@ void main() {
     bool drawn = uPass == WEDGE_PASS_ENTRY ? bounded && !inside
                                            : inside || kind == WEDGE_FULLSCREEN;
     if (!drawn) {
-        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the view: nothing, not even a point
         vE0 = vec4(0.0);
         vE1 = vec4(0.0);
         for (int i = 0; i < 4; ++i) vPlanes[i] = vec4(0.0);
@@ -86,7 +86,7 @@ void main() {
         vec2 p = r.xy + vec2(corner >= 2 ? 2.0 * size.x : 0.0, corner == 0 ? 2.0 * size.y : 0.0);
         gl_Position = vec4(p, 0.0, 1.0); // depth 0: infinitely far, behind every surface
     } else {
-        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
     }
 #ifdef WEDGE_DEPTH_BIAS
     // The wedges debug view's lines: pulled nearer by a relative distance (reversed Z), so that

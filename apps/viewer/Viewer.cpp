@@ -10,6 +10,7 @@
 #include <geometry/Scene.h>
 #include <gpu/Context.h>
 #include <gpu/Renderer.h>
+#include <gpu/State.h>
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -31,6 +32,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -84,7 +86,8 @@ std::string timestampedName() {
 struct ScriptedKey {
     int frame = 0;
     int key = GLFW_KEY_UNKNOWN; // or
-    std::string drop;           // a dropped file
+    std::string drop;           // a dropped file, or
+    std::string wait;           // a file to wait for (scripts synchronise with the viewer)
 };
 
 std::vector<ScriptedKey> parseKeys(const std::string& text) {
@@ -107,16 +110,29 @@ std::vector<ScriptedKey> parseKeys(const std::string& text) {
         const std::string key = m[2];
         if (key.rfind("drop=", 0) == 0) {
             k.drop = key.substr(5);
+        } else if (key.rfind("wait=", 0) == 0) {
+            k.wait = key.substr(5);
         } else {
             for (const auto& [name, code] : names)
                 if (key == name) k.key = code;
             if (k.key == GLFW_KEY_UNKNOWN)
                 throw geometry::InputError("--keys: unknown key '" + key +
-                                           "' (F1 F12 P R C O L V H Tab Esc W A S D Q E, drop=PATH)");
+                                           "' (F1 F12 P R C O L V H Tab Esc W A S D Q E, drop=PATH, "
+                                           "wait=PATH)");
         }
         keys.push_back(std::move(k));
     }
     return keys;
+}
+
+// A scripted pause until another process creates `path` (2 minutes at most).
+void waitForFile(const std::string& path) {
+    const auto start = std::chrono::steady_clock::now();
+    while (!fs::exists(path)) {
+        if (std::chrono::steady_clock::now() - start > std::chrono::minutes(2))
+            throw geometry::InputError("--keys wait=" + path + ": not created within 2 minutes");
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
 }
 
 bool heldKey(int key) {
@@ -238,6 +254,8 @@ private:
     bool mAnimateLight = false;
     float mLightTime = 0.0f;
     std::optional<geometry::RectLight> mLastGoodLight;
+    std::optional<geometry::RectLight> mRefusedLight;
+    std::string mStartView; // for the report: the view the run started at
 
     bool mShowPanel = true, mShowOverlay = true;
     float mRenderScale = 1.0f;
@@ -339,6 +357,7 @@ void App::loadDropped(const std::string& path) {
     try {
         auto scene = std::make_unique<geometry::Scene>(geometry::loadScene(path));
         auto renderer = std::make_unique<gpu::Renderer>(*scene, *mShaders);
+        mTracer.reset();                 // built on the old scene
         mRenderer = std::move(renderer); // the old renderer refers to the old scene: it goes first
         mScene = std::move(scene);
         mViewIndex = 0;
@@ -370,8 +389,9 @@ void App::onKey(GLFWwindow* w, int key, int, int action, int mods) {
         if (app.mOrbitMode) {
             app.mOrbit = OrbitCamera::around(app.mFly, app.mOrbit.distance);
         } else {
+            const float speed = app.mFly.speed;
             app.mFly = FlyCamera::fromCamera(app.mOrbit.camera());
-            app.mFly.speed = std::max(app.mFly.speed, 0.1f);
+            app.mFly.speed = speed;
         }
         break;
     case GLFW_KEY_L: app.mAnimateLight = !app.mAnimateLight; break;
@@ -443,25 +463,41 @@ void App::renderScene() {
     mSettings.width = std::max(static_cast<int>(std::lround(fbw * mRenderScale)), 1);
     mSettings.height = std::max(static_cast<int>(std::lround(fbh * mRenderScale)), 1);
     mSettings.camera = currentCamera();
-    std::optional<geometry::RectLight> light;
+    std::optional<geometry::RectLight> requested; // the rig's, when it replaces the scene's
     if (mAnimateLight)
-        light = mRig.animated(mLightTime, std::max(mRig.halfU, mRig.halfV));
+        requested = mRig.animated(mLightTime, std::max(mRig.halfU, mRig.halfV));
     else if (mLightEdited)
-        light = mRig.light();
+        requested = mRig.light();
+    if (mRefusedLight && requested != mRefusedLight) mRefusedLight.reset(); // changed: try it
+    std::optional<geometry::RectLight> light = requested;
+    // A light the renderer refused (it touches geometry) is not tried again until it changes:
+    // the last clear light is shown meanwhile, and the panel says why.
+    if (mRefusedLight) light = mLastGoodLight;
     mSettings.light = light;
     try {
         mStats = mRenderer->renderFrame(mSettings);
         if (light) mLastGoodLight = light;
-        mRenderError.clear();
+        if (!mRefusedLight) mRenderError.clear();
     } catch (const geometry::InputError& e) {
-        mRenderError = e.what();
-        // A light moved into geometry: keep showing the last light that was clear, say why.
-        const bool lightRefused = light && mRenderError.find("RenderSettings::light") != std::string::npos;
+        const bool lightRefused = light && std::string(e.what()).find("RenderSettings::light") !=
+                                               std::string::npos;
         if (mOpt.frames > 0 && !lightRefused) throw; // scripted: no silent fallback
+        mRenderError = e.what();
         if (lightRefused) {
+            setStatus("light refused, the last clear light stays: " + mRenderError);
+            mRefusedLight = light;
             mSettings.light = mLastGoodLight;
-            mStats = mRenderer->renderFrame(mSettings);
+            try {
+                mStats = mRenderer->renderFrame(mSettings);
+            } catch (const std::exception& again) {
+                mRenderError += std::string("\n") + again.what();
+            }
         }
+    } catch (const std::exception& e) {
+        // A program that fails to compile when a method or view is first used (shaders edited
+        // on disk), a GL error: shown, the last image stays; scripted runs stop on it (exit 1).
+        if (mOpt.frames > 0) throw;
+        mRenderError = e.what();
     }
     if (mStats.gpuTimesLag >= 0) {
         mShownGpu = mStats.gpu;
@@ -705,6 +741,7 @@ int App::run() {
     mShaders = std::make_unique<gpu::ShaderLoader>(gpu::defaultShaderDir());
     mRenderer = std::make_unique<gpu::Renderer>(*mScene, *mShaders);
     resetSceneState();
+    mStartView = mViews[static_cast<std::size_t>(mViewIndex)].name;
     if (mOpt.frames > 0)
         std::printf("penumbra-viewer: %s, %s, %dx%d (render scale %.3g), view '%s'\n  renderer: %s\n  CPU: %s\n",
                     (mOpt.file.empty() ? mOpt.scenePath : mOpt.file).c_str(),
@@ -736,7 +773,12 @@ int App::run() {
         mHeld.clear();
         for (const ScriptedKey& k : mKeys) {
             if (k.frame != mFrame) continue;
-            if (!k.drop.empty())
+            if (!k.wait.empty()) {
+                std::printf("  frame %d: waiting for %s\n", mFrame, k.wait.c_str());
+                std::fflush(stdout);
+                waitForFile(k.wait);
+            }
+            else if (!k.drop.empty())
                 mPendingDrop = k.drop;
             else if (heldKey(k.key))
                 mHeld.push_back(k.key);
@@ -764,6 +806,7 @@ int App::run() {
 
         int fbw = 0, fbh = 0;
         glfwGetFramebufferSize(window, &fbw, &fbh);
+        gpu::applyState(gpu::PipelineState{}); // whatever a pass (or a failed one) left
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glViewport(0, 0, fbw, fbh);
         glClearColor(0.05f, 0.05f, 0.06f, 1.0f);
@@ -809,7 +852,7 @@ int App::run() {
             r["method"] = mSettings.method;
             r["size"] = {mWidth, mHeight};
             r["render_size"] = {mSettings.width, mSettings.height};
-            r["view"] = mViews[static_cast<std::size_t>(mOpt.camera)].name;
+            r["view"] = mStartView;
             r["fly_through"] = mOpt.flyThrough;
             r["animate_light"] = mOpt.animateLight;
             r["frames"] = mFrame;

@@ -30,7 +30,8 @@ struct Options {
     bool sceneLight = false;             // keep the file's light at glTF cameras (no lamp per view)
     bool hideUi = false;
     // Scripted key presses: "FRAME:KEY,..." with KEY one of F1 F12 P R C O L V H Tab Esc (pressed)
-    // or W A S D Q E (held for that frame), or drop=PATH (a file dropped on the window).
+    // or W A S D Q E (held for that frame), or drop=PATH (a file dropped on the window),
+    // or wait=PATH (pause until that file exists: scripts synchronise with it).
     std::string keys;
     std::string debugView = "shaded"; // gpu::debugViews() name
 };

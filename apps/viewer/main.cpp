@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     app.add_flag("--animate-light", opt.animateLight, "move the light on a circle in its plane");
     app.add_option("--keys", opt.keys,
                    "with --frames: scripted keys, FRAME:KEY,... (F1 F12 P R C O L V H Tab Esc, W A S D "
-                   "Q E held one frame, drop=FILE)");
+                   "Q E held one frame, drop=FILE, wait=FILE)");
     std::string views;
     for (const gpu::DebugViewInfo& v : gpu::debugViews()) views += (views.empty() ? "" : ", ") + std::string(v.name);
     app.add_option("--debug-view", opt.debugView, "debug view at start (" + views + ")")

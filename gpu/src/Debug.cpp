@@ -298,7 +298,8 @@ std::optional<GpuTimers::Deferred> GpuTimers::resolveDeferred(std::size_t maxInF
         PendingFrame& oldest = mPending.front();
         if (!available(oldest.slots) && mPending.size() <= std::max<std::size_t>(maxInFlight, 1))
             break;
-        latest = Deferred{collect(oldest.slots), static_cast<int>(current - oldest.index)};
+        latest = Deferred{collect(oldest.slots), static_cast<int>(current - oldest.index),
+                          oldest.index};
         mPending.pop_front();
     }
     return latest;

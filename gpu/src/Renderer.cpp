@@ -149,6 +149,13 @@ struct Renderer::Impl {
     std::vector<std::uint32_t> allCasters;
     GpuTimers timers;
     GpuTimers frameTimer; // one span over the whole frame: FrameStats::gpuFrameMs
+    // Frames that do not wait (RenderSettings::waitForGpu): the newest result of each ring and the
+    // newest pair from one frame, shown until a newer pair completes.
+    std::uint64_t frameIndex = 0; // of the frame being rendered, counted like GpuTimers' frames
+    std::optional<GpuTimers::Deferred> newestPasses, newestWhole;
+    std::vector<PassTime> shownPasses;
+    double shownFrameMs = 0.0;
+    std::optional<std::uint64_t> shownFrame;
     // Methods are built on first use and kept (programs, scratch targets, BVHs), one per name:
     // a method asked for with other parameters is built anew in its place.
     struct BuiltMethod {
@@ -316,6 +323,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     }
     m.frameTimer.end(frameSlot);
     if (settings.waitForGpu) {
+        ++m.frameIndex; // as the rings count their frames
         glFinish();
         stats.frameMs = msSince(frameStart);
         stats.gpu = m.timers.resolve();
@@ -323,15 +331,22 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
         stats.gpuFrameMs = whole.empty() ? 0.0 : whole.front().ms;
         return stats;
     }
-    // Both rings advance together: the frame span closes after every pass of its frame.
+    // The two rings complete independently (a frame's passes end before its span does): each
+    // keeps its newest result, and the frame reports the newest pair measured in one frame.
     stats.frameMs = msSince(frameStart);
-    auto passes = m.timers.resolveDeferred();
-    auto whole = m.frameTimer.resolveDeferred();
+    const std::uint64_t thisFrame = m.frameIndex++;
+    if (auto passes = m.timers.resolveDeferred()) m.newestPasses = std::move(passes);
+    if (auto whole = m.frameTimer.resolveDeferred()) m.newestWhole = std::move(whole);
+    if (m.newestPasses && m.newestWhole && m.newestPasses->frame == m.newestWhole->frame) {
+        m.shownPasses = m.newestPasses->passes;
+        m.shownFrameMs = m.newestWhole->passes.empty() ? 0.0 : m.newestWhole->passes.front().ms;
+        m.shownFrame = m.newestWhole->frame;
+    }
     stats.gpuTimesLag = -1;
-    if (passes && whole) {
-        stats.gpu = std::move(passes->passes);
-        stats.gpuFrameMs = whole->passes.empty() ? 0.0 : whole->passes.front().ms;
-        stats.gpuTimesLag = whole->lag;
+    if (m.shownFrame) {
+        stats.gpu = m.shownPasses;
+        stats.gpuFrameMs = m.shownFrameMs;
+        stats.gpuTimesLag = static_cast<int>(thisFrame - *m.shownFrame);
     }
     return stats;
 }

@@ -94,7 +94,8 @@ TEST_F(DebugViews, EveryViewRendersWithEveryMethod) {
     for (const auto* scene : {&plates, &level}) {
         gpu::Renderer renderer(*scene, shaders);
         int errorFrames = 0; // the reference goes on across methods (same view and light)
-        for (const char* method : {"hard", "wedges-blend", "occlusion", "pcss", "auto"}) {
+        for (const char* method : {"hard", "wedges-additive", "wedges-multiply", "wedges-blend",
+                                   "occlusion", "pcss", "auto"}) {
             const gpu::RenderSettings s = settings(method, 64);
             ++errorFrames;
             const Frame shaded = renderView(renderer, s, gpu::DebugView::Shaded);
@@ -106,6 +107,13 @@ TEST_F(DebugViews, EveryViewRendersWithEveryMethod) {
                 EXPECT_EQ(f.image.size(), std::size_t(64 * 64 * 4));
                 if (v.view == gpu::DebugView::Shaded) continue;
                 EXPECT_FALSE(f.stats.debugNote.empty());
+                // The wedge methods draw their hulls (not the "not served" note).
+                if (v.view == gpu::DebugView::WedgeWireframe &&
+                    std::string_view(method).rfind("wedges-", 0) == 0) {
+                    EXPECT_EQ(f.stats.debugNote.rfind("wedges: ", 0), 0u) << f.stats.debugNote;
+                    EXPECT_EQ(f.stats.debugNote.find("method '"), std::string::npos)
+                        << f.stats.debugNote;
+                }
                 EXPECT_EQ(f.stats.referenceSamplesDone,
                           v.view == gpu::DebugView::ErrorHeatMap
                               ? std::min(16 * errorFrames, s.samples)

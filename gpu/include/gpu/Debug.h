@@ -64,6 +64,7 @@ public:
     struct Deferred {
         std::vector<PassTime> passes;
         int lag = 0;
+        std::uint64_t frame = 0; // which frame (counting every resolve and resolveDeferred)
     };
     std::optional<Deferred> resolveDeferred(std::size_t maxInFlight = 3);
 

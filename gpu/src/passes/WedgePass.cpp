@@ -3,6 +3,8 @@
 #include "../ShaderBindings.h"
 #include "VolumeStates.h"
 
+#include <geometry/WedgeHull.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <utility>
@@ -31,12 +33,10 @@ void WedgePass::beginFrame(std::uint32_t edgeCount) {
                           .label = "wedges"});
         // The hull's 8 triangles index its 6 corners (e0, e1, the rays g1..g4): vertex shading
         // runs once per corner, and the post-transform cache of indexed draws reuses it.
-        static constexpr std::uint32_t kCorner[24] = {1, 0, 2, 1, 2, 3, 0, 1, 5, 0, 5, 4,
-                                                      0, 4, 2, 1, 3, 5, 2, 4, 5, 2, 5, 3};
         std::vector<std::uint32_t> indices(24 * mWedgeCapacity);
         for (std::size_t w = 0; w < mWedgeCapacity; ++w)
-            for (int k = 0; k < 24; ++k)
-                indices[24 * w + k] = static_cast<std::uint32_t>(6 * w) + kCorner[k];
+            for (int k = 0; k < geometry::kWedgeHullVertexCount; ++k)
+                indices[24 * w + k] = static_cast<std::uint32_t>(6 * w + geometry::kWedgeHullIndex[k]);
         mIndices = Buffer({.size = indices.size() * sizeof(std::uint32_t), .data = indices.data(),
                            .flags = 0, .label = "wedge-indices"});
         mVao.elementBuffer(mIndices);
