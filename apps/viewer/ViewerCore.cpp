@@ -33,7 +33,9 @@ glm::vec3 FlyCamera::forward() const { return direction(yaw, pitch); }
 glm::vec3 FlyCamera::right() const { return {std::cos(yaw), 0.0f, -std::sin(yaw)}; }
 
 geometry::Camera FlyCamera::camera() const {
-    return {eye, eye + forward(), glm::vec3(0.0f, 1.0f, 0.0f), fovYDeg};
+    // A step float keeps distinct from the eye, far from the origin too.
+    const float step = std::max(1.0f, 1e-3f * glm::length(eye));
+    return {eye, eye + step * forward(), glm::vec3(0.0f, 1.0f, 0.0f), fovYDeg};
 }
 
 void FlyCamera::move(const glm::vec3& local, float seconds) {
@@ -118,7 +120,7 @@ geometry::Camera flyThrough(std::span<const geometry::Camera> cameras, int frame
     d = glm::length(d) > 1e-3f ? glm::normalize(d) : (s < 0.5f ? da : db); // opposite views
     geometry::Camera c;
     c.eye = glm::mix(a.eye, b.eye, s);
-    c.target = c.eye + d;
+    c.target = c.eye + std::max(1.0f, 1e-3f * glm::length(c.eye)) * d;
     c.up = a.up;
     c.fovYDeg = glm::mix(a.fovYDeg, b.fovYDeg, s);
     return c;

@@ -359,7 +359,10 @@ void Loader::addCamera(int nodeIndex, const glm::dmat4& world) {
     out.camera.eye = glm::vec3(eye);
     const glm::vec3 f(forward / forwardLen);
     out.camera.up = glm::vec3(up / upLen);
-    out.camera.target = out.camera.eye + f;
+    // A step that float keeps distinct from the eye wherever the eye is (a unit step is lost in
+    // rounding far from the origin).
+    const float step = std::max(1.0f, 1e-3f * glm::length(out.camera.eye));
+    out.camera.target = out.camera.eye + step * f;
     out.camera.fovYDeg = float(yfov * 180.0 / std::numbers::pi);
     auto finite = [](const glm::vec3& v) {
         return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);

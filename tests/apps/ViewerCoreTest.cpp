@@ -3,6 +3,8 @@
 // that go where the keys say.
 #include "ViewerCore.h"
 
+#include <geometry/Scene.h>
+
 #include <gtest/gtest.h>
 
 #include <glm/gtc/constants.hpp>
@@ -31,6 +33,15 @@ TEST(ViewerCore, FlyCameraKeepsAStoredView) {
         expectNear(dir(back), glm::normalize(d), 1e-5f, "view direction");
         EXPECT_FLOAT_EQ(back.fovYDeg, 73.0f);
     }
+}
+
+TEST(ViewerCore, FlyCameraFarFromTheOriginStaysValid) {
+    geometry::Camera c;
+    c.eye = {3.0e6f, 10.0f, -2.0e6f};
+    c.target = c.eye + glm::vec3(0.0f, 0.0f, -5000.0f);
+    const geometry::Camera back = viewer::FlyCamera::fromCamera(c).camera();
+    EXPECT_NO_THROW(geometry::validateCamera(back));
+    EXPECT_NEAR(dir(back).z, -1.0f, 1e-6f);
 }
 
 TEST(ViewerCore, FlyCameraMovesInItsOwnFrame) {

@@ -1,5 +1,6 @@
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
+#include <geometry/Scene.h>
 #include <geometry/ImageIO.h>
 
 #include <gtest/gtest.h>
@@ -415,6 +416,20 @@ protected:
         }
     }
 };
+
+// Far from the origin a unit step from the eye is lost in float rounding: the target steps
+// farther, so the camera stays valid and keeps its direction.
+TEST_F(GltfCameraTest, CameraFarFromTheOriginKeepsItsDirection) {
+    glm::mat4 far(1.0f);
+    far[3] = glm::vec4(3.0e6f, 0, 0, 1);
+    const auto g = geometry::loadGltfWithCameras(write("far.gltf", file()), far);
+    ASSERT_EQ(g.cameras.size(), 2u);
+    const geometry::Camera& c = g.cameras[1].camera;
+    EXPECT_NO_THROW(geometry::validateCamera(c));
+    const glm::vec3 d = glm::normalize(c.target - c.eye);
+    EXPECT_NEAR(d.x, 0.0f, 1e-3f);
+    EXPECT_NEAR(d.z, -1.0f, 1e-6f);
+}
 
 TEST_F(GltfCameraTest, ParentTransformPlacesChildCamera) {
     glm::mat4 lift(1.0f);
