@@ -845,7 +845,8 @@ int App::run() {
         const double gpuMs = median(mAllGpuMs);
         std::printf("  %d frames: median frame %.2f ms (%.1f fps), GPU frame %.2f ms\n", mFrame, ms,
                     ms > 0 ? 1000.0 / ms : 0.0, gpuMs);
-        if (!mOpt.screenshot.empty()) std::printf("  wrote %s\n", mOpt.screenshot.c_str());
+        if (!mOpt.screenshot.empty() && mFrame >= mOpt.frames)
+            std::printf("  wrote %s\n", mOpt.screenshot.c_str());
         if (!mOpt.report.empty()) {
             nlohmann::json r;
             r["scene"] = mOpt.file.empty() ? mOpt.scenePath : mOpt.file;

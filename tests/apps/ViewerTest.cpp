@@ -242,6 +242,13 @@ TEST_F(Viewer, ScriptedKeysDriveTheApp) {
     const RunResult esc = viewer("'" + kLevel + "' --method hard --size 64x64 --frames 50 --keys 3:Esc");
     EXPECT_EQ(esc.exitCode, 0) << esc.output;
     EXPECT_NE(esc.output.find("quit (Esc) at frame 4 of 50"), std::string::npos) << esc.output;
+    const fs::path never = mDir / "never.png";
+    const RunResult escShot = viewer("'" + kLevel + "' --method hard --size 64x64 --frames 50 "
+                                     "--keys 3:Esc --screenshot '" + never.string() + "'");
+    EXPECT_EQ(escShot.exitCode, 0) << escShot.output;
+    EXPECT_NE(escShot.output.find("no screenshot written"), std::string::npos) << escShot.output;
+    EXPECT_EQ(escShot.output.find("wrote " + never.string()), std::string::npos) << escShot.output;
+    EXPECT_FALSE(fs::exists(never));
     // A bad drop is reported and the level stays.
     const RunResult bad = viewer("'" + kLevel + "' --method hard --size 64x64 --frames 4 --keys "
                                  "1:drop=/no/such.glb");
