@@ -19,29 +19,43 @@ struct GroupRect {
     int x0, y0, x1, y1; // pixels, inclusive-exclusive
 };
 
-// Screen rectangle of a world box; false when the box misses the frustum. Boxes reaching behind
-// the camera (or across its plane) take the whole screen.
+// Screen rectangle of a world box; false when the box misses the frustum. A box reaching behind
+// the camera is clipped to the half-space in front of it (clip w >= kMinW): its rectangle bounds
+// the corners in front and the points where the box's edges cross that plane (a convex set in
+// front of the eye projects into the hull of its vertices' projections). Points near w = 0
+// project far out and clamp to the screen's edge on their side, as they should.
+constexpr float kMinW = 1e-6f;
+
 bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width, int height,
                 GroupRect& r) {
     if (boxOutsideFrustum(box, viewProj)) return false;
     glm::vec2 lo(1e30f), hi(-1e30f);
-    bool behind = false;
+    glm::vec4 clip[8];
     for (int c = 0; c < 8; ++c) {
         const glm::vec3 p((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
                           (c & 4) ? box.max.z : box.min.z);
-        const glm::vec4 clip = viewProj * glm::vec4(p, 1.0f);
-        if (clip.w <= 1e-6f) {
-            behind = true;
-            continue;
-        }
-        const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+        clip[c] = viewProj * glm::vec4(p, 1.0f);
+    }
+    auto add = [&](const glm::vec4& q) {
+        const glm::vec2 ndc = glm::vec2(q) / q.w;
         lo = glm::min(lo, ndc);
         hi = glm::max(hi, ndc);
-    }
-    if (behind) {
-        lo = glm::vec2(-1.0f);
-        hi = glm::vec2(1.0f);
-    }
+    };
+    for (int c = 0; c < 8; ++c)
+        if (clip[c].w >= kMinW) add(clip[c]);
+    // The 12 edges: corners differing in one bit.
+    for (int c = 0; c < 8; ++c)
+        for (int bit = 1; bit < 8; bit <<= 1) {
+            const int d = c | bit;
+            if (d == c) continue;
+            const float wa = clip[c].w, wb = clip[d].w;
+            if ((wa >= kMinW) == (wb >= kMinW)) continue;
+            const float t = (kMinW - wa) / (wb - wa);
+            glm::vec4 q = clip[c] + t * (clip[d] - clip[c]);
+            q.w = kMinW;
+            add(q);
+        }
+    if (!(lo.x <= hi.x && lo.y <= hi.y)) return false; // nothing in front of the eye
     lo = glm::clamp(lo, glm::vec2(-1.0f), glm::vec2(1.0f));
     hi = glm::clamp(hi, glm::vec2(-1.0f), glm::vec2(1.0f));
     // One pixel of margin on each side: rasterisation rounds, the rectangle must not.
