@@ -11,7 +11,7 @@
 // Rows go to results.csv as they finish (a valid CSV at every moment: Ctrl-C keeps the runs done),
 // results.json gets the same plus the machine, and chart.png is drawn by apps/bench/chart.py with
 // Debian's matplotlib. Input is checked before any work: bad input exits 2, nothing written.
-#include "AppSize.h"
+#include "AppCommon.h"
 #include <geometry/Error.h>
 #include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>
@@ -90,17 +90,6 @@ std::string number(double x, int precision = 6) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.*g", precision, x);
     return buf;
-}
-
-std::string cpuModel() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-        }
-    return "unknown";
 }
 
 // ---- what to run ------------------------------------------------------------------------------
@@ -387,7 +376,7 @@ void Bench::writeJson(bool complete) const {
     nlohmann::json j;
     j["gl_renderer"] = mInfo.renderer;
     j["gl_version"] = mInfo.version;
-    j["cpu"] = cpuModel();
+    j["cpu"] = apps::cpuModel();
     j["hardware_threads"] = std::thread::hardware_concurrency();
 #ifdef PENUMBRA_BUILD_TYPE
     j["build_type"] = PENUMBRA_BUILD_TYPE;

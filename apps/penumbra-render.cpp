@@ -9,7 +9,7 @@
 //   map with its scale (geometry/ErrorImage.h);
 // - with --debug-view NAME image.png shows a debug view of the renderer (gpu/Renderer.h
 //   DebugView) instead of the shaded image.
-#include "AppSize.h"
+#include "AppCommon.h"
 #include <geometry/Error.h>
 #include <geometry/ErrorImage.h>
 #include <geometry/ErrorStats.h>

@@ -1,6 +1,6 @@
 #include "Viewer.h"
 
-#include "../AppSize.h"
+#include "../AppCommon.h"
 #include "ViewerCore.h"
 
 #include <geometry/Error.h>
@@ -46,17 +46,6 @@ double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string cpuName() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(colon + 2);
-        }
-    return "unknown CPU";
 }
 
 // A named view of the scene: its glTF cameras (spawn points) in file order, or the scene's own.
@@ -747,7 +736,7 @@ int App::run() {
                     (mOpt.file.empty() ? mOpt.scenePath : mOpt.file).c_str(),
                     mSettings.method.c_str(), mWidth, mHeight, mRenderScale,
                     mViews[static_cast<std::size_t>(mViewIndex)].name.c_str(),
-                    mRendererName.c_str(), cpuName().c_str());
+                    mRendererName.c_str(), apps::cpuModel().c_str());
     std::fflush(stdout); // scripts watch for this line
 
     GLFWwindow* window = mContext->window();
@@ -862,7 +851,7 @@ int App::run() {
             r["gpu_frame_ms_median"] = gpuMs;
             r["triangles"] = mStats.triangles;
             r["gl_renderer"] = mRendererName;
-            r["cpu"] = cpuName();
+            r["cpu"] = apps::cpuModel();
             std::ofstream(mOpt.report) << r.dump(2) << "\n";
         }
     }

@@ -27,15 +27,6 @@ geometry::FloatImage renderWith(const geometry::Scene& scene, const std::string&
     return renderer.visibility();
 }
 
-std::size_t differing(const geometry::FloatImage& a, const geometry::FloatImage& b, float tol) {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < a.data.size(); ++i) {
-        const bool na = std::isnan(a.data[i]), nb = std::isnan(b.data[i]);
-        if (na != nb || (!na && std::abs(a.data[i] - b.data[i]) > tol)) ++n;
-    }
-    return n;
-}
-
 TEST_F(CameraOverride, EqualsTheEditedScene) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
     geometry::Camera moved = scene.camera;
@@ -46,9 +37,9 @@ TEST_F(CameraOverride, EqualsTheEditedScene) {
     for (const char* method : {"hard", "wedges-blend", "occlusion", "pcss"}) {
         const geometry::FloatImage a = renderWith(scene, method, moved);
         const geometry::FloatImage b = renderWith(edited, method, std::nullopt);
-        EXPECT_EQ(differing(a, b, 0.0f), 0u) << method;
+        EXPECT_EQ(testutil::countDiffering(a, b, 0.0f), 0u) << method;
         const geometry::FloatImage c = renderWith(scene, method, std::nullopt);
-        EXPECT_GT(differing(a, c, 0.02f), 500u) << method << ": the camera override was ignored";
+        EXPECT_GT(testutil::countDiffering(a, c, 0.02f), 500u) << method << ": the camera override was ignored";
     }
 }
 

@@ -90,6 +90,17 @@ inline geometry::Scene spawnScene(const SpawnView& view) {
     return scene;
 }
 
+// Pixels where two visibility images differ: by more than `tol`, or surface in one only (NaN).
+inline std::size_t countDiffering(const geometry::FloatImage& a, const geometry::FloatImage& b,
+                                  float tol) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.data.size(); ++i) {
+        const bool na = std::isnan(a.data[i]), nb = std::isnan(b.data[i]);
+        if (na != nb || (!na && std::abs(a.data[i] - b.data[i]) > tol)) ++n;
+    }
+    return n;
+}
+
 inline glm::vec3 pixelPosition(const geometry::FloatImage& p, std::size_t i) {
     return {p.data[3 * i], p.data[3 * i + 1], p.data[3 * i + 2]};
 }
