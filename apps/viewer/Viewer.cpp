@@ -31,6 +31,7 @@
 #include <optional>
 #include <regex>
 #include <sstream>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -850,6 +851,16 @@ int App::run() {
             r["fps"] = ms > 0 ? 1000.0 / ms : 0.0;
             r["gpu_frame_ms_median"] = gpuMs;
             r["triangles"] = mStats.triangles;
+            // The last frame's counts and stages (GPU passes as last read from the timer ring).
+            nlohmann::json last;
+            for (const gpu::Counter& c : mStats.counters) last["counters"][c.name] = c.value;
+            for (const gpu::CpuTime& c : mStats.cpu) last["cpu_ms"][c.name] = c.ms;
+            std::map<std::string, double> passes; // a pass run per batch is summed
+            for (const gpu::PassTime& p : mShownGpu) passes[p.name] += p.ms;
+            for (const auto& [name, ms] : passes) last["gpu_ms"][name] = ms;
+            last["silhouette_edges"] = mStats.silhouetteEdges;
+            last["silhouette_groups"] = mStats.silhouetteGroups;
+            r["last_frame"] = last;
             r["gl_renderer"] = mRendererName;
             r["cpu"] = apps::cpuModel();
             std::ofstream(mOpt.report) << r.dump(2) << "\n";

@@ -11,6 +11,8 @@
 #include <geometry/Analytic.h>
 #include <geometry/BlendModel.h>
 #include <geometry/ErrorStats.h>
+#include <geometry/Framing.h>
+#include <geometry/RayTracer.h>
 #include <geometry/Silhouette.h>
 #include <geometry/Topology.h>
 #include <geometry/Wedge.h>
@@ -481,8 +483,9 @@ TEST_F(AdditiveWedges, MultiplyEqualsItsCpuModel) {
 }
 
 TEST_F(AdditiveWedges, PerSilhouetteMethodsOnALevelAreMeasured) {
-    // A level seen from inside: most groups' influence rectangles cover most of the screen, so
-    // batching gains little here (measured: 90 groups drawn, 149 culled, 66 batches), and
+    // A level seen from inside: most groups' influence rectangles cover most of the screen, and
+    // only depth-aware batching keeps the passes few (measured: 16 groups drawn, 149 culled,
+    // 7 batches; by rectangles alone 90 groups in 66 batches), and
     // groups of open level geometry overlap their own penumbrae (light leaks inside one group,
     // which no per-group combination removes): multiply is worse than hard shadows on this view.
     const auto path = testutil::sharedPath("levels/oa_dm4.glb");
@@ -503,6 +506,76 @@ TEST_F(AdditiveWedges, PerSilhouetteMethodsOnALevelAreMeasured) {
                 counter(mul, "groups_drawn"), counter(mul, "groups_culled"),
                 counter(mul, "batches"), e.meanAbs, e.p99, e.badPixelPct);
     EXPECT_LT(e.meanAbs, 0.06); // measured 0.0485 (hard 0.0376, additive 0.0776)
+}
+
+// Depth-aware batching (GroupBatches.h) leaves out the groups and wedges that reach no visible
+// surface tile. Against batching by screen rectangles alone, on kaos2's spawn views with the
+// viewer's lamp (hung under the ceiling ahead): multiply must give the same V up to float order
+// (a product), blend the same up to the order in which groups blend (it is not commutative:
+// within a few 8-bit steps, as BlendEqualsItsCpuModel allows). A group or wedge left out
+// wrongly shows as a whole missing shadow or penumbra, far more than that.
+TEST_F(AdditiveWedges, DepthAwareBatchingChangesOnlyTheOrder) {
+    const auto path = testutil::sharedPath("levels/kaos2.glb");
+    ASSERT_TRUE(std::filesystem::exists(path)) << path;
+    geometry::Scene scene = geometry::loadScene(path);
+    const geometry::RayTracer tracer(scene);
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    for (const int camera : {3, 8}) {
+        geometry::selectCamera(scene, camera);
+        const geometry::Camera& c = scene.camera;
+        const glm::vec3 forward = glm::normalize(c.target - c.eye);
+        std::vector<glm::vec3> bases;
+        float t = 0.0f;
+        glm::vec3 n;
+        if (tracer.intersect(c.eye, forward, t, n)) bases.push_back(c.eye + 0.5f * t * forward);
+        bases.push_back(c.eye);
+        const std::optional<geometry::RectLight> lamp = geometry::hangLight(scene, tracer, bases);
+        ASSERT_TRUE(lamp) << "camera " << camera;
+        gpu::Renderer renderer(scene, shaders);
+        for (const char* method : {"wedges-multiply", "wedges-blend"}) {
+            SCOPED_TRACE(std::string(method) + " camera " + std::to_string(camera));
+            gpu::RenderSettings s;
+            s.method = method;
+            s.width = 160;
+            s.height = 90;
+            s.light = *lamp;
+            s.depthAwareBatching = false;
+            const gpu::FrameStats plainStats = renderer.renderFrame(s);
+            const geometry::FloatImage plain = renderer.visibility();
+            s.depthAwareBatching = true;
+            const gpu::FrameStats tiledStats = renderer.renderFrame(s);
+            const geometry::FloatImage tiled = renderer.visibility();
+            const auto count = [](const gpu::FrameStats& st, const char* name) {
+                for (const auto& k : st.counters)
+                    if (k.name == name) return k.value;
+                return -1.0;
+            };
+            std::size_t pixels = 0, differ = 0, far = 0;
+            double maxDiff = 0.0;
+            for (std::size_t i = 0; i < plain.data.size(); ++i) {
+                ASSERT_EQ(std::isfinite(plain.data[i]), std::isfinite(tiled.data[i]));
+                if (!std::isfinite(plain.data[i])) continue;
+                ++pixels;
+                const double d = std::abs(double(plain.data[i]) - tiled.data[i]);
+                maxDiff = std::max(maxDiff, d);
+                differ += d > 1e-4;
+                far += d > 8.0 / 255.0; // BlendEqualsItsCpuModel's order tolerance
+            }
+            std::printf("  kaos2 camera %d, %s 160x90: batches %.0f -> %.0f, groups drawn %.0f -> "
+                        "%.0f (%.0f hidden), wedges drawn %.0f -> %.0f; %zu of %zu pixels differ "
+                        "by > 1e-4, max %.2e\n",
+                        camera, method, count(plainStats, "batches"), count(tiledStats, "batches"),
+                        count(plainStats, "groups_drawn"), count(tiledStats, "groups_drawn"),
+                        count(tiledStats, "groups_hidden"), count(plainStats, "wedges_drawn"),
+                        count(tiledStats, "wedges_drawn"), differ, pixels, maxDiff);
+            EXPECT_GT(count(tiledStats, "groups_hidden"), 0.0); // it does leave groups out here
+            EXPECT_LT(count(tiledStats, "batches"), count(plainStats, "batches"));
+            EXPECT_EQ(far, 0u);
+            if (std::string(method) == "wedges-multiply") {
+                EXPECT_LE(maxDiff, 1e-5);
+            }
+        }
+    }
 }
 
 // ---- wedges-blend: per-silhouette buffers blended with overlap correction ----------------------

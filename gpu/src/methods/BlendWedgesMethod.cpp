@@ -111,7 +111,7 @@ std::array<GLuint, 4> emptyFinalValue(const BlendLayout& layout, int target) {
 class BlendWedgesMethod final : public VisibilityMethod {
 public:
     explicit BlendWedgesMethod(const MethodResources& r)
-        : mLayout(blendLayout(r.parameters)), mVolumes(r.shaders),
+        : mLayout(blendLayout(r.parameters)), mSurface(r.shaders), mVolumes(r.shaders),
           mWedges(r.shaders, WedgePass::Output::Parts4, mLayout.defines()),
           mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}, mLayout.defines()),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
@@ -159,7 +159,7 @@ public:
 
         clearPartTargets();
         runSilhouetteBatches(
-            ctx, mVolumes, mWedges, mPartsFbo,
+            ctx, mSurface, mVolumes, mWedges, mPartsFbo,
             {.combine = [&](const GroupBatch& batch,
                             const TouchedStates& states) { blendPartSets(t, batch, states); },
              .reset = [&](const GroupBatch&,
@@ -303,7 +303,7 @@ private:
             if (set > 0) {
                 resetPartTargets(t, states.touched);
                 glProgramUniform1i(mWedges.drawProgram(), kPartSetLocation, set);
-                mWedges.draw(mPartsFbo, t, batch.set, &batch.rect, /*markTouched=*/false,
+                mWedges.draw(mPartsFbo, t, batch.wedgeSet, &batch.rect, /*markTouched=*/false,
                              /*countFragments=*/false); // counted with set 0
             }
             blend(t, states.lit, set, false);
@@ -327,6 +327,7 @@ private:
     }
 
     BlendLayout mLayout;
+    SurfaceTilePass mSurface;
     StencilVolumePass mVolumes;
     WedgePass mWedges;
     FullscreenPass mBlend, mReset, mResolve;

@@ -6,9 +6,14 @@
 #include "../passes/StencilVolumePass.h"
 #include "../passes/VolumeStates.h"
 #include "../passes/WedgePass.h"
+#include "../ShaderBindings.h"
+#include "../Targets.h"
+
+#include <geometry/ShadowCone.h>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace gpu {
 
@@ -68,40 +73,150 @@ bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width,
 
 } // namespace
 
+SurfaceTilePass::SurfaceTilePass(const ShaderLoader& shaders)
+    : mProgram(shaders.load(
+          {.stages = {{GL_COMPUTE_SHADER, "surface-tiles.comp"}}, .label = "surface-tiles"})) {}
+
+SurfaceTiles SurfaceTilePass::measure(const Targets& t) {
+    SurfaceTiles out;
+    out.tile = kTile;
+    out.tilesX = (t.width + kTile - 1) / kTile;
+    out.tilesY = (t.height + kTile - 1) / kTile;
+    const std::size_t tiles = static_cast<std::size_t>(out.tilesX) * out.tilesY;
+    const std::size_t bytes = 2 * tiles * sizeof(glm::vec4);
+    if (mTiles.size() < bytes)
+        mTiles = Buffer({.size = bytes, .flags = 0, .label = "surface-tiles"});
+    glUseProgram(mProgram.id());
+    glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SURFACE_TILES, mTiles.id());
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glDispatchCompute(static_cast<GLuint>(out.tilesX), static_cast<GLuint>(out.tilesY), 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    mScratch.resize(2 * tiles);
+    glGetNamedBufferSubData(mTiles.id(), 0, static_cast<GLsizeiptr>(bytes), mScratch.data());
+    out.boxes.resize(tiles);
+    for (std::size_t i = 0; i < tiles; ++i) {
+        const glm::vec3 lo(mScratch[2 * i]), hi(mScratch[2 * i + 1]);
+        if (lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
+            out.boxes[i].extend(lo);
+            out.boxes[i].extend(hi);
+        }
+    }
+    return out;
+}
+
+namespace {
+
+bool overlaps(const geometry::Aabb& a, const geometry::Aabb& b) {
+    return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y &&
+           b.min.y <= a.max.y && a.min.z <= b.max.z && b.min.z <= a.max.z;
+}
+
+} // namespace
+
 GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t> casterSubset,
-                         const glm::mat4& viewProj, int width, int height, int tile) {
+                         const glm::mat4& viewProj, int width, int height, int tile,
+                         const SurfaceTiles* surface, const geometry::RectLight* light) {
     GroupBatches out;
+    const int tilesX = (width + tile - 1) / tile, tilesY = (height + tile - 1) / tile;
+    const bool depthAware = surface && light;
+    if (depthAware && (surface->tile != tile || surface->tilesX != tilesX ||
+                       surface->tilesY != tilesY))
+        throw std::logic_error("batchGroups: surface tiles of another grid");
+    // Surface boxes grown by a relative margin (float: the G-buffer position and the point a
+    // shader reconstructs or depth-tests may differ in their last bits), with their spheres.
+    struct TileSphere {
+        geometry::Aabb box;
+        glm::vec3 centre{0.0f};
+        float radius = 0.0f;
+    };
+    std::vector<TileSphere> spheres;
+    if (depthAware) {
+        spheres.resize(surface->boxes.size());
+        for (std::size_t i = 0; i < spheres.size(); ++i) {
+            const geometry::Aabb& b = surface->boxes[i];
+            if (b.empty()) continue;
+            const float margin =
+                1e-4f * (glm::length(b.max - b.min) + glm::length(glm::abs(b.min) + glm::abs(b.max))) +
+                1e-6f;
+            TileSphere& s = spheres[i];
+            s.box.extend(b.min - glm::vec3(margin));
+            s.box.extend(b.max + glm::vec3(margin));
+            s.centre = 0.5f * (s.box.min + s.box.max);
+            s.radius = 0.5f * glm::length(s.box.max - s.box.min);
+        }
+    }
+
+    // Per group its rectangle and its tiles (indices into the grid).
     std::vector<GroupRect> rects;
+    std::vector<std::uint32_t> tileIndex; // every group's tiles, concatenated
+    std::vector<std::uint32_t> tileStart; // per group in `rects`, then the end
     for (const std::uint32_t c : casterSubset) {
         const auto& groups = casters.frame(c).groups;
         for (std::uint32_t g = 0; g < groups.size(); ++g) {
             GroupRect r{c, g, 0, 0, 0, 0};
-            if (screenRect(groups[g].influenceBounds, viewProj, width, height, r))
-                rects.push_back(r);
-            else
+            if (!screenRect(groups[g].influenceBounds, viewProj, width, height, r)) {
                 ++out.culledGroups;
+                continue;
+            }
+            const auto first = static_cast<std::uint32_t>(tileIndex.size());
+            const int tx0 = r.x0 / tile, ty0 = r.y0 / tile;
+            const int tx1 = (r.x1 - 1) / tile, ty1 = (r.y1 - 1) / tile;
+            if (!depthAware) {
+                for (int ty = ty0; ty <= ty1; ++ty)
+                    for (int tx = tx0; tx <= tx1; ++tx)
+                        tileIndex.push_back(static_cast<std::uint32_t>(ty * tilesX + tx));
+            } else {
+                const geometry::SilhouetteGroup& group = groups[g];
+                const geometry::ShadowCone cone = geometry::shadowCone(group.occluderBounds, *light);
+                int kx0 = tilesX, ky0 = tilesY, kx1 = -1, ky1 = -1;
+                for (int ty = ty0; ty <= ty1; ++ty)
+                    for (int tx = tx0; tx <= tx1; ++tx) {
+                        const auto i = static_cast<std::uint32_t>(ty * tilesX + tx);
+                        const TileSphere& s = spheres[i];
+                        if (s.box.empty() || !overlaps(s.box, group.influenceBounds) ||
+                            !geometry::sphereMayMeetCone(cone, s.centre, s.radius))
+                            continue;
+                        tileIndex.push_back(i);
+                        kx0 = std::min(kx0, tx), ky0 = std::min(ky0, ty);
+                        kx1 = std::max(kx1, tx), ky1 = std::max(ky1, ty);
+                    }
+                if (kx1 < 0) {
+                    ++out.hiddenGroups;
+                    continue;
+                }
+                // The rectangle shrinks to its tiles (their pixels; the rectangle's margin was
+                // inside the tiles it touched).
+                r.x0 = std::max(r.x0, kx0 * tile);
+                r.y0 = std::max(r.y0, ky0 * tile);
+                r.x1 = std::min(r.x1, (kx1 + 1) * tile);
+                r.y1 = std::min(r.y1, (ky1 + 1) * tile);
+            }
+            tileStart.push_back(first);
+            rects.push_back(r);
         }
     }
+    tileStart.push_back(static_cast<std::uint32_t>(tileIndex.size()));
     out.drawnGroups = static_cast<std::uint32_t>(rects.size());
-    // Large rectangles first: they constrain the colouring most.
-    std::stable_sort(rects.begin(), rects.end(), [](const GroupRect& a, const GroupRect& b) {
-        return std::int64_t(a.x1 - a.x0) * (a.y1 - a.y0) > std::int64_t(b.x1 - b.x0) * (b.y1 - b.y0);
+    // Groups with many tiles first: they constrain the colouring most.
+    std::vector<std::uint32_t> order(rects.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return tileStart[a + 1] - tileStart[a] > tileStart[b + 1] - tileStart[b];
     });
-    const int tilesX = (width + tile - 1) / tile, tilesY = (height + tile - 1) / tile;
     std::vector<std::vector<bool>> occupied; // per batch, per tile
     struct Bounds {
         int x0 = 1 << 30, y0 = 1 << 30, x1 = 0, y1 = 0;
     };
     std::vector<Bounds> bounds;
-    for (const GroupRect& r : rects) {
-        const int tx0 = r.x0 / tile, ty0 = r.y0 / tile;
-        const int tx1 = (r.x1 - 1) / tile, ty1 = (r.y1 - 1) / tile;
+    for (const std::uint32_t k : order) {
+        const GroupRect& r = rects[k];
+        const std::span<const std::uint32_t> tiles(tileIndex.data() + tileStart[k],
+                                                   tileStart[k + 1] - tileStart[k]);
         std::size_t b = 0;
         for (; b < occupied.size(); ++b) {
             bool free = true;
-            for (int ty = ty0; ty <= ty1 && free; ++ty)
-                for (int tx = tx0; tx <= tx1 && free; ++tx)
-                    free = !occupied[b][static_cast<std::size_t>(ty * tilesX + tx)];
+            for (std::size_t i = 0; i < tiles.size() && free; ++i) free = !occupied[b][tiles[i]];
             if (free) break;
         }
         if (b == occupied.size()) {
@@ -109,14 +224,42 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
             out.batches.emplace_back();
             bounds.emplace_back();
         }
-        for (int ty = ty0; ty <= ty1; ++ty)
-            for (int tx = tx0; tx <= tx1; ++tx)
-                occupied[b][static_cast<std::size_t>(ty * tilesX + tx)] = true;
+        for (const std::uint32_t i : tiles) occupied[b][i] = true;
         GroupBatch& batch = out.batches[b];
         const CasterRange& range = casters.range(r.caster);
-        const geometry::SilhouetteGroup& g = casters.frame(r.caster).groups[r.group];
+        const geometry::SilhouetteFrame& frame = casters.frame(r.caster);
+        const geometry::SilhouetteGroup& g = frame.groups[r.group];
         batch.set.add(range.firstTriangle + g.firstTriangle, g.triangleCount,
                       range.firstEdge + g.firstEdge, g.edgeCount);
+        if (!depthAware) {
+            batch.wedgeSet.add(0, 0, range.firstEdge + g.firstEdge, g.edgeCount);
+        } else {
+            // Runs of consecutive edges whose cone meets one of the group's tiles.
+            const auto positions = casters.topology(r.caster).positions();
+            std::uint32_t runStart = 0, runLength = 0;
+            for (std::uint32_t e = 0; e < g.edgeCount; ++e) {
+                const geometry::SilhouetteEdge& edge = frame.edges[g.firstEdge + e];
+                geometry::Aabb segment;
+                segment.extend(positions[edge.v0]);
+                segment.extend(positions[edge.v1]);
+                const geometry::ShadowCone cone = geometry::shadowCone(segment, *light);
+                bool reaches = false;
+                for (std::size_t i = 0; i < tiles.size() && !reaches; ++i) {
+                    const TileSphere& ts = spheres[tiles[i]];
+                    reaches = geometry::sphereMayMeetCone(cone, ts.centre, ts.radius);
+                }
+                if (reaches) {
+                    if (runLength == 0) runStart = e;
+                    ++runLength;
+                } else {
+                    ++out.hiddenWedges;
+                }
+                if (runLength > 0 && (!reaches || e + 1 == g.edgeCount)) {
+                    batch.wedgeSet.add(0, 0, range.firstEdge + g.firstEdge + runStart, runLength);
+                    runLength = 0;
+                }
+            }
+        }
         ++batch.groups;
         batch.groupPixels += std::uint64_t(r.x1 - r.x0) * std::uint64_t(r.y1 - r.y0);
         Bounds& u = bounds[b];
@@ -163,12 +306,22 @@ PipelineState scissored(PipelineState s, const ScissorRect& rect) {
 
 } // namespace
 
-void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, WedgePass& wedges,
-                          const Framebuffer& target, const BatchSteps& steps) {
+void runSilhouetteBatches(const FrameContext& ctx, SurfaceTilePass& surface,
+                          StencilVolumePass& volumes, WedgePass& wedges, const Framebuffer& target,
+                          const BatchSteps& steps) {
     const Targets& t = ctx.targets;
+    SurfaceTiles tiles;
+    const bool depthAware = ctx.settings.depthAwareBatching;
+    if (depthAware) {
+        ScopedPass pass(&ctx.timers, "surface-tiles");
+        const auto t0 = Clock::now();
+        tiles = surface.measure(t);
+        ctx.addCpuTime("surface-tiles", msSince(t0)); // mostly the wait for the G-buffer
+    }
     auto t0 = Clock::now();
     const GroupBatches batches =
-        batchGroups(ctx.casters, ctx.casterSubset, ctx.viewProj, t.width, t.height);
+        batchGroups(ctx.casters, ctx.casterSubset, ctx.viewProj, t.width, t.height,
+                    SurfaceTilePass::kTile, depthAware ? &tiles : nullptr, &ctx.light);
     ctx.addCpuTime("batching", msSince(t0));
     const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
     ctx.casters.bind();
@@ -191,7 +344,7 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
         }
         {
             ScopedPass pass(&ctx.timers, "wedges");
-            wedges.draw(target, t, batch.set, &batch.rect, /*markTouched=*/true);
+            wedges.draw(target, t, batch.wedgeSet, &batch.rect, /*markTouched=*/true);
         }
         {
             ScopedPass pass(&ctx.timers, "blend");
@@ -222,6 +375,14 @@ void runSilhouetteBatches(const FrameContext& ctx, StencilVolumePass& volumes, W
     };
     addWedgeCounters(ctx, wedges.counts(), runs);
     ctx.addCounter("groups_culled", batches.culledGroups);
+    ctx.addCounter("groups_hidden", batches.hiddenGroups);
+    ctx.addCounter("wedges_hidden", batches.hiddenWedges);
+    {
+        double drawn = 0;
+        for (const GroupBatch& b : batches.batches)
+            for (GLsizei n : b.wedgeSet.edgeCount) drawn += n;
+        ctx.addCounter("wedges_drawn", drawn);
+    }
     ctx.addCounter("groups_drawn", batches.drawnGroups);
     ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
     ctx.addCounter("batch_rect_pixels", static_cast<double>(rectPixels));

@@ -30,7 +30,7 @@ constexpr PipelineState kMultiplyState{
 class MultiplyWedgesMethod final : public VisibilityMethod {
 public:
     explicit MultiplyWedgesMethod(const MethodResources& r)
-        : mVolumes(r.shaders), mWedges(r.shaders),
+        : mSurface(r.shaders), mVolumes(r.shaders), mWedges(r.shaders),
           mMultiply(r.shaders, "blend-multiply.frag", "blend-multiply", kMultiplyState),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}) {}
 
@@ -53,7 +53,7 @@ public:
         const float zero = 0.0f;
         glClearTexImage(mSilhouette.id(), 0, GL_RED, GL_FLOAT, &zero);
         runSilhouetteBatches(
-            ctx, mVolumes, mWedges, mSilhouetteFbo,
+            ctx, mSurface, mVolumes, mWedges, mSilhouetteFbo,
             {.combine =
                  [&](const GroupBatch&, const TouchedStates& states) {
                      multiply(t, states.lit, 1.0f);
@@ -82,6 +82,7 @@ private:
                           [&] { glUniform1f(0, lit); });
     }
 
+    SurfaceTilePass mSurface;
     StencilVolumePass mVolumes;
     WedgePass mWedges;
     FullscreenPass mMultiply, mReset;

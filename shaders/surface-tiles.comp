@@ -1,0 +1,34 @@
+// World-space bounds of the visible surface per 16x16 pixel tile (the G-buffer's positions), for
+// the per-silhouette methods' batching (gpu/src/methods/GroupBatches.h): a group can change a
+// pixel only where the pixel's surface point lies in the group's influence region, so a tile
+// whose surface box misses that region needs none of the group's passes. Two vec4 per tile
+// (min, max); a tile without surface pixels gets min > max.
+#include "lib/Bindings.h"
+
+// One invocation per tile, looping over its pixels: no barriers (llvmpipe runs work groups
+// with barriers slowly, and a tile is only 256 texel reads).
+layout(local_size_x = 1) in;
+
+layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
+
+layout(std430, binding = BINDING_SURFACE_TILES) writeonly buffer Tiles {
+    vec4 tileBounds[]; // 2 per tile
+};
+
+void main() {
+    ivec2 size = textureSize(tPosition, 0);
+    ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16;
+    ivec2 end = min(origin + 16, size);
+    vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
+    for (int y = origin.y; y < end.y; ++y)
+        for (int x = origin.x; x < end.x; ++x) {
+            vec4 p = texelFetch(tPosition, ivec2(x, y), 0);
+            if (p.w != 0.0) {
+                lo = min(lo, p.xyz);
+                hi = max(hi, p.xyz);
+            }
+        }
+    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    tileBounds[2u * tile] = vec4(lo, 0.0);
+    tileBounds[2u * tile + 1u] = vec4(hi, 0.0);
+}
