@@ -6,8 +6,9 @@
 #include "lib/Bindings.h"
 
 // One invocation per tile, looping over its pixels: no barriers (llvmpipe runs work groups
-// with barriers slowly, and a tile is only 256 texel reads).
-layout(local_size_x = 1) in;
+// with barriers slowly, and a tile is only 256 texel reads); 8 tiles of a row per work group,
+// so that SIMD lanes have work.
+layout(local_size_x = 8) in;
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 
@@ -15,9 +16,13 @@ layout(std430, binding = BINDING_SURFACE_TILES) writeonly buffer Tiles {
     vec4 tileBounds[]; // 2 per tile
 };
 
+layout(location = 0) uniform int uTilesX;
+
 void main() {
+    ivec2 tileXY = ivec2(gl_GlobalInvocationID.xy);
+    if (tileXY.x >= uTilesX) return;
     ivec2 size = textureSize(tPosition, 0);
-    ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16;
+    ivec2 origin = tileXY * 16;
     ivec2 end = min(origin + 16, size);
     vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
     for (int y = origin.y; y < end.y; ++y)
@@ -28,7 +33,7 @@ void main() {
                 hi = max(hi, p.xyz);
             }
         }
-    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint tile = uint(tileXY.y * uTilesX + tileXY.x);
     tileBounds[2u * tile] = vec4(lo, 0.0);
     tileBounds[2u * tile + 1u] = vec4(hi, 0.0);
 }

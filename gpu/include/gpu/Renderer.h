@@ -73,11 +73,13 @@ struct RenderSettings {
     // pass times. false (the viewer): nothing waits; FrameStats::gpu holds the newest earlier
     // frame whose timer queries have completed (a ring of a few frames), gpuTimesLag its age.
     bool waitForGpu = true;
-    // Per-silhouette methods (wedges-multiply, wedges-blend, auto's wedges): batch silhouette
-    // groups by the tiles of visible surface they can reach (measured from the G-buffer; a
-    // group that reaches none draws nothing). Off: by their screen rectangles alone, as a
-    // comparison (same V up to the order in which groups blend; slower inside levels).
-    bool depthAwareBatching = true;
+    // Shadow-volume and wedge methods (hard, wedges-*, auto's wedges): draw only the silhouette
+    // groups and wedges that can reach a tile of visible surface (measured from the G-buffer,
+    // gpu/src/methods/GroupBatches.h), and batch the per-silhouette methods' groups by those
+    // tiles (with 64 groups or more: below that the pass costs more than it saves). Off: every
+    // group in the view frustum, batched by screen rectangles, as a comparison (the same V up
+    // to the order in which groups blend; slower inside levels).
+    bool depthAwareCulling = true;
     int width = 512;
     int height = 512;
     int samples = 1024;       // reference methods: light samples per pixel

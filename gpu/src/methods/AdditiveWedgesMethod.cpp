@@ -3,12 +3,15 @@
 // - one wedge per directed silhouette edge, built on the GPU from the edge (WedgePass), each
 //   pixel inside it subtracting the edge's signed coverage of the light;
 // - exact for one silhouette; where penumbrae of different silhouettes overlap the sum
-//   double-counts (DESIGN.md §4): the resolve counts the pixels its clamp touched.
+//   double-counts (DESIGN.md §4): the resolve counts the pixels its clamp touched;
+// - only the groups and wedges that can reach a tile of visible surface are drawn
+//   (GroupBatches.h: visibleSets; RenderSettings::depthAwareCulling).
 #include "../DebugViews.h"
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
 #include "../passes/WedgePass.h"
+#include "GroupBatches.h"
 #include "MethodUtil.h"
 
 namespace gpu {
@@ -18,12 +21,15 @@ namespace {
 class AdditiveWedgesMethod final : public VisibilityMethod {
 public:
     explicit AdditiveWedgesMethod(const MethodResources& r)
-        : mVolumes(r.shaders), mAccumulate(r.shaders), mWedges(r.shaders) {}
+        : mSurface(r.shaders), mVolumes(r.shaders), mAccumulate(r.shaders), mWedges(r.shaders) {}
 
     void execute(const FrameContext& ctx) override {
         const Targets& t = ctx.targets;
         const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
-        drawHardVisibility(ctx, runs, mVolumes, mAccumulate);
+        // Only the groups and wedges that can reach the visible surface (GroupBatches.h).
+        const std::optional<VisibleSets> visible = visibleSets(ctx, mSurface, ctx.light, /*wedges=*/true);
+        drawHardVisibility(ctx, runs, mVolumes, mAccumulate,
+                           visible ? &visible->volumes : nullptr);
         {
             ScopedPass pass(&ctx.timers, "wedge-setup");
             mWedges.beginFrame(ctx.casters.edgeCount());
@@ -31,9 +37,10 @@ public:
         }
         {
             ScopedPass pass(&ctx.timers, "wedges");
-            DrawSet set;
-            for (const CasterRange& r : runs) set.add(r);
-            mWedges.draw(t.visibilityFbo, t, set);
+            DrawSet all;
+            if (!visible)
+                for (const CasterRange& r : runs) all.add(r);
+            mWedges.draw(t.visibilityFbo, t, visible ? visible->wedges : all);
         }
         {
             ScopedPass pass(&ctx.timers, "resolve");
@@ -50,6 +57,7 @@ public:
     }
 
 private:
+    SurfaceTilePass mSurface;
     StencilVolumePass mVolumes;
     AccumulatePass mAccumulate;
     WedgePass mWedges;

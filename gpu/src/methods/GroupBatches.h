@@ -32,6 +32,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -70,7 +71,7 @@ struct SurfaceTiles {
 // them back: the CPU batching needs them before the batches' passes (a wait for the G-buffer).
 class SurfaceTilePass {
 public:
-    static constexpr int kTile = 16; // the shader's work group
+    static constexpr int kTile = 16; // pixels per tile side (shaders/surface-tiles.comp)
     explicit SurfaceTilePass(const ShaderLoader& shaders);
     SurfaceTiles measure(const Targets& t);
 
@@ -81,16 +82,28 @@ private:
 };
 
 // Batches on a grid of `tile` pixels; with `surface` (same tile size) and `light`, only the
-// tiles whose surface a group can reach (above), else every tile of its rectangle.
+// tiles whose surface a group can reach (above), else every tile of its rectangle. `wedges`
+// false: no wedge sets (GroupBatch::wedgeSet stays empty; no per-edge tests).
 GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t> casterSubset,
                          const glm::mat4& viewProj, int width, int height, int tile = 16,
                          const SurfaceTiles* surface = nullptr,
-                         const geometry::RectLight* light = nullptr);
+                         const geometry::RectLight* light = nullptr, bool wedges = true);
+
+// The methods that draw every group in one pass (hard, wedges-additive), with
+// RenderSettings::depthAwareCulling and at least 64 silhouette groups (fewer are not worth the
+// pass and its wait): measures the surface tiles and returns the groups'
+// volumes and the wedges that can reach one for `light` (hard: a light of zero size at the
+// centre), with the counters "groups_hidden" and (`wedges`) "wedges_hidden". std::nullopt
+// otherwise (draw every caster).
+struct VisibleSets {
+    DrawSet volumes, wedges; // `wedges` empty unless asked for
+};
+std::optional<VisibleSets> visibleSets(const FrameContext& ctx, SurfaceTilePass& surface,
+                                       const geometry::RectLight& light, bool wedges);
 
 // The frame of the per-silhouette methods (multiply, blend): the visible surface's tiles
-// (SurfaceTilePass: a wait for the G-buffer; skipped when RenderSettings::depthAwareBatching is
-// off); batches; every wedge set up once; the stencil cleared once; then per batch, scissored
-// to it:
+// (SurfaceTilePass: a wait for the G-buffer; skipped as visibleSets skips it); batches; every
+// wedge set up once; the stencil cleared once; then per batch, scissored to it:
 // 1. the batch's groups' z-fail volumes: the count in the stencil's low bits (VolumeStates.h);
 // 2. their wedges (GroupBatch::wedgeSet) into `target` (the method's per-silhouette targets,
 //    holding their empty values everywhere), marking the touched pixels in the stencil

@@ -1,9 +1,12 @@
 // hard: one z-fail stencil shadow-volume pass from the light centre (DESIGN.md §4), drawn by
-// vertex pulling from the frame's silhouette groups, then V = 1 where the count is zero.
+// vertex pulling from the frame's silhouette groups, then V = 1 where the count is zero. Only
+// the groups whose volume can reach a tile of visible surface are drawn (GroupBatches.h:
+// visibleSets; RenderSettings::depthAwareCulling).
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
 #include "../passes/VolumeStates.h"
+#include "GroupBatches.h"
 #include "MethodUtil.h"
 
 namespace gpu {
@@ -12,14 +15,21 @@ namespace {
 
 class HardMethod final : public VisibilityMethod {
 public:
-    explicit HardMethod(const MethodResources& r) : mVolumes(r.shaders), mAccumulate(r.shaders) {}
+    explicit HardMethod(const MethodResources& r)
+        : mSurface(r.shaders), mVolumes(r.shaders), mAccumulate(r.shaders) {}
 
     void execute(const FrameContext& ctx) override {
+        // Only the groups whose volume can reach the visible surface (a light of zero size at
+        // the centre: the tightest cone).
+        geometry::RectLight centre = ctx.light;
+        centre.u = centre.v = glm::vec3(0.0f);
+        const std::optional<VisibleSets> visible = visibleSets(ctx, mSurface, centre, /*wedges=*/false);
         drawHardVisibility(ctx, casterRuns(ctx.casters, ctx.casterSubset), mVolumes,
-                           mAccumulate);
+                           mAccumulate, visible ? &visible->volumes : nullptr);
     }
 
 private:
+    SurfaceTilePass mSurface;
     StencilVolumePass mVolumes;
     AccumulatePass mAccumulate;
 };

@@ -35,13 +35,18 @@ std::vector<CasterRange> casterRuns(const CasterSet& casters,
 }
 
 void drawHardVisibility(const FrameContext& ctx, std::span<const CasterRange> runs,
-                        StencilVolumePass& volumes, const AccumulatePass& accumulate) {
+                        StencilVolumePass& volumes, const AccumulatePass& accumulate,
+                        const DrawSet* visible) {
     const Targets& t = ctx.targets;
     {
         ScopedPass pass(&ctx.timers, "shadow-volume");
         clearStencil(t);
         ctx.casters.bind();
-        for (const CasterRange& range : runs) volumes.drawCentre(t, range);
+        if (visible) {
+            volumes.drawCentre(t.visibilityFbo, t, *visible);
+        } else {
+            for (const CasterRange& range : runs) volumes.drawCentre(t, range);
+        }
     }
     ScopedPass pass(&ctx.timers, "accumulate");
     accumulate.execute(t.visibilityFbo, t.width, t.height);

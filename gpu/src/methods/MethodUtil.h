@@ -22,10 +22,12 @@ std::vector<CasterRange> casterRuns(const CasterSet& casters,
 class StencilVolumePass;
 class AccumulatePass;
 
-// V = 1 where the light centre is visible, 0 elsewhere: the z-fail volumes of `runs`, then the
-// accumulate pass (the `hard` method, and the start value of every wedge method).
+// V = 1 where the light centre is visible, 0 elsewhere: the z-fail volumes of `runs` (or of
+// `visible` alone: the groups that can reach the visible surface, GroupBatches.h), then the
+// accumulate pass (the `hard` method, and the start value of wedges-additive).
 void drawHardVisibility(const FrameContext& ctx, std::span<const CasterRange> runs,
-                        StencilVolumePass& volumes, const AccumulatePass& accumulate);
+                        StencilVolumePass& volumes, const AccumulatePass& accumulate,
+                        const DrawSet* visible = nullptr);
 
 // Whether a world box lies wholly outside one plane of the view frustum of `viewProj` (reversed
 // Z, infinite far plane: the side planes and the near plane). The same test as
