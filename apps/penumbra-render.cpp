@@ -205,7 +205,8 @@ int run(const Options& opt) {
                       {"edges", o.topology.edges},
                       {"boundary_edges", o.topology.boundaryEdges},
                       {"non_manifold_edges", o.topology.nonManifoldEdges},
-                      {"degenerate_triangles", o.topology.degenerateTriangles}});
+                      {"degenerate_triangles", o.topology.degenerateTriangles},
+                      {"duplicate_triangles", o.topology.duplicateTriangles}});
         objects.push_back(std::move(j));
     }
     // The path a choosing method (auto) gave each casting object, and why.

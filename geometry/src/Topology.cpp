@@ -1,7 +1,7 @@
 // Welded edge topology (geometry/Topology.h):
 // - weld by position on a uniform grid hashed into a flat open-addressing table (O(n), input order
 //   decides every tie, so the result is deterministic);
-// - drop degenerate triangles, compact the welded vertices to the referenced ones;
+// - drop degenerate and exactly duplicated triangles, compact the welded vertices to the referenced ones;
 // - unique undirected edges and their uses by a counting sort on the smaller vertex id (O(n));
 // - an OpenMesh half-edge mesh with duplicated vertices where OpenMesh cannot take a corner;
 // - classification from the edge uses and the vertex fans.
@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <unordered_set>
 #include <utility>
 
 namespace geometry {
@@ -440,6 +441,16 @@ Topology::Topology(const MeshData& mesh, float weldTolerance) {
     mTriangles.reserve(mesh.triangles.size());
     mSourceTriangle.reserve(mesh.triangles.size());
     std::vector<std::uint32_t> used(weldedPositions.size(), kNone);
+    struct KeyHash {
+        std::size_t operator()(const std::array<std::uint32_t, 3>& k) const {
+            std::uint64_t h = k[0];
+            h = h * 0x9E3779B97F4A7C15ull ^ k[1];
+            h = h * 0x9E3779B97F4A7C15ull ^ k[2];
+            return static_cast<std::size_t>(h ^ (h >> 29));
+        }
+    };
+    std::unordered_set<std::array<std::uint32_t, 3>, KeyHash> seen;
+    seen.reserve(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const glm::uvec3 src = mesh.triangles[t];
         const glm::uvec3 tri(remap[src.x], remap[src.y], remap[src.z]);
@@ -452,6 +463,17 @@ Topology::Topology(const MeshData& mesh, float weldTolerance) {
         }
         if (degenerate) {
             ++mStats.degenerateTriangles;
+            continue;
+        }
+        // An exact duplicate (the same welded corners in the same cyclic order) adds nothing to
+        // the surface but would make its edges non-manifold and its silhouette edges count
+        // twice (double wedges, double volume sides). The reversed twin (a two-sided sheet) is
+        // kept.
+        const int first = tri.x < tri.y ? (tri.x < tri.z ? 0 : 2) : (tri.y < tri.z ? 1 : 2);
+        const std::array<std::uint32_t, 3> key{tri[first], tri[(first + 1) % 3],
+                                               tri[(first + 2) % 3]};
+        if (!seen.insert(key).second) {
+            ++mStats.duplicateTriangles;
             continue;
         }
         for (int k = 0; k < 3; ++k)

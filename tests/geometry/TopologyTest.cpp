@@ -269,6 +269,29 @@ TEST(Topology, ClosedManifoldInAnyFaceOrderStaysClosed) {
     }
 }
 
+// A closed box with every triangle repeated (rotated, as an exporter may), plus one reversed
+// twin: the repeats are dropped and counted, so the box stays closed; the reversed twin is kept.
+TEST(Topology, DuplicateTrianglesAreDroppedAndCounted) {
+    MeshData mesh = makeBox({0, 0, 0}, {1, 1, 1});
+    const std::size_t n = mesh.triangles.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::uvec3 t = mesh.triangles[i];
+        mesh.triangles.emplace_back(t.y, t.z, t.x); // the same triangle, another first corner
+    }
+    {
+        const Topology topo(mesh);
+        EXPECT_EQ(topo.stats().duplicateTriangles, n);
+        EXPECT_EQ(topo.stats().triangles, n);
+        EXPECT_EQ(topo.manifoldness(), Manifoldness::Closed);
+        EXPECT_EQ(topo.stats().nonManifoldEdges, 0u);
+    }
+    const glm::uvec3 t = mesh.triangles[0];
+    mesh.triangles.emplace_back(t.x, t.z, t.y); // reversed: a two-sided sheet, kept
+    const Topology topo(mesh);
+    EXPECT_EQ(topo.stats().duplicateTriangles, n);
+    EXPECT_EQ(topo.stats().triangles, n + 1);
+}
+
 TEST(Topology, DegenerateTrianglesAreDroppedAndCounted) {
     MeshData mesh = quad();
     mesh.positions.push_back({2, 0, 0});                                // 4: collinear with 0 and 1

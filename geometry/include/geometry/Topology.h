@@ -42,8 +42,9 @@ struct TopologyStats {
     std::size_t inputVertices = 0;
     std::size_t inputTriangles = 0;
     std::size_t vertices = 0;            // after welding
-    std::size_t triangles = 0;           // after dropping degenerate ones
+    std::size_t triangles = 0;           // after dropping degenerate and duplicate ones
     std::size_t degenerateTriangles = 0; // dropped
+    std::size_t duplicateTriangles = 0;  // dropped: same corners in the same order as an earlier one
     std::size_t edges = 0;
     std::size_t boundaryEdges = 0;       // one incident triangle
     std::size_t nonManifoldEdges = 0;    // more than two incident triangles
