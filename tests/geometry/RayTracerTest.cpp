@@ -1,65 +1,20 @@
 #include <geometry/Analytic.h>
 #include <geometry/RayTracer.h>
 
+#include "RayTracerScenes.h"
+
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <thread>
 #include <vector>
 
 namespace {
 
 using geometry::HorizontalRect;
 
-// A horizontal quad [x0,x1] x [z0,z1] at height y as two triangles. Built here rather than with
-// geometry/Primitives so these tests depend only on the ray tracer.
-geometry::MeshData horizontalQuad(const HorizontalRect& r, const std::string& name) {
-    geometry::MeshData mesh;
-    mesh.name = name;
-    mesh.positions = {{r.x0, r.y, r.z0}, {r.x1, r.y, r.z0}, {r.x1, r.y, r.z1}, {r.x0, r.y, r.z1}};
-    mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
-    return mesh;
-}
-
-geometry::RectLight squareLight() {
-    geometry::RectLight light;
-    light.center = {0.0f, 6.0f, 0.0f};
-    light.u = {0.5f, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, 0.5f};
-    return light;
-}
-
-constexpr HorizontalRect kFloor{-10.0f, 10.0f, -10.0f, 10.0f, 0.0f};
-
-geometry::Scene makeScene(const std::vector<HorizontalRect>& occluders,
-                          geometry::ShadowMethod occluderMethod = geometry::ShadowMethod::Auto) {
-    geometry::Scene scene;
-    scene.light = squareLight();
-    scene.objects.push_back(
-        {"floor", geometry::ShadowMethod::Auto, horizontalQuad(kFloor, "floor")});
-    for (std::size_t i = 0; i < occluders.size(); ++i) {
-        const std::string name = "occluder" + std::to_string(i);
-        scene.objects.push_back({name, occluderMethod, horizontalQuad(occluders[i], name)});
-    }
-    return scene;
-}
-
-// n x n floor points over [-half, half]^2 (cell centres), normals up (towards viewer and light).
-void floorGrid(int n, float half, std::vector<glm::vec3>& points, std::vector<glm::vec3>& normals) {
-    points.clear();
-    normals.clear();
-    for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-            const float x = -half + 2.0f * half * (static_cast<float>(i) + 0.5f) / n;
-            const float z = -half + 2.0f * half * (static_cast<float>(j) + 0.5f) / n;
-            points.emplace_back(x, 0.0f, z);
-            normals.emplace_back(0.0f, 1.0f, 0.0f);
-        }
-    }
-}
+using namespace raytracerscenes; // horizontalQuad, squareLight, kFloor, makeScene, floorGrid
 
 struct Comparison {
     double meanAbs = 0.0;
@@ -389,50 +344,4 @@ TEST(RayTracerTest, EmptySceneSeesEverything) {
     std::vector<float> v(1);
     tracer.visibility(scene.light, points, normals, {}, v);
     EXPECT_EQ(v[0], 1.0f);
-}
-
-namespace {
-
-void printThroughput(const char* label, const geometry::Scene& scene) {
-    const geometry::RayTracer tracer(scene);
-    std::vector<glm::vec3> points, normals;
-    floorGrid(128, 2.5f, points, normals);
-    std::vector<float> v(points.size());
-    geometry::RayTraceSettings settings;
-    settings.samples = 256;
-    const double rays = static_cast<double>(points.size()) * settings.samples;
-    for (int threads : {1, 0}) {
-        settings.threads = threads;
-        double best = 1e30;
-        for (int rep = 0; rep < 3; ++rep) {
-            const auto t0 = std::chrono::steady_clock::now();
-            tracer.visibility(scene.light, points, normals, settings, v);
-            const auto t1 = std::chrono::steady_clock::now();
-            best = std::min(best, std::chrono::duration<double>(t1 - t0).count());
-        }
-        std::printf("[throughput] %s: 128x128 points x 256 rays, threads=%d (0 = %u hw): "
-                    "%.1f ms, %.1f Mrays/s\n",
-                    label, threads, std::thread::hardware_concurrency(), best * 1e3,
-                    rays / best * 1e-6);
-    }
-}
-
-} // namespace
-
-TEST(RayTracerTest, Throughput) {
-    // Printed, not asserted (machine dependent): best of 3 runs, 128 x 128 floor points x 256
-    // samples, for the lead to quote.
-    printThroughput("two quads", makeScene({{-0.6f, 0.2f, -0.4f, 0.4f, 2.0f},
-                                            {-0.1f, 0.7f, -0.3f, 0.6f, 3.5f}}));
-    // A grate of 64 x 64 small squares: 8194 triangles and penumbra almost everywhere under it,
-    // so rays actually traverse the BVH.
-    std::vector<HorizontalRect> grate;
-    for (int j = 0; j < 64; ++j) {
-        for (int i = 0; i < 64; ++i) {
-            const float x = -1.6f + 0.05f * static_cast<float>(i);
-            const float z = -1.6f + 0.05f * static_cast<float>(j);
-            grate.push_back({x, x + 0.035f, z, z + 0.035f, 2.0f});
-        }
-    }
-    printThroughput("grate", makeScene(grate));
 }

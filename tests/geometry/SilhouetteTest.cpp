@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -1179,54 +1178,6 @@ TEST(Silhouette, GameLevel) {
     const SilhouetteFrame& capped = extractor.update(lightAt(l, 0.5f), box, withCaps);
     checkFrame(topo, capped, l, false, withCaps, "oa_dm1, caps as vertices");
     EXPECT_EQ(capped.volumeVertices.size(), 6 * topo.triangles().size() + sides);
-}
-
-// Not a timed assertion: prints the per-frame cost for a ~1M-triangle mesh.
-TEST(Silhouette, PerformanceOnMillionTriangles) {
-    const MeshData sphere = makeSphere({0, 0, 0}, 1.0f, 1000);
-    const Topology topo(sphere);
-    MeshData open = sphere; // without the two polar caps' first ring: open, two-sided rule
-    open.triangles.erase(open.triangles.begin(), open.triangles.begin() + 1000);
-    const Topology openTopo(open);
-    const bool wedges = wedgesAvailable();
-    const auto run = [&](const Topology& t, const SilhouetteSettings& settings, const char* what) {
-        const auto buildStart = std::chrono::steady_clock::now();
-        SilhouetteExtractor extractor(t);
-        const double buildMs = std::chrono::duration<double, std::milli>(
-                                   std::chrono::steady_clock::now() - buildStart)
-                                   .count();
-        const Aabb box = boxAround(t, 4.0f);
-        std::vector<double> ms;
-        std::size_t edges = 0;
-        for (int frame = 0; frame < 12; ++frame) {
-            const float a = 0.1f * static_cast<float>(frame);
-            const RectLight light =
-                lightAt({3.0f * std::cos(a), 2.0f + 0.1f * a, 3.0f * std::sin(a)});
-            const auto start = std::chrono::steady_clock::now();
-            edges = extractor.update(light, box, settings).edges.size();
-            ms.push_back(std::chrono::duration<double, std::milli>(
-                             std::chrono::steady_clock::now() - start)
-                             .count());
-        }
-        std::sort(ms.begin(), ms.end());
-        std::printf("[ timing   ] %s, %zu triangles: median %.2f ms, min %.2f ms per frame "
-                    "(%zu silhouette edges; extractor built in %.0f ms)\n",
-                    what, t.triangles().size(), ms[ms.size() / 2], ms.front(), edges, buildMs);
-    };
-    run(topo, {.buildVolumes = false, .buildWedges = false}, "closed sphere, groups+loops only");
-    run(topo, {.buildVolumes = true, .buildWedges = false}, "closed sphere, + volumes");
-    if (wedges) run(topo, {}, "closed sphere, + volumes + wedges");
-    run(openTopo, {.buildVolumes = false, .buildWedges = false},
-        "open sphere (two-sided), groups+loops only");
-    run(openTopo, {.buildVolumes = true, .buildWedges = wedges},
-        wedges ? "open sphere (two-sided), + volumes + wedges" : "open sphere, + volumes");
-    ShadowVolumeGeometry hard;
-    const auto start = std::chrono::steady_clock::now();
-    appendHardShadowVolume(openTopo, {3.0f, 2.0f, 0.0f}, hard);
-    std::printf("[ timing   ] for comparison, appendHardShadowVolume on the open sphere: %.2f ms\n",
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                          start)
-                    .count());
 }
 
 } // namespace

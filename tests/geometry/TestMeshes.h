@@ -1,4 +1,5 @@
-// Small hand-built meshes shared by the geometry tests (shadow volumes, silhouettes, topology).
+// Small hand-built meshes shared by the geometry tests (shadow volumes, silhouettes, topology),
+// and the large ones that geometry_bench times (the tests check what they assert on them).
 // geometry/Primitives.h is used where it yields the very same mesh; the builders kept here differ
 // from it in vertex or triangle order, or in how coordinates are computed, which the tests rely on.
 #pragma once
@@ -7,6 +8,7 @@
 #include <geometry/Types.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace testmeshes {
@@ -86,6 +88,51 @@ inline geometry::MeshData edgeFan(int count) {
             mesh.triangles.emplace_back(1, 0, apex);
         } else {
             mesh.triangles.emplace_back(0, 1, apex);
+        }
+    }
+    return mesh;
+}
+
+// Bumpy open height field over [0, 1]^2 in xz: (n + 1)^2 shared vertices, 2 n^2 triangles facing
+// +y, y = 0.05 sin(40 x) cos(33 z). n = 224: 100,352 triangles (ShadowVolumeTest, geometry_bench).
+inline geometry::MeshData heightField(int n) {
+    geometry::MeshData mesh;
+    for (int j = 0; j <= n; ++j) {
+        for (int i = 0; i <= n; ++i) {
+            const float x = static_cast<float>(i) / n, z = static_cast<float>(j) / n;
+            mesh.positions.push_back({x, 0.05f * std::sin(40.0f * x) * std::cos(33.0f * z), z});
+        }
+    }
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            const auto v = static_cast<std::uint32_t>(j * (n + 1) + i);
+            mesh.triangles.emplace_back(v, v + n + 1, v + 1);
+            mesh.triangles.emplace_back(v + 1, v + n + 1, v + n + 2);
+        }
+    }
+    return mesh;
+}
+
+// n x n unit quads of a gentle height field, each with its own 4 vertices (split per quad as a
+// glTF export might): 4 n^2 positions, 2 n^2 triangles facing +y, welding to (n + 1)^2 vertices
+// and an open mesh with 4 n boundary edges. n = 400: 320,000 triangles (TopologyTest,
+// geometry_bench).
+inline geometry::MeshData splitGrid(int n) {
+    geometry::MeshData mesh;
+    mesh.positions.reserve(4 * static_cast<std::size_t>(n) * n);
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+            const auto h = [](int i, int j) {
+                return 0.1f * std::sin(0.05f * static_cast<float>(i)) *
+                       std::cos(0.07f * static_cast<float>(j));
+            };
+            for (int c = 0; c < 4; ++c) {
+                const int i = x + (c == 1 || c == 2), j = y + (c >= 2);
+                mesh.positions.push_back({static_cast<float>(i), h(i, j), static_cast<float>(j)});
+            }
+            mesh.triangles.emplace_back(base, base + 2, base + 1);
+            mesh.triangles.emplace_back(base, base + 3, base + 2);
         }
     }
     return mesh;

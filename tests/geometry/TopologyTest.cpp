@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -404,32 +403,13 @@ TEST(Topology, EmptyMesh) {
     EXPECT_EQ(topo.edgeUseOffsets().size(), 1u);
 }
 
-TEST(Topology, LargeGridIsFast) {
-    // Not a timed assertion: prints the build time so the lead can see it.
-    const int n = 400; // 400 x 400 quads = 320k triangles, split per quad like glTF might
-    MeshData mesh;
-    mesh.positions.reserve(4 * n * n);
-    for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-            const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-            const auto h = [](int i, int j) {
-                return 0.1f * std::sin(0.05f * static_cast<float>(i)) *
-                       std::cos(0.07f * static_cast<float>(j));
-            };
-            for (int c = 0; c < 4; ++c) {
-                const int i = x + (c == 1 || c == 2), j = y + (c >= 2);
-                mesh.positions.push_back({static_cast<float>(i), h(i, j), static_cast<float>(j)});
-            }
-            mesh.triangles.emplace_back(base, base + 2, base + 1);
-            mesh.triangles.emplace_back(base, base + 3, base + 2);
-        }
-    }
-    const auto start = std::chrono::steady_clock::now();
+// 320k triangles split per quad (testmeshes::splitGrid): welding joins the 4 n^2 positions into
+// the (n + 1)^2 grid vertices, leaving an open mesh bounded by its 4 n rim edges. Its build time
+// is geometry_bench's topology/split_grid_320k.
+TEST(Topology, LargeGridIsWeldedAndOpen) {
+    const int n = 400;
+    const MeshData mesh = testmeshes::splitGrid(n);
     const Topology topo(mesh);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    std::printf("[ timing   ] Topology of %zu triangles (%zu split vertices): %.1f ms\n",
-                mesh.triangles.size(), mesh.positions.size(), ms);
     EXPECT_EQ(topo.stats().vertices, static_cast<std::size_t>((n + 1) * (n + 1)));
     EXPECT_EQ(topo.stats().boundaryEdges, static_cast<std::size_t>(4 * n));
     EXPECT_EQ(topo.manifoldness(), Manifoldness::Open);
@@ -442,19 +422,16 @@ TEST(Topology, GameLevelIsNonManifold) {
     ASSERT_TRUE(std::filesystem::exists(level))
         << "missing " << level << " (../shared must be beside the repo)";
     const MeshData mesh = loadGltf(level);
-    const auto start = std::chrono::steady_clock::now();
-    const Topology topo(mesh);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const Topology topo(mesh); // its build time: silhouette_bench's topology_build/level/oa_dm1
     expectConsistent(topo);
     const TopologyStats& s = topo.stats();
     const double boundaryShare = static_cast<double>(s.boundaryEdges) / s.edges;
     std::printf("[ level    ] oa_dm1: %zu -> %zu vertices, %zu triangles (%zu degenerate), %zu "
                 "edges, %.1f%% boundary, %zu non-manifold edges, %zu inconsistent, %zu "
-                "non-manifold vertices; %.1f ms\n",
+                "non-manifold vertices\n",
                 s.inputVertices, s.vertices, s.triangles, s.degenerateTriangles, s.edges,
                 100.0 * boundaryShare, s.nonManifoldEdges, s.inconsistentEdges,
-                s.nonManifoldVertices, ms);
+                s.nonManifoldVertices);
     EXPECT_EQ(s.inputTriangles, 7502u);
     EXPECT_LT(s.degenerateTriangles, s.inputTriangles / 20);
     EXPECT_LT(s.vertices, s.inputVertices); // primitives share positions: welding merged some

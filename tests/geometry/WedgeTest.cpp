@@ -4,13 +4,12 @@
 #include <geometry/Analytic.h>
 #include <geometry/Wedge.h>
 
-#include "TestRandom.h"
+#include "WedgeCases.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -27,116 +26,7 @@ using glm::dvec3;
 using glm::vec3;
 
 using testutil::Rng;
-
-// A random light: any orientation, sizes over two decades, and often a parallelogram.
-RectLight randomLight(Rng& rng) {
-    RectLight light;
-    light.center = vec3(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5));
-    const dvec3 a = rng.direction();
-    dvec3 b = glm::normalize(glm::cross(a, rng.direction()));
-    if (rng.uniform(0, 1) < 0.5) b = glm::normalize(b + rng.uniform(-0.8, 0.8) * a); // skewed
-    light.u = vec3(a * rng.uniform(0.05, 2.0));
-    light.v = vec3(b * rng.uniform(0.05, 2.0));
-    return light;
-}
-
-struct Frame {
-    dvec3 c, u, v, n;
-};
-Frame frameOf(const RectLight& l) {
-    const dvec3 u(l.u), v(l.v);
-    return {dvec3(l.center), u, v, glm::normalize(glm::cross(u, v))};
-}
-// A point in light coordinates: s, t along u, v, h along the unit normal.
-vec3 lightPoint(const Frame& f, double s, double t, double h) {
-    return vec3(f.c + s * f.u + t * f.v + h * f.n);
-}
-
-enum class EdgeKind {
-    Generic,
-    TowardLight,     // nearly parallel to the light direction, one end much closer
-    CrossesPlane,    // crosses the light's plane outside the light
-    Short,           // length ~1e-4 of the scene
-    CloseToLight,    // occluder just below the light, over it
-    NearlyInPlane,   // within 1e-5 of the light's plane, outside the light
-    TowardCorner,    // the edge's line passes through a light corner
-    ParallelToSide,  // parallel to u
-    Touching,        // reaches into the light: unbounded
-    Count
-};
-
-struct TestEdge {
-    vec3 e0, e1;
-    EdgeKind kind;
-};
-
-TestEdge randomEdge(Rng& rng, const RectLight& light, EdgeKind kind) {
-    const Frame f = frameOf(light);
-    const double side = rng.uniform(0, 1) < 0.5 ? -1.0 : 1.0;
-    const double size = glm::length(f.u) + glm::length(f.v);
-    auto below = [&](double hMin, double hMax) {
-        return lightPoint(f, rng.uniform(-4, 4), rng.uniform(-4, 4),
-                          side * rng.uniform(hMin, hMax) * size);
-    };
-    switch (kind) {
-    case EdgeKind::Generic:
-        return {below(0.05, 5), below(0.05, 5), kind};
-    case EdgeKind::TowardLight: {
-        const vec3 e0 = below(2, 6);
-        const dvec3 towards = f.c + rng.uniform(-1, 1) * f.u + rng.uniform(-1, 1) * f.v;
-        const dvec3 dir = glm::normalize(towards - dvec3(e0)) + 1e-3 * rng.direction();
-        return {e0, vec3(dvec3(e0) + rng.uniform(0.5, 0.99) * glm::length(towards -
-                                     dvec3(e0)) * glm::normalize(dir)), kind};
-    }
-    case EdgeKind::CrossesPlane: {
-        // Crossing point outside the light (|s| or |t| > 1), ends on both sides.
-        double s = rng.uniform(1.05, 4), t = rng.uniform(-4, 4);
-        if (rng.uniform(0, 1) < 0.5) std::swap(s, t);
-        if (rng.uniform(0, 1) < 0.5) s = -s;
-        const dvec3 x = f.c + s * f.u + t * f.v;
-        const dvec3 dir = rng.direction();
-        if (std::abs(glm::dot(dir, f.n)) < 0.05) return {below(0.1, 3), below(0.1, 3), kind};
-        const double a = rng.uniform(0.01, 2) * size, b = rng.uniform(0.01, 2) * size;
-        return {vec3(x - a * dir), vec3(x + b * dir), kind};
-    }
-    case EdgeKind::Short: {
-        const vec3 e0 = below(0.05, 5);
-        return {e0, vec3(dvec3(e0) + 1e-4 * size * rng.direction()), kind};
-    }
-    case EdgeKind::CloseToLight:
-        return {lightPoint(f, rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5),
-                           side * rng.uniform(1e-4, 1e-2) * size),
-                lightPoint(f, rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5),
-                           side * rng.uniform(1e-4, 1e-2) * size),
-                kind};
-    case EdgeKind::NearlyInPlane: {
-        const double s = rng.uniform(1.2, 3);
-        return {lightPoint(f, s, rng.uniform(-3, 3), side * 1e-5 * size),
-                lightPoint(f, s + rng.uniform(0.1, 2), rng.uniform(-3, 3),
-                           side * rng.uniform(-1e-5, 1e-5) * size),
-                kind};
-    }
-    case EdgeKind::TowardCorner: {
-        const dvec3 corner = f.c + (rng.uniform(0, 1) < 0.5 ? 1.0 : -1.0) * f.u +
-                             (rng.uniform(0, 1) < 0.5 ? 1.0 : -1.0) * f.v;
-        const dvec3 e0 = dvec3(below(0.5, 4));
-        return {vec3(e0), vec3(corner + rng.uniform(0.1, 0.9) * (e0 - corner)), kind};
-    }
-    case EdgeKind::ParallelToSide: {
-        const vec3 e0 = below(0.05, 4);
-        return {e0, vec3(dvec3(e0) + rng.uniform(-3, 3) * f.u), kind};
-    }
-    case EdgeKind::Touching: {
-        const dvec3 y = f.c + rng.uniform(-1, 1) * f.u + rng.uniform(-1, 1) * f.v;
-        const dvec3 dir = rng.direction() * size;
-        const double a = rng.uniform(0, 1) < 0.3 ? 0.0 : rng.uniform(0.01, 2);
-        return {vec3(y - a * dir), vec3(y + rng.uniform(0.01, 2) * dir), kind};
-    }
-    default:
-        break;
-    }
-    return {below(0.05, 5), below(0.05, 5), EdgeKind::Generic};
-}
+using namespace wedgecases; // randomLight, randomEdge, EdgeKind, TestEdge, frameOf, lightPoint
 
 // Independent brute force (doubles, no tilt, no push): all 36 pairs of {d, e_i - c_j},
 // kept when every direction is on the inner side. Signed margin > 0 means outside.
@@ -698,40 +588,6 @@ TEST(WedgeTest, CoverageClipsToTheSlabBetweenPointAndLight) {
     EXPECT_FLOAT_EQ(geometry::edgeCoverage(p, b, a, light), -full);
 }
 
-// Timing (printed, not asserted): appendWedge and edgeCoverage over 100k random edges.
-TEST(WedgeTest, PrintTimings) {
-    Rng rng(99);
-    const int n = 100000;
-    std::vector<RectLight> lights(16);
-    for (RectLight& l : lights) l = randomLight(rng);
-    std::vector<TestEdge> edges;
-    std::vector<vec3> points;
-    edges.reserve(n);
-    for (int i = 0; i < n; ++i) {
-        edges.push_back(randomEdge(rng, lights[i % 16], EdgeKind::Generic));
-        points.push_back(vec3(0.5 * (dvec3(edges.back().e0) + dvec3(edges.back().e1)) +
-                              rng.uniform(0, 3) * rng.direction()));
-    }
-    // Steady state as in a frame loop: arrays reused (capacity kept), so time no page faults.
-    WedgeArrays arrays;
-    for (int i = 0; i < n; ++i)
-        geometry::appendWedge(edges[i].e0, edges[i].e1, lights[i % 16], arrays);
-    arrays.clear();
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int i = 0; i < n; ++i)
-        geometry::appendWedge(edges[i].e0, edges[i].e1, lights[i % 16], arrays);
-    const auto t1 = std::chrono::steady_clock::now();
-    double sum = 0.0;
-    for (int i = 0; i < n; ++i)
-        sum += geometry::edgeCoverage(points[i], edges[i].e0, edges[i].e1, lights[i % 16]);
-    const auto t2 = std::chrono::steady_clock::now();
-    const double nsWedge = std::chrono::duration<double, std::nano>(t1 - t0).count() / n;
-    const double nsCov = std::chrono::duration<double, std::nano>(t2 - t1).count() / n;
-    std::printf("[ wedge    ] appendWedge %.0f ns/edge (%.1f vertices/wedge), edgeCoverage %.0f "
-                "ns/call (checksum %.3f)\n",
-                nsWedge, static_cast<double>(arrays.vertices.size()) / n, nsCov, sum);
-}
-
 namespace {
 
 // A light with u, v along x and z (rectangular, axis-aligned) and an edge on a grid, parallel to
@@ -912,51 +768,6 @@ TEST(WedgeTest, FastPathMatchesExactPath) {
                 "agree, %d in the band, %d mesh windings match; worst normal gap %.2g (%.2g of "
                 "its tolerance)\n",
                 rayPoints, agreeInside, agreeOutside, inBand, windings, worstN, worstNRel);
-}
-
-// Before/after in one run (printed, not asserted): the exact construction (WedgeBuilder with
-// Path::Exact, the previous appendWedge), the builder's default path, and the appendWedge
-// wrapper (a builder per call), on PrintTimings' 100k generic edges over 16 lights.
-TEST(WedgeTest, PrintFastPathTimings) {
-    Rng rng(99);
-    const int n = 100000;
-    std::vector<RectLight> lights(16);
-    for (RectLight& l : lights) l = randomLight(rng);
-    std::vector<TestEdge> edges;
-    edges.reserve(n);
-    for (int i = 0; i < n; ++i)
-        edges.push_back(randomEdge(rng, lights[i % 16], EdgeKind::Generic));
-    std::vector<geometry::WedgeBuilder> exact, fast;
-    for (const RectLight& l : lights) {
-        exact.emplace_back(l, geometry::WedgeBuilder::Path::Exact);
-        fast.emplace_back(l);
-    }
-    int fastCount = 0;
-    for (int i = 0; i < n; ++i) fastCount += fast[i % 16].takesFastPath(edges[i].e0, edges[i].e1);
-    WedgeArrays arrays;
-    auto time = [&](auto&& append) {
-        double best = 1e300;
-        for (int rep = 0; rep < 3; ++rep) { // steady state: capacity kept; best of three
-            arrays.clear();
-            const auto t0 = std::chrono::steady_clock::now();
-            for (int i = 0; i < n; ++i) append(i);
-            const auto t1 = std::chrono::steady_clock::now();
-            best = std::min(best, std::chrono::duration<double, std::nano>(t1 - t0).count() / n);
-        }
-        return best;
-    };
-    const double nsExact =
-        time([&](int i) { exact[i % 16].append(edges[i].e0, edges[i].e1, arrays); });
-    const double vertsExact = static_cast<double>(arrays.vertices.size()) / n;
-    const double nsFast =
-        time([&](int i) { fast[i % 16].append(edges[i].e0, edges[i].e1, arrays); });
-    const double vertsFast = static_cast<double>(arrays.vertices.size()) / n;
-    const double nsWrapper = time([&](int i) {
-        geometry::appendWedge(edges[i].e0, edges[i].e1, lights[i % 16], arrays);
-    });
-    std::printf("[ wedge    ] ns/wedge: exact path %.0f (%.1f vertices), builder %.0f (%.1f "
-                "vertices, fast path on %.1f%%), appendWedge wrapper %.0f\n",
-                nsExact, vertsExact, nsFast, vertsFast, 100.0 * fastCount / n, nsWrapper);
 }
 
 // Regression: an axis-aligned light over an axis-aligned edge (as on every box and in game
