@@ -12,6 +12,7 @@
 #include <geometry/GltfLoader.h>
 
 #include <geometry/Error.h>
+#include <geometry/Limits.h>
 
 #include <tiny_gltf.h>
 
@@ -23,8 +24,10 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <unordered_set>
 
@@ -118,6 +121,13 @@ int componentCount(int type) {
     default:
         return 0;
     }
+}
+
+// Shortest round-trip-ish form for messages: 1e+19, 12.5, -3e+07.
+std::string formatNumber(double x) {
+    std::ostringstream s;
+    s << std::setprecision(6) << x;
+    return s.str();
 }
 
 // One component at p, converted per the glTF normalisation rules when `normalized`.
@@ -414,6 +424,15 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
         const glm::vec3 f(w);
         if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
             fail(where + ": POSITION " + std::to_string(i) + " is not finite after transform");
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            if (std::abs(w[axis]) <= double(kMaxCoordinate)) continue;
+            const bool moved = w[axis] != p[axis];
+            fail(where + ": POSITION (accessor " + std::to_string(posIt->second) + ") vertex " +
+                 std::to_string(i) + " has " + "xyz"[axis] + " = " + formatNumber(w[axis]) +
+                 (moved ? " after the node transforms" : "") + ", outside [-" +
+                 formatNumber(kMaxCoordinate) + ", " + formatNumber(kMaxCoordinate) +
+                 "]: coordinates that large cannot be rendered in single precision");
         }
         mMesh.positions.push_back(f);
     }

@@ -24,6 +24,7 @@
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
 #include <geometry/LightCheck.h>
+#include <geometry/Limits.h>
 #include <geometry/Primitives.h>
 
 #include <nlohmann/json.hpp>
@@ -55,6 +56,23 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+std::string fmtNumber(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
+// "" when every component is within +-kMaxCoordinate (geometry/Limits.h), else what is wrong.
+std::string outOfRange(const glm::vec3& v) {
+    for (int axis = 0; axis < 3; ++axis) {
+        if (std::abs(v[axis]) > kMaxCoordinate)
+            return fmt(v) + " is outside [-" + fmtNumber(kMaxCoordinate) + ", " +
+                   fmtNumber(kMaxCoordinate) +
+                   "] (coordinates that large cannot be rendered in single precision)";
+    }
+    return {};
+}
+
 // Camera and light checks shared by the parser, validateScene() and validateLight(); `fail` gets
 // the key path.
 template <class Fail>
@@ -62,6 +80,8 @@ void checkCamera(const Camera& cam, Fail&& fail) {
     if (!finite(cam.eye)) fail("camera.eye", "must be finite");
     if (!finite(cam.target)) fail("camera.target", "must be finite");
     if (!finite(cam.up)) fail("camera.up", "must be finite");
+    if (const std::string e = outOfRange(cam.eye); !e.empty()) fail("camera.eye", e);
+    if (const std::string e = outOfRange(cam.target); !e.empty()) fail("camera.target", e);
     if (!std::isfinite(cam.fovYDeg) || !(cam.fovYDeg > 0.0f && cam.fovYDeg < 180.0f)) {
         fail("camera.fov_y_deg", "must be in (0, 180), got " + std::to_string(cam.fovYDeg));
     }
@@ -83,14 +103,29 @@ void checkLight(const RectLight& light, Fail&& fail) {
     if (!finite(light.center)) fail("light.center", "must be finite");
     if (!finite(light.u)) fail("light.u", "must be finite");
     if (!finite(light.v)) fail("light.v", "must be finite");
-    const float lu = glm::length(light.u);
-    const float lv = glm::length(light.v);
-    if (!(lu > 0.0f)) fail("light.u", "must have non-zero length");
-    if (!(lv > 0.0f)) fail("light.v", "must have non-zero length");
+    if (const std::string e = outOfRange(light.center); !e.empty()) fail("light.center", e);
+    if (const std::string e = outOfRange(light.u); !e.empty()) fail("light.u", e);
+    if (const std::string e = outOfRange(light.v); !e.empty()) fail("light.v", e);
+    // In double: squared lengths of float vectors overflow float long before the vectors do.
+    const glm::dvec3 u(light.u), v(light.v);
+    const double lu = glm::length(u);
+    const double lv = glm::length(v);
+    if (!(lu > 0.0)) fail("light.u", "must have non-zero length");
+    if (!(lv > 0.0)) fail("light.v", "must have non-zero length");
     // Relative: |u x v| = |u||v| sin(angle), so this rejects (nearly) parallel axes at any scale.
-    if (!(glm::length(glm::cross(light.u, light.v)) > 1e-6f * lu * lv)) {
+    if (!(glm::length(glm::cross(u, v)) > 1e-6 * lu * lv)) {
         fail("light", "u " + fmt(light.u) + " and v " + fmt(light.v) +
                           " are parallel: the light has zero area");
+    }
+}
+
+// Every vertex within +-kMaxCoordinate; `fail` gets the object's name and what is wrong.
+template <class Fail>
+void checkObjectCoordinates(const SceneObject& object, Fail&& fail) {
+    const std::vector<glm::vec3>& positions = object.mesh.positions;
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        if (const std::string e = outOfRange(positions[i]); !e.empty())
+            fail(object.name, "vertex " + std::to_string(i) + " at " + e);
     }
 }
 
@@ -454,6 +489,9 @@ Scene SceneParser::parse(const std::string& text) {
     if (objects.empty()) fail("objects", "must contain at least one object");
     for (std::size_t i = 0; i < objects.size(); ++i) {
         scene.objects.push_back(parseObject(objects[i], i));
+        checkObjectCoordinates(scene.objects.back(), [&](const std::string&, const std::string& w) {
+            fail("objects[" + std::to_string(i) + "]", w);
+        });
     }
     return scene;
 }
@@ -491,6 +529,11 @@ void validateScene(const Scene& scene) {
     checkCameraAndLight(scene.camera, scene.light, [&](const std::string& k, const std::string& w) {
         throw InputError(origin + ": " + k + ": " + w);
     });
+    for (const SceneObject& object : scene.objects) {
+        checkObjectCoordinates(object, [&](const std::string& name, const std::string& w) {
+            throw InputError(origin + ": object '" + name + "': " + w);
+        });
+    }
     // A light inside or touching geometry makes the visibility integral meaningless.
     validateLightClear(scene);
 }

@@ -214,6 +214,34 @@ TEST_F(GltfTest, NaNPosition) {
     expectError(write("nan.gltf", w.json(kOneTriangleMesh)), "NaN");
 }
 
+// A finite float far beyond what single precision renders (Embree aborts on ray origins past
+// 1.8e19): refused with the accessor, the vertex and the bound named.
+TEST_F(GltfTest, CoordinateBeyondTheRenderableRange) {
+    GltfWriter w;
+    w.positions({-1, 0, -1, 1, 0, -1, 0, 0, 1, 0, 1, 1e19f});
+    w.indices32({0, 1, 2, 0, 1, 3});
+    const fs::path path = write("huge.gltf", w.json(kOneTriangleMesh));
+    expectError(path, "POSITION (accessor 0) vertex 3 has z = 1e+19, outside [-1e+07, 1e+07]");
+    try {
+        geometry::loadGltf(path);
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("single precision"), std::string::npos) << e.what();
+    }
+    // Within the bound on file, beyond it after a node scale: said so.
+    GltfWriter scaled;
+    scaled.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    scaled.indices32({0, 1, 2});
+    expectError(write("scaled.gltf",
+                      scaled.json(kOneTriangleMesh, R"([{"mesh":0,"scale":[1,2e7,1]}])")),
+                "vertex 2 has y = 2e+07 after the node transforms");
+    // The bound itself is accepted.
+    GltfWriter edge;
+    edge.positions({0, 0, 0, 1e7f, 0, 0, 0, -1e7f, 0});
+    edge.indices32({0, 1, 2});
+    EXPECT_EQ(geometry::loadGltf(write("edge.gltf", edge.json(kOneTriangleMesh))).triangles.size(),
+              1u);
+}
+
 TEST_F(GltfTest, IndexOutOfRange) {
     GltfWriter w;
     w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});

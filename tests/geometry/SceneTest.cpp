@@ -269,6 +269,31 @@ TEST_F(SceneTest, NonFiniteValues) {
                 {"objects[0].radius", "finite"});
 }
 
+// Coordinates beyond geometry::kMaxCoordinate (1e7) cannot be rendered in float; each is refused
+// naming its key or accessor, never as a light contact with some other object.
+TEST_F(SceneTest, CoordinatesBeyondTheRenderableRange) {
+    const std::string floor =
+        R"({"type": "quad", "center": [0, 0, 0], "u": [3, 0, 0], "v": [0, 0, -3]})";
+    const std::string hugeGltf =
+        floor + R"(, {"type": "gltf", "file": "models/tri.gltf", "scale": [1, 1e19, 1]})";
+    expectError(scene(hugeGltf), {"objects[1].file", "POSITION (accessor 0) vertex 2 has y = 1e+19",
+                                  "after the node transforms", "outside [-1e+07, 1e+07]"});
+    try {
+        geometry::loadScene(write("scene.json", scene(hugeGltf)));
+    } catch (const geometry::InputError& e) {
+        // Once blamed on the floor: "light intersects object 'objects[0] (quad)'".
+        EXPECT_EQ(std::string(e.what()).find("intersects"), std::string::npos) << e.what();
+    }
+    expectError(scene(floor + R"(, {"type": "box", "center": [0, 1e19, 0], "size": [1, 1, 1]})"),
+                {"objects[1]: vertex 0 at", "is outside [-1e+07, 1e+07]"});
+    expectError(scene(floor, R"("camera": {"eye": [0, 4, 2e7], "target": [0, 0, 0]})"),
+                {"camera.eye", "outside"});
+    expectError(
+        scene(floor, kCamera,
+              R"("light": {"center": [0, 6, 0], "u": [1e38, 0, 0], "v": [0, 0, 0.5]})"),
+        {"light.u", "[1e+38, 0, 0] is outside [-1e+07, 1e+07]"});
+}
+
 TEST_F(SceneTest, EmptyObjects) {
     expectError(scene(""), {"objects", "at least one"});
 }
