@@ -411,6 +411,29 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
             fail(where + ": POSITION must be float VEC3 (quantized positions are not supported)");
         }
     }
+    // Budgets before anything is read (geometry/Limits.h): the triangles the index stream will
+    // give, and vertices, of which a mesh within the triangle budget uses at most three per
+    // triangle.
+    {
+        const std::size_t vertices = mModel.accessors[posIt->second].count;
+        std::size_t indices = vertices;
+        if (prim.indices >= 0 && std::size_t(prim.indices) < mModel.accessors.size())
+            indices = mModel.accessors[prim.indices].count;
+        const std::size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? indices / 3
+                                      : indices >= 2                  ? indices - 2
+                                                                      : 0;
+        if (mMesh.triangles.size() + triangles > kMaxSceneTriangles) {
+            fail(where + ": " + std::to_string(triangles) + " triangles bring the file to " +
+                 std::to_string(mMesh.triangles.size() + triangles) + ", more than the " +
+                 std::to_string(kMaxSceneTriangles) + " a scene may have");
+        }
+        if (mMesh.positions.size() + vertices > 3 * kMaxSceneTriangles) {
+            fail(where + ": " + std::to_string(vertices) + " vertices bring the file to " +
+                 std::to_string(mMesh.positions.size() + vertices) + ", more than the " +
+                 std::to_string(3 * kMaxSceneTriangles) +
+                 " (three per triangle of the budget) a scene may have");
+        }
+    }
     const AccessorValues pos = readAccessor(posIt->second, where + " POSITION");
     const std::size_t base = mMesh.positions.size();
     if (base + pos.count > std::size_t(UINT32_MAX)) fail(where + ": too many vertices");

@@ -242,6 +242,17 @@ TEST_F(GltfTest, CoordinateBeyondTheRenderableRange) {
               1u);
 }
 
+// An index accessor claiming more triangles than a scene may have is refused before anything is
+// read or allocated (its data would run past the buffer too: the budget speaks first).
+TEST_F(GltfTest, TriangleBudget) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.accessor(w.view(bytesOf<std::uint32_t>({0, 1, 2})), 5125, 3 * (1 << 22) + 3, "SCALAR");
+    expectError(write("many.gltf", w.json(kOneTriangleMesh)),
+                "4194305 triangles bring the file to 4194305, more than the 4194304 a scene "
+                "may have");
+}
+
 TEST_F(GltfTest, IndexOutOfRange) {
     GltfWriter w;
     w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
