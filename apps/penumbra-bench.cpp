@@ -676,14 +676,12 @@ int run(const Options& opt) {
         scales.push_back(x);
     }
     if (scales.empty()) throw geometry::InputError("--light-scale: no value");
+    apps::checkOutputFolder("--out", opt.outDir);
     const std::vector<fs::path> scenes = expandScenes(opt.inputs);
     for (const fs::path& p : scenes) { // parse errors now, not an hour into the run
         std::fprintf(stderr, "checking %s\n", p.string().c_str());
         geometry::loadScene(p);
     }
-    std::error_code ec;
-    if (fs::exists(opt.outDir, ec) && !fs::is_directory(opt.outDir, ec))
-        throw geometry::InputError("--out " + opt.outDir + " exists and is not a folder");
     if (!opt.noChart && access("/usr/bin/python3", X_OK) != 0)
         throw geometry::InputError("the chart needs /usr/bin/python3 with matplotlib (Debian: apt "
                                    "install python3-matplotlib), or give --no-chart");
@@ -726,7 +724,8 @@ int main(int argc, char** argv) {
     app.add_option("--sweep-extent", opt.sweep,
                    "the light path: its centre moves along u by this many half-widths each way")
         ->capture_default_str();
-    app.add_option("--seed", opt.seed, "sample pattern seed of the truth and reference runs")
+    std::int64_t seed = opt.seed; // checked by apps::checkSeed
+    app.add_option("--seed", seed, "sample pattern seed of the truth and reference runs")
         ->capture_default_str();
     app.add_option("--out", opt.outDir, "output folder")->capture_default_str();
     app.add_flag("--save-images", opt.saveImages,
@@ -738,12 +737,13 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
-        return kExitInputError;
+        if (e.get_exit_code() == 0) return app.exit(e);
+        return apps::reportParseError("penumbra-bench", e);
     }
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
     try {
+        opt.seed = apps::checkSeed(seed);
         return run(opt);
     } catch (const geometry::InputError& e) {
         std::fprintf(stderr, "penumbra-bench: error: %s\n", e.what());

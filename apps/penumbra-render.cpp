@@ -82,6 +82,7 @@ nlohmann::json parameterJson(const std::string& value) {
 
 int run(const Options& opt) {
     // Everything that can be wrong with the input is checked before anything is written.
+    apps::checkOutputFolder("--out", opt.outDir);
     const gpu::MethodInfo& method = gpu::findMethod(opt.methodName);
     std::vector<gpu::ParameterValue> given;
     for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
@@ -313,7 +314,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--frames", opt.frames, "frames to render; times are medians")
         ->capture_default_str();
-    app.add_option("--seed", opt.seed, "sample pattern seed (reference, raytrace)")
+    std::int64_t seed = opt.seed; // checked by apps::checkSeed
+    app.add_option("--seed", seed, "sample pattern seed (reference, raytrace)")
         ->capture_default_str();
     app.add_option("--compare", opt.comparePath,
                    "reference visibility.pfm of the same view: report the error against it");
@@ -343,10 +345,11 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
-        return kExitInputError;
+        if (e.get_exit_code() == 0) return app.exit(e);
+        return apps::reportParseError("penumbra-render", e);
     }
     try {
+        opt.seed = apps::checkSeed(seed);
         return run(opt);
     } catch (const geometry::InputError& e) {
         std::fprintf(stderr, "penumbra-render: error: %s\n", e.what());

@@ -12,8 +12,11 @@
 #include <geometry/GltfLoader.h>
 
 #include <geometry/Error.h>
+#include <geometry/Limits.h>
 
 #include <tiny_gltf.h>
+
+#include <nlohmann/json.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -21,15 +24,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <cstring>
 #include <fstream>
+#include <iomanip>
+#include <limits>
 #include <map>
 #include <numbers>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <unordered_set>
 
 namespace geometry {
 namespace {
+
+// Levels of the node hierarchy walked (the root is level 1); real files have a handful.
+constexpr int kMaxNodeDepth = 1000;
 
 // Every accessor element as doubles (exact for all glTF component types), row per element.
 struct AccessorValues {
@@ -118,6 +129,57 @@ int componentCount(int type) {
     default:
         return 0;
     }
+}
+
+const char* componentTypeName(int type) {
+    switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return "byte";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return "unsigned byte";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+        return "short";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return "unsigned short";
+    case TINYGLTF_COMPONENT_TYPE_INT:
+        return "int";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        return "unsigned int";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return "float";
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+        return "double";
+    default:
+        return "unknown componentType";
+    }
+}
+
+const char* typeName(int type) {
+    switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+        return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+        return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+        return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+        return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+        return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+        return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+        return "MAT4";
+    default:
+        return "of unknown type";
+    }
+}
+
+// Shortest round-trip-ish form for messages: 1e+19, 12.5, -3e+07.
+std::string formatNumber(double x) {
+    std::ostringstream s;
+    s << std::setprecision(6) << x;
+    return s.str();
 }
 
 // One component at p, converted per the glTF normalisation rules when `normalized`.
@@ -297,8 +359,14 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
     if (nodeIndex < 0 || std::size_t(nodeIndex) >= mModel.nodes.size()) {
         fail("node " + std::to_string(nodeIndex) + " does not exist");
     }
-    if (std::find(mOnPath.begin(), mOnPath.end(), nodeIndex) != mOnPath.end() || depth > 1000) {
+    if (std::find(mOnPath.begin(), mOnPath.end(), nodeIndex) != mOnPath.end()) {
         fail("node hierarchy has a cycle through node " + std::to_string(nodeIndex));
+    }
+    // The walk recurses once per level: bounded so a hostile chain cannot exhaust the stack.
+    if (depth >= kMaxNodeDepth) {
+        fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) +
+             " levels (node " + std::to_string(nodeIndex) + " is at level " +
+             std::to_string(depth + 1) + "); no cycle, but not supported");
     }
     const tinygltf::Node& node = mModel.nodes[nodeIndex];
     const glm::dmat4 world = parent * localMatrix(node);
@@ -401,6 +469,29 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
             fail(where + ": POSITION must be float VEC3 (quantized positions are not supported)");
         }
     }
+    // Budgets before anything is read (geometry/Limits.h): the triangles the index stream will
+    // give, and vertices, of which a mesh within the triangle budget uses at most three per
+    // triangle.
+    {
+        const std::size_t vertices = mModel.accessors[posIt->second].count;
+        std::size_t indices = vertices;
+        if (prim.indices >= 0 && std::size_t(prim.indices) < mModel.accessors.size())
+            indices = mModel.accessors[prim.indices].count;
+        const std::size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? indices / 3
+                                      : indices >= 2                  ? indices - 2
+                                                                      : 0;
+        if (mMesh.triangles.size() + triangles > kMaxSceneTriangles) {
+            fail(where + ": " + std::to_string(triangles) + " triangles bring the file to " +
+                 std::to_string(mMesh.triangles.size() + triangles) + ", more than the " +
+                 std::to_string(kMaxSceneTriangles) + " a scene may have");
+        }
+        if (mMesh.positions.size() + vertices > 3 * kMaxSceneTriangles) {
+            fail(where + ": " + std::to_string(vertices) + " vertices bring the file to " +
+                 std::to_string(mMesh.positions.size() + vertices) + ", more than the " +
+                 std::to_string(3 * kMaxSceneTriangles) +
+                 " (three per triangle of the budget) a scene may have");
+        }
+    }
     const AccessorValues pos = readAccessor(posIt->second, where + " POSITION");
     const std::size_t base = mMesh.positions.size();
     if (base + pos.count > std::size_t(UINT32_MAX)) fail(where + ": too many vertices");
@@ -415,21 +506,33 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
         if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
             fail(where + ": POSITION " + std::to_string(i) + " is not finite after transform");
         }
+        for (int axis = 0; axis < 3; ++axis) {
+            if (std::abs(w[axis]) <= double(kMaxCoordinate)) continue;
+            const bool moved = w[axis] != p[axis];
+            fail(where + ": POSITION (accessor " + std::to_string(posIt->second) + ") vertex " +
+                 std::to_string(i) + " has " + "xyz"[axis] + " = " + formatNumber(w[axis]) +
+                 (moved ? " after the node transforms" : "") + ", outside [-" +
+                 formatNumber(kMaxCoordinate) + ", " + formatNumber(kMaxCoordinate) +
+                 "]: coordinates that large cannot be rendered in single precision");
+        }
         mMesh.positions.push_back(f);
     }
 
     // TEXCOORD_0: float, or normalized unsigned byte/short (glTF 2.0 §3.7.2.1).
     const auto uvIt = prim.attributes.find("TEXCOORD_0");
     if (uvIt != prim.attributes.end()) {
-        const AccessorValues uv = readAccessor(uvIt->second, where + " TEXCOORD_0");
-        const auto& acc = mModel.accessors[uvIt->second];
-        const bool okType =
-            acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-            (acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
-        if (uv.components != 2 || !okType) {
-            fail(where + ": TEXCOORD_0 must be VEC2 of float or normalized unsigned byte/short");
+        if (uvIt->second >= 0 && std::size_t(uvIt->second) < mModel.accessors.size()) {
+            const auto& acc = mModel.accessors[uvIt->second];
+            const bool okType =
+                acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                (acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                    acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+            if (acc.type != TINYGLTF_TYPE_VEC2 || !okType) {
+                fail(where + ": TEXCOORD_0 must be VEC2 of float or normalized unsigned "
+                             "byte/short");
+            }
         }
+        const AccessorValues uv = readAccessor(uvIt->second, where + " TEXCOORD_0");
         if (uv.count != pos.count) {
             fail(where + ": TEXCOORD_0 has " + std::to_string(uv.count) + " elements, POSITION " +
                  std::to_string(pos.count));
@@ -444,16 +547,23 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
         mAnyTexcoords = true;
     }
 
-    // Index stream: explicit, or 0..count-1.
+    // Index stream: explicit, or 0..count-1. The type is checked before the data is read, so a
+    // wrong type is named as such (a FLOAT index accessor over 2-byte data would otherwise
+    // "run past the end" of its view).
     std::vector<std::uint32_t> idx;
     if (prim.indices >= 0) {
-        const AccessorValues ia = readAccessor(prim.indices, where + " indices");
-        const int t = ia.componentType;
-        if (ia.components != 1 || (t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-                                   t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-                                   t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-            fail(where + ": indices must be SCALAR unsigned byte/short/int");
+        if (std::size_t(prim.indices) < mModel.accessors.size()) {
+            const tinygltf::Accessor& acc = mModel.accessors[prim.indices];
+            const int t = acc.componentType;
+            if (acc.type != TINYGLTF_TYPE_SCALAR || (t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                                     t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                                     t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+                fail(where + ": indices (accessor " + std::to_string(prim.indices) + ") are " +
+                     componentTypeName(t) + " " + typeName(acc.type) +
+                     "; indices must be SCALAR unsigned byte, short or int");
+            }
         }
+        const AccessorValues ia = readAccessor(prim.indices, where + " indices");
         idx.reserve(ia.count);
         for (std::size_t i = 0; i < ia.count; ++i) {
             const double v = ia.values[i];
@@ -729,6 +839,141 @@ GltfContents Loader::load(const glm::mat4& transform) {
     return result;
 }
 
+// The folder a model may read external files from: its own and the folders below it. Buffer and
+// image URIs are untrusted input: "../../etc/passwd", an absolute path or a symlink out of the
+// folder must not read another file (nor reveal its size in an error).
+class ModelFolder {
+public:
+    explicit ModelFolder(const std::filesystem::path& model) {
+        const std::filesystem::path parent = model.parent_path();
+        mRoot = resolve(parent.empty() ? std::filesystem::path(".") : parent); // "a.gltf": here
+    }
+    const std::filesystem::path& root() const { return mRoot; }
+
+    // `file` absolute, with symlinks and ".." resolved; empty when it cannot be resolved (then
+    // nothing is inside it, and it is inside nothing).
+    static std::filesystem::path resolve(const std::filesystem::path& file) {
+        std::error_code ec;
+        const std::filesystem::path absolute = std::filesystem::absolute(file, ec);
+        if (ec) return {};
+        std::filesystem::path p = std::filesystem::weakly_canonical(absolute, ec);
+        return ec ? std::filesystem::path() : p;
+    }
+    bool contains(const std::filesystem::path& resolved) const {
+        if (mRoot.empty() || resolved.empty()) return false;
+        const std::filesystem::path rel = resolved.lexically_relative(mRoot);
+        return !rel.empty() && *rel.begin() != "..";
+    }
+
+    // tinygltf's file callbacks, refusing what lies outside (user data: this). tinygltf also
+    // looks for a file missing beside the model in the working directory; that is refused too.
+    tinygltf::FsCallbacks callbacks() {
+        return {.FileExists = &fileExists,
+                .ExpandFilePath = &tinygltf::ExpandFilePath,
+                .ReadWholeFile = &readWholeFile,
+                .WriteWholeFile = nullptr,
+                .user_data = this};
+    }
+    // The first file refused (resolved), empty when none was.
+    const std::filesystem::path& refused() const { return mRefused; }
+
+private:
+    static bool fileExists(const std::string& file, void* self) {
+        auto& folder = *static_cast<ModelFolder*>(self);
+        const std::filesystem::path resolved = resolve(file);
+        std::error_code ec;
+        if (!folder.contains(resolved)) {
+            if (folder.mRefused.empty() && std::filesystem::exists(resolved, ec))
+                folder.mRefused = resolved;
+            return false;
+        }
+        return tinygltf::FileExists(file, nullptr);
+    }
+    static bool readWholeFile(std::vector<unsigned char>* out, std::string* err,
+                              const std::string& file, void* self) {
+        auto& folder = *static_cast<ModelFolder*>(self);
+        const std::filesystem::path resolved = resolve(file);
+        if (!folder.contains(resolved)) {
+            if (folder.mRefused.empty()) folder.mRefused = resolved;
+            if (err) *err += "outside the model's folder";
+            return false;
+        }
+        return tinygltf::ReadWholeFile(out, err, file, nullptr);
+    }
+
+    std::filesystem::path mRoot;
+    std::filesystem::path mRefused;
+};
+
+// The decoding tinygltf applies to a URI before using it as a path: %XX escapes, '+' as space.
+std::string decodeUri(const std::string& uri) {
+    auto hex = [](char c) -> int {
+        if (c >= '0' && c <= '9') return c - '0';
+        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+        return 0;
+    };
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '+') {
+            out += ' ';
+        } else if (uri[i] == '%' && i + 2 < uri.size()) {
+            out += char(hex(uri[i + 1]) << 4 | hex(uri[i + 2]));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+// Every buffer and image URI of the glTF JSON is a data: URI or a relative path that stays in
+// `folder`; an InputError naming the key otherwise. JSON that does not parse is left to tinygltf,
+// whose error is better (the file callbacks still guard it).
+void checkUris(const std::filesystem::path& path, const std::string& json,
+               const ModelFolder& folder) {
+    const nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
+    if (!doc.is_object()) return;
+    for (const char* list : {"buffers", "images"}) {
+        const auto it = doc.find(list);
+        if (it == doc.end() || !it->is_array()) continue;
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            const nlohmann::json& entry = (*it)[i];
+            if (!entry.is_object() || !entry.contains("uri") || !entry["uri"].is_string()) continue;
+            const std::string uri = entry["uri"].get<std::string>();
+            if (uri.rfind("data:", 0) == 0) continue;
+            const std::string key = std::string(list) + "[" + std::to_string(i) + "].uri '" + uri +
+                                    "'";
+            auto refuse = [&](const std::string& why) {
+                throw InputError(path.string() + ": " + key + " " + why +
+                                 ": a glTF file may read only files in its own folder or below "
+                                 "it, and data: URIs");
+            };
+            const std::string decoded = decodeUri(uri);
+            if (decoded.empty()) continue; // tinygltf reports it
+            static const std::regex scheme(R"(^[A-Za-z][A-Za-z0-9+.\-]*:.*)");
+            if (std::regex_match(decoded, scheme)) refuse("is a URL, not a relative path");
+            if (decoded.front() == '/' || decoded.front() == '\\') refuse("is an absolute path");
+            const std::filesystem::path resolved = ModelFolder::resolve(folder.root() / decoded);
+            if (!folder.contains(resolved)) {
+                refuse("leads outside the model's folder " + folder.root().string() +
+                       (resolved.empty() ? std::string() : " (to " + resolved.string() + ")"));
+            }
+        }
+    }
+}
+
+// "'glTX' (67 6c 54 58)": the first bytes of a file, for a message.
+std::string describeBytes(const std::vector<unsigned char>& bytes, std::size_t n) {
+    std::ostringstream text, hex;
+    for (std::size_t i = 0; i < std::min(n, bytes.size()); ++i) {
+        const unsigned char c = bytes[i];
+        text << (c >= 32 && c < 127 ? char(c) : '.');
+        hex << (i ? " " : "") << std::hex << std::setw(2) << std::setfill('0') << int(c);
+    }
+    return "'" + text.str() + "' (" + hex.str() + ")";
+}
+
 // Parses the file (binary or JSON, told by its content) and walks it once.
 GltfContents parseAndLoad(const std::filesystem::path& path, const glm::mat4& transform,
                           bool readMeshes) {
@@ -736,21 +981,69 @@ GltfContents parseAndLoad(const std::filesystem::path& path, const glm::mat4& tr
     if (!std::filesystem::is_regular_file(path, ec)) {
         throw InputError(path.string() + ": glTF file not found");
     }
-    // Decide binary vs JSON from the content, not the extension: a mislabelled file should still
-    // load, and garbage should get tinygltf's parse error rather than a guess.
-    char magic[4] = {};
+    std::vector<unsigned char> bytes;
     {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw InputError(path.string() + ": cannot open glTF file");
-        in.read(magic, 4);
+        const auto size = std::filesystem::file_size(path, ec);
+        // tinygltf takes the length as an unsigned int.
+        if (ec || size > std::numeric_limits<unsigned int>::max())
+            throw InputError(path.string() + ": glTF file too large (4 GiB at most)");
+        bytes.resize(size);
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
+        if (!in) throw InputError(path.string() + ": cannot read glTF file");
     }
-    const bool binary = std::memcmp(magic, "glTF", 4) == 0;
+    // Decide binary vs JSON from the content, not the extension: a mislabelled file should still
+    // load. Garbage gets tinygltf's JSON parse error, unless it is named .glb: then its magic is
+    // what is wrong.
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    std::size_t first = bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB &&
+                                bytes[2] == 0xBF
+                            ? 3 // UTF-8 byte order mark
+                            : 0;
+    while (first < bytes.size() && std::isspace(bytes[first]))
+        ++first;
+    const bool looksJson = first < bytes.size() && bytes[first] == '{';
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (!binary && !looksJson && ext == ".glb") {
+        throw InputError(path.string() + ": not a binary glTF file: it begins with " +
+                         describeBytes(bytes, 4) + " where a GLB begins with the magic 'glTF'");
+    }
+
+    // The JSON, for the URI check: all of a .gltf, the first chunk of a GLB (header 12 bytes,
+    // chunk length and type 8; a malformed header is left to tinygltf).
+    ModelFolder folder(path);
+    std::string json;
+    if (!binary) {
+        json.assign(bytes.begin(), bytes.end());
+    } else if (bytes.size() >= 20 && std::memcmp(bytes.data() + 16, "JSON", 4) == 0) {
+        std::uint32_t length = 0;
+        std::memcpy(&length, bytes.data() + 12, 4);
+        if (length <= bytes.size() - 20)
+            json.assign(bytes.begin() + 20, bytes.begin() + 20 + length);
+    }
+    checkUris(path, json, folder);
 
     tinygltf::TinyGLTF gltf;
+    gltf.SetFsCallbacks(folder.callbacks());
     tinygltf::Model model;
     std::string err, warn;
-    const bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path.string())
-                           : gltf.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    const std::string baseDir = path.parent_path().string();
+    const bool ok =
+        binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
+                                           static_cast<unsigned int>(bytes.size()), baseDir)
+               : gltf.LoadASCIIFromString(&model, &err, &warn,
+                                          reinterpret_cast<const char*>(bytes.data()),
+                                          static_cast<unsigned int>(bytes.size()), baseDir);
+    if (!folder.refused().empty()) {
+        throw InputError(path.string() + ": a buffer or image file resolves to " +
+                         folder.refused().string() + ", outside the model's folder " +
+                         folder.root().string() +
+                         ": a glTF file may read only files in its own folder or below it, and "
+                         "data: URIs");
+    }
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r'))
             err.pop_back();

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cmath>
 #include <sstream>
 
@@ -144,10 +145,18 @@ std::optional<LightContact> findLightContact(const Scene& scene, const RectLight
 
 void validateLightClear(const Scene& scene) { validateLightClear(scene, scene.light, {}); }
 
+float contactTolerance(const RectLight& light) {
+    const glm::dvec3 c(light.center), u(light.u), v(light.v);
+    // The light's own size and where it is, not the scene's extent: one far-away or huge object
+    // must not make every surface within metres of the light "touch" it.
+    const double diagonal = 2.0 * std::sqrt(glm::dot(u, u) + glm::dot(v, v));
+    const glm::dvec3 reach = glm::abs(c) + glm::abs(u) + glm::abs(v); // bounds |light point|
+    const double magnitude = std::max({reach.x, reach.y, reach.z});
+    return float(std::max(1e-4 * diagonal, 4.0 * double(FLT_EPSILON) * magnitude));
+}
+
 void validateLightClear(const Scene& scene, const RectLight& light, std::string_view what) {
-    const Aabb bounds = scene.bounds();
-    const double diagonal = bounds.empty() ? 0.0 : glm::length(glm::dvec3(bounds.extent()));
-    const auto contact = findLightContact(scene, light, float(1e-5 * diagonal));
+    const auto contact = findLightContact(scene, light, contactTolerance(light));
     if (!contact) return;
     const std::string origin = scene.source.empty() ? "scene" : scene.source.string();
     throw InputError(origin + ": " + (what.empty() ? std::string("light") : std::string(what)) +

@@ -101,6 +101,16 @@ MeshData makeQuad(const glm::vec3& center, const glm::vec3& u, const glm::vec3& 
     return mesh;
 }
 
+std::size_t sphereTriangleCount(int segments) {
+    // Two caps of `segments` triangles and bands - 2 rings of 2 * segments (see makeSphere).
+    const std::size_t bands = std::size_t(std::max(2, segments / 2));
+    return 2 * std::size_t(segments) * (bands - 1);
+}
+
+std::size_t torusTriangleCount(int majorSegments, int minorSegments) {
+    return 2 * std::size_t(majorSegments) * std::size_t(minorSegments);
+}
+
 MeshData makeSphere(const glm::vec3& center, float radius, int segments) {
     if (!isFinite(center) || !std::isfinite(radius)) {
         throw InputError("sphere: center and radius must be finite");

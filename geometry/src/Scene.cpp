@@ -14,6 +14,9 @@
 //     torus  required: center, major_radius, minor_radius (major > minor > 0)
 //            optional: major_segments = 48, minor_segments = 24 (integers in [3, 4096]),
 //                      rotate_deg = [0,0,0] (about center; unrotated, the axis is +y)
+// Budgets (geometry/Limits.h), checked before an object is built: a sphere or torus has at most
+// kMaxObjectTriangles triangles (segments <= 1449; major x minor <= 1,048,576), the scene at most
+// kMaxSceneTriangles; every coordinate is within +-kMaxCoordinate.
 // rotate_deg is always Euler angles in degrees about fixed X, then Y, then Z (world = Rz Ry Rx).
 // Camera and light are required because a silently invented view or light would make renders and
 // benchmark numbers meaningless; "up" and the field of view have obvious conventional defaults.
@@ -24,6 +27,7 @@
 #include <geometry/Error.h>
 #include <geometry/GltfLoader.h>
 #include <geometry/LightCheck.h>
+#include <geometry/Limits.h>
 #include <geometry/Primitives.h>
 
 #include <nlohmann/json.hpp>
@@ -55,6 +59,23 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+std::string fmtNumber(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
+// "" when every component is within +-kMaxCoordinate (geometry/Limits.h), else what is wrong.
+std::string outOfRange(const glm::vec3& v) {
+    for (int axis = 0; axis < 3; ++axis) {
+        if (std::abs(v[axis]) > kMaxCoordinate)
+            return fmt(v) + " is outside [-" + fmtNumber(kMaxCoordinate) + ", " +
+                   fmtNumber(kMaxCoordinate) +
+                   "] (coordinates that large cannot be rendered in single precision)";
+    }
+    return {};
+}
+
 // Camera and light checks shared by the parser, validateScene() and validateLight(); `fail` gets
 // the key path.
 template <class Fail>
@@ -62,6 +83,8 @@ void checkCamera(const Camera& cam, Fail&& fail) {
     if (!finite(cam.eye)) fail("camera.eye", "must be finite");
     if (!finite(cam.target)) fail("camera.target", "must be finite");
     if (!finite(cam.up)) fail("camera.up", "must be finite");
+    if (const std::string e = outOfRange(cam.eye); !e.empty()) fail("camera.eye", e);
+    if (const std::string e = outOfRange(cam.target); !e.empty()) fail("camera.target", e);
     if (!std::isfinite(cam.fovYDeg) || !(cam.fovYDeg > 0.0f && cam.fovYDeg < 180.0f)) {
         fail("camera.fov_y_deg", "must be in (0, 180), got " + std::to_string(cam.fovYDeg));
     }
@@ -83,14 +106,29 @@ void checkLight(const RectLight& light, Fail&& fail) {
     if (!finite(light.center)) fail("light.center", "must be finite");
     if (!finite(light.u)) fail("light.u", "must be finite");
     if (!finite(light.v)) fail("light.v", "must be finite");
-    const float lu = glm::length(light.u);
-    const float lv = glm::length(light.v);
-    if (!(lu > 0.0f)) fail("light.u", "must have non-zero length");
-    if (!(lv > 0.0f)) fail("light.v", "must have non-zero length");
+    if (const std::string e = outOfRange(light.center); !e.empty()) fail("light.center", e);
+    if (const std::string e = outOfRange(light.u); !e.empty()) fail("light.u", e);
+    if (const std::string e = outOfRange(light.v); !e.empty()) fail("light.v", e);
+    // In double: squared lengths of float vectors overflow float long before the vectors do.
+    const glm::dvec3 u(light.u), v(light.v);
+    const double lu = glm::length(u);
+    const double lv = glm::length(v);
+    if (!(lu > 0.0)) fail("light.u", "must have non-zero length");
+    if (!(lv > 0.0)) fail("light.v", "must have non-zero length");
     // Relative: |u x v| = |u||v| sin(angle), so this rejects (nearly) parallel axes at any scale.
-    if (!(glm::length(glm::cross(light.u, light.v)) > 1e-6f * lu * lv)) {
+    if (!(glm::length(glm::cross(u, v)) > 1e-6 * lu * lv)) {
         fail("light", "u " + fmt(light.u) + " and v " + fmt(light.v) +
                           " are parallel: the light has zero area");
+    }
+}
+
+// Every vertex within +-kMaxCoordinate; `fail` gets the object's name and what is wrong.
+template <class Fail>
+void checkObjectCoordinates(const SceneObject& object, Fail&& fail) {
+    const std::vector<glm::vec3>& positions = object.mesh.positions;
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        if (const std::string e = outOfRange(positions[i]); !e.empty())
+            fail(object.name, "vertex " + std::to_string(i) + " at " + e);
     }
 }
 
@@ -144,13 +182,42 @@ private:
     // Optional rotate_deg (finite Euler angles); zero when absent.
     glm::vec3 optionalRotation(const Json& j, const std::string& path) const;
 
+    // Refuses an object of `triangles` (described by `what`) over the per-object budget or
+    // the scene's (with the objects parsed so far), before it is built; `hint` says what fits.
+    void checkBudget(const std::string& keyPath, std::size_t triangles, const std::string& what,
+                     const std::string& hint) const;
+
     Camera parseCamera(const Json& j) const;
     RectLight parseLight(const Json& j) const;
     SceneObject parseObject(const Json& j, std::size_t index) const;
 
     std::string mOrigin;
     std::filesystem::path mBaseDir;
+    std::size_t mTriangles = 0; // of the objects parsed so far
 };
+
+// 16760832 -> "16,760,832".
+std::string grouped(std::size_t n) {
+    std::string digits = std::to_string(n), out;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
+}
+
+void SceneParser::checkBudget(const std::string& keyPath, std::size_t triangles,
+                              const std::string& what, const std::string& hint) const {
+    if (triangles > kMaxObjectTriangles) {
+        fail(keyPath, what + " would have " + grouped(triangles) + " triangles, more than the " +
+                          grouped(kMaxObjectTriangles) + " one object may have (" + hint + ")");
+    }
+    if (mTriangles + triangles > kMaxSceneTriangles) {
+        fail(keyPath, what + " would bring the scene to " + grouped(mTriangles + triangles) +
+                          " triangles, more than the " + grouped(kMaxSceneTriangles) +
+                          " a scene may have");
+    }
+}
 
 Json SceneParser::parseJson(const std::string& text) const {
     // The parser callback follows the key path of the value being parsed, so that errors raised
@@ -380,6 +447,7 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         } catch (const InputError& e) {
             fail(key("file"), e.what());
         }
+
         if (obj.name.empty()) obj.name = resolved.filename().string();
     } else if (type == "box") {
         checkKeys(j, path, {"type", "name", "method", "center", "size", "rotate_deg"});
@@ -403,6 +471,12 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         const double radius = number(require(j, path, "radius"), key("radius"));
         if (!(radius > 0.0)) fail(key("radius"), "must be > 0, got " + std::to_string(radius));
         const int segments = optionalInt(j, path, "segments", 32, 3, 4096);
+        int fits = 4096;
+        while (fits > 3 && sphereTriangleCount(fits) > kMaxObjectTriangles)
+            --fits;
+        checkBudget(key("segments"), sphereTriangleCount(segments),
+                    "a sphere of " + std::to_string(segments) + " segments",
+                    "segments at most " + std::to_string(fits));
         obj.mesh = build([&] { return makeSphere(c, float(radius), segments); });
     } else if (type == "torus") {
         checkKeys(j, path,
@@ -424,6 +498,11 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         }
         const int majorSegments = optionalInt(j, path, "major_segments", 48, 3, 4096);
         const int minorSegments = optionalInt(j, path, "minor_segments", 24, 3, 4096);
+        checkBudget(key("major_segments"), torusTriangleCount(majorSegments, minorSegments),
+                    "a torus of " + std::to_string(majorSegments) + " x " +
+                        std::to_string(minorSegments) + " segments",
+                    "major_segments x minor_segments at most " +
+                        grouped(kMaxObjectTriangles / 2));
         const glm::vec3 r = optionalRotation(j, path);
         obj.mesh = build(
             [&] { return makeTorus(c, float(major), float(minor), majorSegments, minorSegments); });
@@ -454,6 +533,19 @@ Scene SceneParser::parse(const std::string& text) {
     if (objects.empty()) fail("objects", "must contain at least one object");
     for (std::size_t i = 0; i < objects.size(); ++i) {
         scene.objects.push_back(parseObject(objects[i], i));
+        // Spheres and tori were checked before they were built, a glTF file is bounded by its
+        // loader; the sum is bounded here.
+        const std::size_t n = scene.objects.back().mesh.triangles.size();
+        if (mTriangles + n > kMaxSceneTriangles) {
+            fail("objects[" + std::to_string(i) + "]",
+                 "its " + grouped(n) + " triangles would bring the scene to " +
+                     grouped(mTriangles + n) + " triangles, more than the " +
+                     grouped(kMaxSceneTriangles) + " a scene may have");
+        }
+        mTriangles += n;
+        checkObjectCoordinates(scene.objects.back(), [&](const std::string&, const std::string& w) {
+            fail("objects[" + std::to_string(i) + "]", w);
+        });
     }
     return scene;
 }
@@ -491,6 +583,16 @@ void validateScene(const Scene& scene) {
     checkCameraAndLight(scene.camera, scene.light, [&](const std::string& k, const std::string& w) {
         throw InputError(origin + ": " + k + ": " + w);
     });
+    if (scene.triangleCount() > kMaxSceneTriangles) {
+        throw InputError(origin + ": " + grouped(scene.triangleCount()) +
+                         " triangles, more than the " + grouped(kMaxSceneTriangles) +
+                         " a scene may have");
+    }
+    for (const SceneObject& object : scene.objects) {
+        checkObjectCoordinates(object, [&](const std::string& name, const std::string& w) {
+            throw InputError(origin + ": object '" + name + "': " + w);
+        });
+    }
     // A light inside or touching geometry makes the visibility integral meaningless.
     validateLightClear(scene);
 }

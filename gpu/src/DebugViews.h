@@ -39,6 +39,10 @@ public:
     DebugViews(const DebugViews&) = delete;
     DebugViews& operator=(const DebugViews&) = delete;
 
+    // Bytes per pixel of the targets the views make at the frame's size (the error view's
+    // progressive reference, R32F).
+    static constexpr std::size_t kBytesPerPixel = 4;
+
     // After Targets::resize (the progressive reference restarts).
     void resize(const Targets& t);
     // ctx.settings.debugView into the image (nothing for Shaded); `method` draws its share.

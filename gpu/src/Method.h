@@ -57,6 +57,9 @@ class VisibilityMethod {
 public:
     virtual ~VisibilityMethod() = default;
     virtual void resize(int /*width*/, int /*height*/) {}
+    // Bytes per pixel of what resize() allocates (and per-pixel CPU buffers of a frame), beyond
+    // the renderer's Targets: the renderer's size check sums them (Renderer::renderFrame).
+    virtual std::size_t targetBytesPerPixel() const { return 0; }
     virtual void execute(const FrameContext& ctx) = 0;
     // The method's share of a debug view (WedgeWireframe, GroupParts), drawn over Targets::image
     // after this frame's execute() and the shade pass, with `debug`'s helpers; may set

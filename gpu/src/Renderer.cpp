@@ -20,10 +20,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <map>
 #include <numeric>
+
+#include <unistd.h>
 
 namespace gpu {
 
@@ -125,6 +128,126 @@ void checkRepresentable(const geometry::Scene& scene, const MethodInfo& method) 
     }
 }
 
+// "11.8 GiB", "0.9 MiB", "244.1 KiB".
+std::string bytesText(double bytes) {
+    const bool gib = bytes >= double(1ull << 30), mib = bytes >= double(1 << 20);
+    const char* unit = gib ? "GiB" : mib ? "MiB" : "KiB";
+    const double scale = gib ? double(1ull << 30) : mib ? double(1 << 20) : 1024.0;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f %s", bytes / scale, unit);
+    return text;
+}
+
+// What the GL implementation allows the frame's per-pixel targets, queried once.
+struct SizeLimits {
+    int maxWidth = 0, maxHeight = 0;
+    std::string sides;         // the GL limits behind maxWidth and maxHeight, for messages
+    std::size_t memory = 0;    // bytes the per-pixel targets may take
+    std::string memorySource;  // where `memory` comes from, for messages
+};
+
+SizeLimits querySizeLimits() {
+    GLint texture = 0, renderbuffer = 0, fbWidth = 0, fbHeight = 0, viewport[2] = {};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &fbWidth);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &fbHeight);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+    SizeLimits l;
+    l.maxWidth = std::min({texture, renderbuffer, fbWidth, viewport[0]});
+    l.maxHeight = std::min({texture, renderbuffer, fbHeight, viewport[1]});
+    l.sides = "GL_MAX_TEXTURE_SIZE " + std::to_string(texture) + ", GL_MAX_RENDERBUFFER_SIZE " +
+              std::to_string(renderbuffer) + ", GL_MAX_FRAMEBUFFER_WIDTH/HEIGHT " +
+              std::to_string(fbWidth) + "/" + std::to_string(fbHeight) +
+              ", GL_MAX_VIEWPORT_DIMS " + std::to_string(viewport[0]) + "x" +
+              std::to_string(viewport[1]);
+    // Core GL cannot say how much memory there is: the vendor queries where present (3/4 of it,
+    // leaving room for the scene's buffers), else half of main memory, which is where a software
+    // renderer (llvmpipe) keeps its textures.
+    if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+        GLint kib = 0;
+        glGetIntegerv(GL_GPU_MEMORY_INFO_DEDICATED_VIDMEM_NVX, &kib);
+        if (kib > 0) {
+            l.memory = std::size_t(kib) * 1024 / 4 * 3;
+            l.memorySource = "3/4 of the GPU's " + bytesText(double(kib) * 1024.0) +
+                             " of dedicated memory";
+        }
+    } else if (epoxy_has_gl_extension("GL_ATI_meminfo")) {
+        GLint free[4] = {};
+        glGetIntegerv(GL_TEXTURE_FREE_MEMORY_ATI, free);
+        if (free[0] > 0) {
+            l.memory = std::size_t(free[0]) * 1024 / 4 * 3;
+            l.memorySource = "3/4 of the GPU's " + bytesText(double(free[0]) * 1024.0) +
+                             " of free texture memory";
+        }
+    }
+    if (l.memory == 0) {
+        const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+        const double bytes = pages > 0 && page > 0 ? double(pages) * double(page) : 8.0 * (1 << 30);
+        l.memory = std::size_t(bytes / 2);
+        l.memorySource = "half of the " + bytesText(bytes) + " of main memory";
+    }
+    return l;
+}
+
+// Whether the GL implementation can create a w x h texture of the widest target format (a proxy
+// query: nothing is allocated). llvmpipe, for one, refuses textures over 1 GiB although its
+// GL_MAX_TEXTURE_SIZE is 16384.
+bool widestTargetFits(int w, int h) {
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, GLint(Targets::kWidestFormat), w, h, 0, GL_RGBA,
+                 GL_FLOAT, nullptr);
+    GLint width = 0;
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
+    return width != 0;
+}
+
+// The largest side s in [1, hi] with fits(s) (fits is monotone); 0 when none.
+template <class Fits> int largestSquare(int hi, Fits&& fits) {
+    int lo = 0; // fits(lo) holds, or lo = 0
+    while (lo < hi) {
+        const int mid = lo + (hi - lo + 1) / 2;
+        if (fits(mid)) lo = mid;
+        else hi = mid - 1;
+    }
+    return lo;
+}
+
+// Throws geometry::InputError, before anything is allocated, for a size the GL implementation or
+// the memory budget cannot hold; `bytesPerPixel` covers every per-pixel target of the frame.
+void checkTargetSize(const SizeLimits& limits, int w, int h, std::size_t bytesPerPixel,
+                     std::size_t budgetOverride, std::string_view method) {
+    const std::string size = std::to_string(w) + "x" + std::to_string(h);
+    if (w > limits.maxWidth || h > limits.maxHeight)
+        throw geometry::InputError("image size " + size + " exceeds the largest render target " +
+                                   "of this GL implementation, " +
+                                   std::to_string(limits.maxWidth) + "x" +
+                                   std::to_string(limits.maxHeight) + " (" + limits.sides + ")");
+    if (!widestTargetFits(w, h)) {
+        const int s = largestSquare(std::min(limits.maxWidth, limits.maxHeight),
+                                    [](int side) { return widestTargetFits(side, side); });
+        const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        throw geometry::InputError(
+            "image size " + size + ": this GL implementation (" +
+            (renderer ? renderer : "unknown") + ") cannot create a " + size +
+            " RGBA32F render target (" + bytesText(double(w) * h * 16.0) +
+            "); the largest square size it accepts is " + std::to_string(s) + "x" +
+            std::to_string(s));
+    }
+    const std::size_t budget = budgetOverride ? budgetOverride : limits.memory;
+    const double bytes = double(w) * double(h) * double(bytesPerPixel);
+    if (bytes > double(budget)) {
+        const int s = int(std::sqrt(double(budget) / double(bytesPerPixel)));
+        throw geometry::InputError(
+            "image size " + size + " needs about " + bytesText(bytes) + " of render targets (" +
+            std::to_string(bytesPerPixel) + " bytes per pixel with method '" + std::string(method) +
+            "'), more than the budget of " + bytesText(double(budget)) + " (" +
+            (budgetOverride ? std::string("RenderSettings::targetMemoryBudget")
+                            : limits.memorySource) +
+            "); the largest square size within it is " + std::to_string(s) + "x" +
+            std::to_string(s));
+    }
+}
+
 } // namespace
 
 // ---- Renderer -----------------------------------------------------------------------------------
@@ -137,6 +260,7 @@ struct Renderer::Impl {
     std::optional<geometry::RectLight> checkedLight; // the last RenderSettings::light validated
     std::optional<geometry::Camera> checkedCamera;   // the last RenderSettings::camera validated
     geometry::Aabb sceneBounds;
+    SizeLimits sizeLimits = querySizeLimits();
     glm::mat4 viewProj{1.0f}; // of the last frame-uniform upload
 
     Buffer frameUbo{{.size = sizeof(shader::FrameUniforms), .label = "frame-uniforms"}};
@@ -239,9 +363,10 @@ std::vector<ObjectInfo> Renderer::objects() const {
 }
 
 FrameStats Renderer::renderFrame(const RenderSettings& settings) {
-    if (settings.width < 1 || settings.height < 1 || settings.width > 16384 ||
-        settings.height > 16384)
-        throw geometry::InputError("image size must be between 1x1 and 16384x16384");
+    if (settings.width < 1 || settings.height < 1)
+        throw geometry::InputError("image size must be at least 1x1, got " +
+                                   std::to_string(settings.width) + "x" +
+                                   std::to_string(settings.height));
     const MethodInfo& info = findMethod(settings.method);
     if (info.usesSamples && settings.samples < 1)
         throw geometry::InputError("samples must be at least 1");
@@ -269,13 +394,20 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     FrameStats stats;
     stats.triangles = m.triangles;
     const auto frameStart = Clock::now();
-    const int frameSlot = m.frameTimer.begin("frame");
+    // Built (or kept) at the current size first, so that a new size is checked with every
+    // method that will be resized, before any of it is allocated.
+    VisibilityMethod& method = m.method(info, std::move(parameters));
     if (m.targets.width != settings.width || m.targets.height != settings.height) {
+        std::size_t bytesPerPixel = Targets::kBytesPerPixel + DebugViews::kBytesPerPixel;
+        for (const auto& [name, each] : m.methods)
+            bytesPerPixel += each.method->targetBytesPerPixel();
+        checkTargetSize(m.sizeLimits, settings.width, settings.height, bytesPerPixel,
+                        settings.targetMemoryBudget, info.name);
         m.targets.resize(settings.width, settings.height);
         m.debugViews.resize(m.targets);
         for (auto& [name, each] : m.methods) each.method->resize(settings.width, settings.height);
     }
-    VisibilityMethod& method = m.method(info, std::move(parameters)); // sized on creation
+    const int frameSlot = m.frameTimer.begin("frame");
 
     // Depth 0..1 with 1 at the near plane (reversed Z): float depth keeps precision far away.
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

@@ -243,6 +243,34 @@ TEST_F(BenchCli, BadInputExitsTwoAndWritesNothing) {
     }
 }
 
+// The output folder is checked before any scene is loaded; command-line errors carry the
+// program's prefix; --seed says its range.
+TEST_F(BenchCli, OutputSeedAndParseErrorsAreCheckedFirst) {
+    const std::string scene = q(kData / "overlap.json");
+    const fs::path file = mDir / "results";
+    std::ofstream(file) << "not a folder";
+    std::string log;
+    EXPECT_EQ(run(scene + " --out " + q(file), &log), 2) << log;
+    EXPECT_NE(log.find("penumbra-bench: error: --out: '" + file.string() +
+                       "' exists and is not a folder"),
+              std::string::npos)
+        << log;
+    EXPECT_EQ(log.find("checking"), std::string::npos) << "scenes loaded first:\n" << log;
+    EXPECT_EQ(run(scene + " --out " + q(file / "sub"), &log), 2) << log;
+    EXPECT_NE(log.find("cannot be created: '" + file.string() + "' is not a folder"),
+              std::string::npos)
+        << log;
+
+    const std::string o = " --out " + q(mDir / "out");
+    EXPECT_EQ(run(scene + " --seed -1" + o, &log), 2) << log;
+    EXPECT_NE(log.find("penumbra-bench: error: --seed must be between 0 and 4294967295, got -1"),
+              std::string::npos)
+        << log;
+    EXPECT_EQ(run(scene + " --bogus" + o, &log), 2) << log;
+    EXPECT_EQ(log.rfind("penumbra-bench: error: ", 0), 0u) << log;
+    EXPECT_FALSE(fs::exists(mDir / "out"));
+}
+
 TEST_F(BenchCli, InterruptKeepsAValidCsv) {
     // A sweep far longer than the test; interrupt once two runs are in and check what is left.
     const fs::path out = mDir / "out";

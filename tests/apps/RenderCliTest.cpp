@@ -8,6 +8,8 @@
 
 #include <sys/wait.h>
 
+#include <chrono>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -244,6 +246,85 @@ TEST_F(RenderCli, FoliageRendersWithOcclusion) {
 TEST_F(RenderCli, BadSize) {
     expectRejected(write("s.json", kValidScene), "--size", "--method hard --size 0x64");
     expectRejected(write("s.json", kValidScene), "--size", "--method hard --size big");
+}
+
+// Sizes no GL implementation here can hold are refused with the limit, before anything is
+// allocated: 16384x16384 once failed after 5 GB with an incomplete framebuffer, 100000x100000
+// was blamed on its format.
+TEST_F(RenderCli, HugeSizesAreRefusedWithTheLimit) {
+    const fs::path scene = write("s.json", kValidScene);
+    expectRejected(scene, "penumbra-render: error: --size: each side must be between 1 and 16384, "
+                          "got '100000x100000'",
+                   "--method hard --size 100000x100000");
+    expectRejected(scene, "--size: each side must be between 1 and 16384",
+                   "--method hard --size 99999999999x4");
+    // 4 GiB per RGBA32F target: over llvmpipe's largest texture (its proxy query says so; the
+    // tests run on llvmpipe), and 16 GB of targets in all; either message gives the largest
+    // square that fits.
+    const auto t0 = std::chrono::steady_clock::now();
+    expectRejected(scene, "penumbra-render: error: image size 16384x16384",
+                   "--method hard --size 16384x16384");
+    expectRejected(scene, "the largest square size", "--method hard --size 16384x16384");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(seconds, 20.0) << "refused only after allocating?";
+}
+
+// --out naming a file (or a path through a file) is bad input found before the scene is loaded
+// or GL is set up (it was an internal error after the rendering).
+TEST_F(RenderCli, OutputThatIsAFileIsBadInput) {
+    const fs::path scene = write("s.json", kValidScene);
+    const fs::path file = write("taken", "a file");
+    RunResult r =
+        run("--scene '" + scene.string() + "' --method hard --out '" + file.string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("penumbra-render: error: --out: '" + file.string() +
+                            "' exists and is not a folder"),
+              std::string::npos)
+        << r.output;
+    r = run("--scene '" + (mDir / "missing.json").string() + "' --method hard --out '" +
+            (file / "sub").string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("cannot be created: '" + file.string() + "' is not a folder"),
+              std::string::npos)
+        << "checked before the scene: " << r.output;
+    std::ifstream in(file);
+    std::string text;
+    std::getline(in, text);
+    EXPECT_EQ(text, "a file");
+}
+
+// Command-line errors read like every other error, and say what is wrong.
+TEST_F(RenderCli, FlagErrorsCarryThePrefixAndTheRange) {
+    const fs::path scene = write("s.json", kValidScene);
+    expectRejected(scene, "penumbra-render: error: --seed must be between 0 and 4294967295, got -1",
+                   "--method hard --seed -1");
+    expectRejected(scene, "got 4294967296", "--method hard --seed 4294967296");
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + scene.string() + "' --method hard --bogus --out '" +
+                            out.string() + "'");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.output.rfind("penumbra-render: error: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find("--bogus"), std::string::npos) << r.output;
+}
+
+// A vertex at 1e19 once aborted the process inside Embree (the framing's rays): bad input now.
+TEST_F(RenderCli, HugeCoordinateIsBadInputNotACrash) {
+    // positions (0,0,0) (1,0,0) (0,1,1e19), indices 0 1 2 (uint16).
+    const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 1e19f};
+    const std::uint16_t idx[4] = {0, 1, 2, 0};
+    std::ofstream(mDir / "huge.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(pos), sizeof pos)
+        .write(reinterpret_cast<const char*>(idx), sizeof idx);
+    const fs::path gltf = write("huge.gltf", R"({"asset": {"version": "2.0"}, "scene": 0,
+        "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "buffers": [{"byteLength": 44, "uri": "huge.bin"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                      {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})");
+    expectRejected(gltf, "POSITION (accessor 0) vertex 2 has z = 1e+19, outside [-1e+07, 1e+07]");
 }
 
 // Method parameters (--param NAME=VALUE, declared in gpu/Methods.h): every mistake is bad input

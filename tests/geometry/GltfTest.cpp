@@ -214,6 +214,100 @@ TEST_F(GltfTest, NaNPosition) {
     expectError(write("nan.gltf", w.json(kOneTriangleMesh)), "NaN");
 }
 
+// A finite float far beyond what single precision renders (Embree aborts on ray origins past
+// 1.8e19): refused with the accessor, the vertex and the bound named.
+TEST_F(GltfTest, CoordinateBeyondTheRenderableRange) {
+    GltfWriter w;
+    w.positions({-1, 0, -1, 1, 0, -1, 0, 0, 1, 0, 1, 1e19f});
+    w.indices32({0, 1, 2, 0, 1, 3});
+    const fs::path path = write("huge.gltf", w.json(kOneTriangleMesh));
+    expectError(path, "POSITION (accessor 0) vertex 3 has z = 1e+19, outside [-1e+07, 1e+07]");
+    try {
+        geometry::loadGltf(path);
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("single precision"), std::string::npos) << e.what();
+    }
+    // Within the bound on file, beyond it after a node scale: said so.
+    GltfWriter scaled;
+    scaled.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    scaled.indices32({0, 1, 2});
+    expectError(write("scaled.gltf",
+                      scaled.json(kOneTriangleMesh, R"([{"mesh":0,"scale":[1,2e7,1]}])")),
+                "vertex 2 has y = 2e+07 after the node transforms");
+    // The bound itself is accepted.
+    GltfWriter edge;
+    edge.positions({0, 0, 0, 1e7f, 0, 0, 0, -1e7f, 0});
+    edge.indices32({0, 1, 2});
+    EXPECT_EQ(geometry::loadGltf(write("edge.gltf", edge.json(kOneTriangleMesh))).triangles.size(),
+              1u);
+}
+
+// An index accessor claiming more triangles than a scene may have is refused before anything is
+// read or allocated (its data would run past the buffer too: the budget speaks first).
+TEST_F(GltfTest, TriangleBudget) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.accessor(w.view(bytesOf<std::uint32_t>({0, 1, 2})), 5125, 3 * (1 << 22) + 3, "SCALAR");
+    expectError(write("many.gltf", w.json(kOneTriangleMesh)),
+                "4194305 triangles bring the file to 4194305, more than the 4194304 a scene "
+                "may have");
+}
+
+// Wrong index types are named as such, before their data is read (a FLOAT accessor over three
+// uint16 indices once "ran past the end" of its view).
+TEST_F(GltfTest, FloatIndicesAreNamedAsTheWrongType) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.accessor(w.view(bytesOf<std::uint16_t>({0, 1, 2})), 5126, 3, "SCALAR");
+    expectError(write("float.gltf", w.json(kOneTriangleMesh)),
+                "indices (accessor 1) are float SCALAR; indices must be SCALAR unsigned byte, "
+                "short or int");
+}
+
+// The walk is bounded at 1000 levels: a deeper chain says so; a real cycle is still a cycle.
+TEST_F(GltfTest, DeepNodeChainIsNotACycle) {
+    auto chain = [](int levels) {
+        std::string nodes = "[";
+        for (int i = 0; i < levels; ++i) {
+            nodes += i ? "," : "";
+            nodes += i + 1 < levels ? R"({"children":[)" + std::to_string(i + 1) + "]}"
+                                    : std::string(R"({"mesh":0})");
+        }
+        return nodes + "]";
+    };
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    EXPECT_EQ(geometry::loadGltf(write("deep1000.gltf", w.json(kOneTriangleMesh, chain(1000))))
+                  .triangles.size(),
+              1u);
+    const fs::path deep = write("deep1001.gltf", w.json(kOneTriangleMesh, chain(1001)));
+    expectError(deep, "node hierarchy is deeper than 1000 levels (node 1000 is at level 1001)");
+    try {
+        geometry::loadGltf(deep);
+    } catch (const geometry::InputError& e) {
+        EXPECT_EQ(std::string(e.what()).find("has a cycle"), std::string::npos) << e.what();
+    }
+    expectError(write("cycle.gltf", w.json(kOneTriangleMesh,
+                                           R"([{"mesh":0,"children":[1]},{"children":[0]}])")),
+                "node hierarchy has a cycle through node 0");
+}
+
+// A .glb whose first bytes are not the GLB magic says so (it once got a JSON parse error); a
+// .glb holding JSON text still loads, mislabelled.
+TEST_F(GltfTest, GlbWithBadMagic) {
+    std::string bytes = "glTX";
+    for (int i = 0; i < 60; ++i)
+        bytes.push_back(char(i));
+    expectError(write("bad.glb", bytes),
+                "not a binary glTF file: it begins with 'glTX' (67 6c 54 58) where a GLB begins "
+                "with the magic 'glTF'");
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    EXPECT_EQ(geometry::loadGltf(write("text.glb", w.json(kOneTriangleMesh))).triangles.size(), 1u);
+}
+
 TEST_F(GltfTest, IndexOutOfRange) {
     GltfWriter w;
     w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
@@ -375,6 +469,103 @@ TEST_F(GltfTest, MeshWithoutTrianglesInScene) {
     // The mesh exists but no node of the scene draws it.
     expectError(write("unused.gltf", w.json(kOneTriangleMesh, R"([{"name":"empty"}])")),
                 "no triangles");
+}
+
+// Buffer and image URIs stay inside the model's folder (mDir/model): no "..", no absolute paths,
+// no URLs, no symlinks out, no fallback to the working directory. A file outside is never read,
+// so its size cannot leak into a message.
+class ExternalUriTest : public GltfTest {
+protected:
+    void SetUp() override {
+        GltfTest::SetUp();
+        fs::create_directories(mDir / "model" / "sub");
+        // One triangle: 36 bytes of positions, then 3 uint32 indices.
+        mBytes = bytesOf<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}) + bytesOf<std::uint32_t>({0, 1, 2});
+        std::ofstream(mDir / "model" / "sub" / "tri.bin", std::ios::binary) << mBytes;
+        std::ofstream(mDir / "secret.bin", std::ios::binary) << mBytes << "and more";
+    }
+    // model/NAME with its buffer at `uri` and, when given, an image at `imageUri`.
+    fs::path model(const std::string& name, const std::string& uri,
+                   const std::string& imageUri = "") const {
+        const std::string text =
+            R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+            "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+            "buffers":[{"byteLength":48,"uri":")" + uri + R"("}],
+            "bufferViews":[{"buffer":0,"byteLength":36},
+                           {"buffer":0,"byteOffset":36,"byteLength":12}],
+            "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},
+                         {"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}])" +
+            (imageUri.empty() ? "" : R"(,"images":[{"uri":")" + imageUri + R"("}])") + "}";
+        std::ofstream(mDir / "model" / name, std::ios::binary) << text;
+        return mDir / "model" / name;
+    }
+    void expectRefused(const fs::path& path, const std::string& needle) const {
+        expectError(path, needle);
+        try {
+            geometry::loadGltf(path);
+        } catch (const geometry::InputError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("a glTF file may read only files in its own folder"),
+                      std::string::npos) << msg;
+            EXPECT_EQ(msg.find("56"), std::string::npos) << "secret.bin's size leaked: " << msg;
+        }
+    }
+    std::string mBytes;
+};
+
+TEST_F(ExternalUriTest, InsideTheFolderLoads) {
+    EXPECT_EQ(geometry::loadGltf(model("ok.gltf", "sub/tri.bin")).triangles.size(), 1u);
+    EXPECT_EQ(geometry::loadGltf(model("dots.gltf", "sub/../sub/./tri.bin")).triangles.size(), 1u);
+    EXPECT_EQ(geometry::loadGltf(model("pct.gltf", "sub%2Ftri.bin")).triangles.size(), 1u);
+    // A bare file name: its folder is the working directory.
+    const fs::path path = model("here.gltf", "sub/tri.bin");
+    const fs::path cwd = fs::current_path();
+    fs::current_path(path.parent_path());
+    std::size_t triangles = 0;
+    try {
+        triangles = geometry::loadGltf("here.gltf").triangles.size();
+    } catch (const geometry::InputError& e) {
+        ADD_FAILURE() << e.what();
+    }
+    fs::current_path(cwd);
+    EXPECT_EQ(triangles, 1u);
+}
+
+TEST_F(ExternalUriTest, EscapesAreRefused) {
+    expectRefused(model("up.gltf", "../secret.bin"),
+                  "buffers[0].uri '../secret.bin' leads outside the model's folder");
+    expectRefused(model("deep.gltf", "../../../../../../../../etc/passwd"), "leads outside");
+    expectRefused(model("pct.gltf", "%2e%2e/secret.bin"), "leads outside");
+    expectRefused(model("abs.gltf", (mDir / "secret.bin").string()), "is an absolute path");
+    expectRefused(model("url.gltf", "file:///etc/passwd"), "is a URL");
+    expectRefused(model("image.gltf", "sub/tri.bin", "../leaf.png"),
+                  "images[0].uri '../leaf.png' leads outside");
+    fs::create_symlink(mDir / "secret.bin", mDir / "model" / "link.bin");
+    expectRefused(model("link.gltf", "link.bin"), "buffers[0].uri 'link.bin' leads outside");
+}
+
+// tinygltf looks for a file missing beside the model in the working directory too: refused when
+// that is outside the model's folder.
+TEST_F(ExternalUriTest, NoFallbackToTheWorkingDirectory) {
+    fs::create_directories(mDir / "elsewhere");
+    std::ofstream(mDir / "elsewhere" / "gone.bin", std::ios::binary) << mBytes;
+    const fs::path path = model("gone.gltf", "gone.bin");
+    const fs::path cwd = fs::current_path();
+    fs::current_path(mDir / "elsewhere");
+    std::string msg;
+    try {
+        geometry::loadGltf(path);
+    } catch (const geometry::InputError& e) {
+        msg = e.what();
+    }
+    fs::current_path(cwd);
+    EXPECT_NE(msg.find("resolves to " + (mDir / "elsewhere" / "gone.bin").string() +
+                       ", outside the model's folder"),
+              std::string::npos)
+        << msg;
+    // Without the stray file it is simply not found.
+    fs::remove(mDir / "elsewhere" / "gone.bin");
+    expectError(path, "File not found : gone.bin");
 }
 
 // Cameras: node 1 (scale 2, 90° about +y, at (10, 0, 0)) has the camera node 2 "eye" as a child

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -20,8 +21,8 @@ using geometry::Scene;
 using geometry::SceneObject;
 using geometry::ShadowMethod;
 
-// Lights are horizontal (normal along y) unless stated. kTol is close to what validateLightClear
-// uses for these scenes of a few metres (1e-5 x bounds diagonal).
+// Lights are horizontal (normal along y) unless stated. kTol is below what validateLightClear
+// uses for these lights (contactTolerance: 1e-4 x the light diagonal, 2.8e-4 for a 2 x 2 light).
 constexpr float kTol = 1e-5f;
 
 geometry::RectLight light(glm::vec3 center, glm::vec3 u = {1, 0, 0}, glm::vec3 v = {0, 0, 1}) {
@@ -110,7 +111,7 @@ TEST(LightCheck, CrossingSegmentThroughCornerTouches) {
 }
 
 TEST(LightCheck, TouchingWithinToleranceCounts) {
-    // The light lies 1e-7 above a 20 x 20 floor: far below 1e-5 x the bounds diagonal.
+    // The light lies 1e-7 above a 20 x 20 floor: far below 1e-4 x the light diagonal.
     const Scene s = scene(light({0, 1e-7f, 0}),
                           {{"floor", geometry::makeQuad({0, 0, 0}, {10, 0, 0}, {0, 0, 10})}});
     EXPECT_TRUE(findLightContact(s, kTol));
@@ -181,6 +182,33 @@ TEST(LightCheck, MessageNamesObjectTriangleAndPlace) {
         EXPECT_NE(msg.find("move or shrink the light"), std::string::npos) << msg;
         EXPECT_EQ(msg.find("'far'"), std::string::npos) << msg;
     }
+}
+
+// The tolerance is the light's: a huge object far away (here 9e6 from the light, inside the
+// coordinate bound) once made it 1e-5 x a 2e7 diagonal, so the floor 4 below the light
+// "touched" it and was named.
+TEST(LightCheck, ToleranceFollowsTheLightNotTheSceneExtent) {
+    const geometry::RectLight l = light({0, 4, 0}, {0.5f, 0, 0}, {0, 0, 0.5f});
+    const MeshData floor = geometry::makeQuad({0, 0, 0}, {3, 0, 0}, {0, 0, -3});
+    const MeshData giant = geometry::makeQuad({0, 0, 9e6f}, {1e6f, 0, 0}, {0, 1e6f, 0});
+    EXPECT_LT(geometry::contactTolerance(l), 1e-3f);
+    EXPECT_NO_THROW(geometry::validateLightClear(scene(l, {{"floor", floor}, {"giant", giant}})));
+
+    // A real contact is still found, and the object named is the one touching.
+    const MeshData crate = geometry::makeBox({0, 4, 0}, {0.4f, 0.4f, 0.4f});
+    try {
+        geometry::validateLightClear(
+            scene(l, {{"floor", floor}, {"giant", giant}, {"crate", crate}}));
+        FAIL() << "expected InputError";
+    } catch (const geometry::InputError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("light intersects object 'crate'"), std::string::npos) << msg;
+    }
+
+    // Far from the origin the tolerance covers float rounding of the light's coordinates.
+    const geometry::RectLight far = light({5e6f, 4, 0}, {0.5f, 0, 0}, {0, 0, 0.5f});
+    EXPECT_GE(geometry::contactTolerance(far),
+              4.0f * std::numeric_limits<float>::epsilon() * 5e6f);
 }
 
 // A light above oa_dm5's bounds is clear: the full scan of its 66k triangles finds no contact.

@@ -1,6 +1,7 @@
 #include <geometry/Error.h>
 #include <geometry/Framing.h>
 #include <geometry/GltfLoader.h>
+#include <geometry/Limits.h>
 #include <geometry/Primitives.h>
 #include <geometry/RayTracer.h>
 #include <geometry/Scene.h>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -267,6 +269,57 @@ TEST_F(SceneTest, NonFiniteValues) {
     // Finite as a double but not as a float.
     expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1e300})"),
                 {"objects[0].radius", "finite"});
+}
+
+// Coordinates beyond geometry::kMaxCoordinate (1e7) cannot be rendered in float; each is refused
+// naming its key or accessor, never as a light contact with some other object.
+TEST_F(SceneTest, CoordinatesBeyondTheRenderableRange) {
+    const std::string floor =
+        R"({"type": "quad", "center": [0, 0, 0], "u": [3, 0, 0], "v": [0, 0, -3]})";
+    const std::string hugeGltf =
+        floor + R"(, {"type": "gltf", "file": "models/tri.gltf", "scale": [1, 1e19, 1]})";
+    expectError(scene(hugeGltf), {"objects[1].file", "POSITION (accessor 0) vertex 2 has y = 1e+19",
+                                  "after the node transforms", "outside [-1e+07, 1e+07]"});
+    try {
+        geometry::loadScene(write("scene.json", scene(hugeGltf)));
+    } catch (const geometry::InputError& e) {
+        // Once blamed on the floor: "light intersects object 'objects[0] (quad)'".
+        EXPECT_EQ(std::string(e.what()).find("intersects"), std::string::npos) << e.what();
+    }
+    expectError(scene(floor + R"(, {"type": "box", "center": [0, 1e19, 0], "size": [1, 1, 1]})"),
+                {"objects[1]: vertex 0 at", "is outside [-1e+07, 1e+07]"});
+    expectError(scene(floor, R"("camera": {"eye": [0, 4, 2e7], "target": [0, 0, 0]})"),
+                {"camera.eye", "outside"});
+    expectError(
+        scene(floor, kCamera,
+              R"("light": {"center": [0, 6, 0], "u": [1e38, 0, 0], "v": [0, 0, 0.5]})"),
+        {"light.u", "[1e+38, 0, 0] is outside [-1e+07, 1e+07]"});
+}
+
+// Procedural objects are bounded before they are built (geometry/Limits.h): "segments": 4096
+// once took a minute and 8 GB of memory. The refusal must come at once.
+TEST_F(SceneTest, TriangleBudgets) {
+    const auto t0 = std::chrono::steady_clock::now();
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 0.5, "segments": 4096})"),
+                {"objects[0].segments", "a sphere of 4096 segments would have 16,769,024 triangles",
+                 "more than the 2,097,152 one object may have", "segments at most 1449"});
+    expectError(scene(R"({"type": "torus", "center": [0,1,0], "major_radius": 0.5,
+                          "minor_radius": 0.1, "major_segments": 2048, "minor_segments": 1024})"),
+                {"objects[0].major_segments", "4,194,304 triangles",
+                 "major_segments x minor_segments at most 1,048,576"});
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(seconds, 5.0) << "refused only after building the mesh?";
+    // The largest sphere that fits is accepted: the hint is right.
+    EXPECT_EQ(geometry::sphereTriangleCount(1449), 2'095'254u);
+    EXPECT_GT(geometry::sphereTriangleCount(1450), geometry::kMaxObjectTriangles);
+
+    // Each object within its budget, the scene over its own: two 1024 x 1024 tori fill it.
+    const std::string torus = R"({"type": "torus", "center": [0,1,0], "major_radius": 0.5,
+        "minor_radius": 0.1, "major_segments": 1024, "minor_segments": 1024})";
+    expectError(scene(torus + ", " + torus + ", " + kBox),
+                {"objects[2]", "would bring the scene to 4,194,316 triangles",
+                 "more than the 4,194,304 a scene may have"});
 }
 
 TEST_F(SceneTest, EmptyObjects) {

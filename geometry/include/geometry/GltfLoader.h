@@ -19,8 +19,12 @@
 namespace geometry {
 
 // All primitives merged into one MeshData (world space = glTF scene space * `transform`).
-// Throws InputError: missing/unreadable file, parse error, no meshes, no triangles, NaN/Inf
-// positions, out-of-range indices.
+// Throws InputError: missing/unreadable file, parse error, a .glb without the GLB magic, no
+// meshes, no triangles, NaN/Inf positions or world coordinates beyond +-kMaxCoordinate
+// (geometry/Limits.h), more than kMaxSceneTriangles triangles, out-of-range indices or indices
+// of a wrong type, a node hierarchy deeper than 1000 levels, and a buffer or image URI that is
+// neither a data: URI nor a relative path staying inside the file's folder once "..", percent
+// escapes and symlinks are resolved (those files are never opened).
 MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform = glm::mat4(1.0f));
 
 // A perspective glTF camera placed by its node's world transform (the meshes' transform chain,

@@ -28,8 +28,15 @@ std::optional<LightContact> findLightContact(const Scene& scene, float tolerance
 std::optional<LightContact> findLightContact(const Scene& scene, const RectLight& light,
                                              float tolerance);
 
-// Throws InputError naming the object, the triangle and where on the light the contact is, with a
-// tolerance of 1e-5 times the scene bounds diagonal.
+// The tolerance validateLightClear uses: 1e-4 of the light's diagonal (scale-invariant, about
+// 1e-5 of the scene's diagonal for the framed default light), and at least 4 float epsilons of the
+// light's largest coordinate (a light meant to rest on a surface far from the origin is within
+// rounding of it). It depends on the light alone: a huge or far-away object elsewhere must not
+// make surfaces metres from the light count as touching it.
+float contactTolerance(const RectLight& light);
+
+// Throws InputError naming the object, the triangle and where on the light the contact is, with
+// contactTolerance(light).
 void validateLightClear(const Scene& scene);
 // The same for `light`; `what` names it in the message ("light" when empty).
 void validateLightClear(const Scene& scene, const RectLight& light, std::string_view what);

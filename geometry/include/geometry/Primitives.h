@@ -5,6 +5,7 @@
 
 #include <geometry/Types.h>
 
+#include <cstddef>
 #include <cstdint>
 
 namespace geometry {
@@ -16,6 +17,11 @@ MeshData makeQuad(const glm::vec3& center, const glm::vec3& u, const glm::vec3& 
 // UV sphere with `segments` around (>= 3) and segments/2 rings; poles are single vertices so the
 // mesh is a closed 2-manifold.
 MeshData makeSphere(const glm::vec3& center, float radius, int segments);
+
+// Triangles makeSphere / makeTorus build for these segment counts (known before building, to
+// refuse a request over a budget up front: geometry/Limits.h). Segments must be >= 3.
+std::size_t sphereTriangleCount(int segments);
+std::size_t torusTriangleCount(int majorSegments, int minorSegments);
 
 // Geodesic sphere: an icosahedron whose faces are split 4:1 `subdivisions` times (0..9), new
 // vertices pushed onto the sphere. 20 * 4^s triangles, 10 * 4^s + 2 vertices, every vertex shared

@@ -80,8 +80,15 @@ struct RenderSettings {
     // group in the view frustum, batched by screen rectangles, as a comparison (the same V up
     // to the order in which groups blend; slower inside levels).
     bool depthAwareCulling = true;
+    // Image size. A new size is checked before anything is allocated against the GL limits
+    // (GL_MAX_TEXTURE_SIZE, _RENDERBUFFER_SIZE, _FRAMEBUFFER_WIDTH/HEIGHT, _VIEWPORT_DIMS), a
+    // proxy RGBA32F texture of that size, and a memory budget for every per-pixel target of the
+    // frame (the GPU's memory where the driver tells, else half of main memory): a
+    // geometry::InputError giving the limit otherwise.
     int width = 512;
     int height = 512;
+    // The memory budget of that check in bytes; 0: from the device as described there.
+    std::size_t targetMemoryBudget = 0;
     int samples = 1024;       // reference methods: light samples per pixel
     std::uint32_t seed = 1;   // reference methods: sample pattern
     float ambient = 0.15f;    // shading only; V never includes it

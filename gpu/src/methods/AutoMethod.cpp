@@ -48,6 +48,12 @@ public:
                           .label = "auto-wedge-visibility"});
     }
 
+    std::size_t targetBytesPerPixel() const override {
+        // mSaved (R32F) and the wedge method's; occlusion textures do not scale with the image.
+        return 4 + mWedges->targetBytesPerPixel() +
+               (mOcclusion ? mOcclusion->targetBytesPerPixel() : 0);
+    }
+
     void execute(const FrameContext& ctx) override {
         decide(ctx);
         std::vector<std::uint32_t> wedgeCasters, occlusionCasters;

@@ -146,6 +146,14 @@ public:
         mDebugParts = Texture(); // the group-parts view's, made again on use
     }
 
+    std::size_t targetBytesPerPixel() const override {
+        std::size_t bytes = 16; // mDebugParts (RGBA32F), when the group-parts view is shown
+        for (int i = 0; i < kPartTargets; ++i)
+            bytes += mLayout.usesPartTarget(i) ? 16 : 0; // RGBA32F
+        const std::size_t finalBytes = mLayout.parts == 1 ? 4 : 16; // R32UI or RGBA32UI
+        return bytes + std::size_t(mLayout.sets() * mLayout.finalTargets()) * finalBytes;
+    }
+
     void execute(const FrameContext& ctx) override {
         const Targets& t = ctx.targets;
         // The framebuffers share the frame's depth-stencil (recreated on resize).

@@ -41,6 +41,8 @@ public:
                                       .label = "silhouette-visibility"});
     }
 
+    std::size_t targetBytesPerPixel() const override { return 4; } // mSilhouette, R32F
+
     void execute(const FrameContext& ctx) override {
         const Targets& t = ctx.targets;
         // The silhouette target shares the frame's depth-stencil (volumes and the wedges'

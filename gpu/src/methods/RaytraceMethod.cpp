@@ -14,6 +14,10 @@ class RaytraceMethod final : public VisibilityMethod {
 public:
     explicit RaytraceMethod(const MethodResources& r) : mScene(r.scene) {}
 
+    // CPU memory of a frame: positions and normals read back (RGBA32F each), points and normals
+    // (3 floats each), V (1 float).
+    std::size_t targetBytesPerPixel() const override { return 16 + 16 + 12 + 12 + 4; }
+
     void execute(const FrameContext& ctx) override {
         if (!mTracer) {
             auto t0 = Clock::now();
