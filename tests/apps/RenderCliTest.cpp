@@ -8,7 +8,6 @@
 
 #include <sys/wait.h>
 
-#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -261,13 +260,9 @@ TEST_F(RenderCli, HugeSizesAreRefusedWithTheLimit) {
     // 4 GiB per RGBA32F target: over llvmpipe's largest texture (its proxy query says so; the
     // tests run on llvmpipe), and 16 GB of targets in all; either message gives the largest
     // square that fits.
-    const auto t0 = std::chrono::steady_clock::now();
     expectRejected(scene, "penumbra-render: error: image size 16384x16384",
                    "--method hard --size 16384x16384");
     expectRejected(scene, "the largest square size", "--method hard --size 16384x16384");
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    EXPECT_LT(seconds, 20.0) << "refused only after allocating?";
 }
 
 // --out naming a file (or a path through a file) is bad input found before the scene is loaded
