@@ -123,13 +123,11 @@ int run(const Options& opt) {
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
     const std::size_t methodCount = methods.size();
-    // Warm-up: every method built and run once along a whole cycle of the methods.
     // The sequence: the first half of the frames; the second half plays it again.
     const int period = std::max(opt.frames / 2, 1);
-    const int warmup = period;
     std::printf("penumbra-soak: %s, %dx%d, %d frames (a sequence of %d played twice), methods %d "
                 "frames each in turn: ",
-                opt.scene.c_str(), width, height, opt.frames, warmup, opt.methodFrames);
+                opt.scene.c_str(), width, height, opt.frames, period, opt.methodFrames);
     for (std::size_t i = 0; i < methodCount; ++i)
         std::printf("%s%s", i ? ", " : "", methods[i].c_str());
     std::printf("\n  renderer: %s\n  CPU: %s\n", info.renderer.c_str(), apps::cpuModel().c_str());
