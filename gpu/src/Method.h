@@ -69,6 +69,8 @@ public:
                            DebugViews& /*debug*/) {
         return false;
     }
+    // The last frame's light-sample masks, for a method that keeps them (Renderer::lightMasks).
+    virtual LightMasks lightMasks() const { return {}; }
 };
 
 using Clock = std::chrono::steady_clock;
@@ -83,6 +85,7 @@ std::unique_ptr<VisibilityMethod> createRaytraceMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAdditiveWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createMultiplyWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createBlendWedgesMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createBitmaskWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createOcclusionMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createPcssMethod(const MethodResources&);

@@ -25,6 +25,18 @@ constexpr MethodParameter kBlendParameters[] = {
      "densities through the stored centroids)"},
 };
 
+// wedges-bitmask: light samples per pixel and their pattern.
+constexpr std::string_view kBitmaskSamples[] = {"32", "64", "128", "256"};
+constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
+constexpr MethodParameter kBitmaskParameters[] = {
+    {"samples", kBitmaskSamples, "64",
+     "light samples per pixel and silhouette group, one bit each (the reference's stratified "
+     "pattern for the same count and seed)"},
+    {"pattern", kBitmaskPattern, "fixed",
+     "fixed: the same samples at every pixel and frame (stable, bands in wide penumbrae); "
+     "rotated: shifted per pixel (noise instead of bands)"},
+};
+
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
 constexpr std::string_view kOcclusionSlices[] = {"4", "8", "16"};
 constexpr std::string_view kOcclusionPrefilter[] = {"nbuffers", "sat", "mipmaps"};
@@ -72,7 +84,7 @@ constexpr MethodParameter kAutoParameters[] = {
      "the wedge method of the objects auto gives to wedges: wedges-blend, -additive or -multiply"},
 };
 
-const std::array<MethodInfo, 9> kMethods = {{
+const std::array<MethodInfo, 10> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
      createReferenceMethod},
@@ -82,6 +94,9 @@ const std::array<MethodInfo, 9> kMethods = {{
      false, createAdditiveWedgesMethod},
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
      createBlendWedgesMethod, kBlendParameters},
+    {"wedges-bitmask",
+     "per-silhouette light-sample bit masks, combined exactly (OR over groups; parity per group)",
+     false, createBitmaskWedgesMethod, kBitmaskParameters},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},
     {"occlusion", "occlusion textures (Eisemann & Decoret 2006); honours alpha-tested casters",

@@ -287,6 +287,7 @@ struct Renderer::Impl {
         std::unique_ptr<VisibilityMethod> method;
     };
     std::map<std::string, BuiltMethod, std::less<>> methods;
+    const VisibilityMethod* lastMethod = nullptr; // of the last frame (lightMasks)
 
     Impl(const geometry::Scene& s, const ShaderLoader& sh)
         : scene(s), shaders(sh), sceneGeometry(s), gbufferPass(sh), shadePass(sh), debugViews(sh),
@@ -397,6 +398,7 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     // Built (or kept) at the current size first, so that a new size is checked with every
     // method that will be resized, before any of it is allocated.
     VisibilityMethod& method = m.method(info, std::move(parameters));
+    m.lastMethod = &method;
     if (m.targets.width != settings.width || m.targets.height != settings.height) {
         std::size_t bytesPerPixel = Targets::kBytesPerPixel + DebugViews::kBytesPerPixel;
         for (const auto& [name, each] : m.methods)
@@ -503,6 +505,10 @@ geometry::FloatImage Renderer::visibility() const {
         if (pos[4 * i + 3] == 0.0f) img.data[i] = std::numeric_limits<float>::quiet_NaN();
     flipRows(img.data, t.width, t.height, 1);
     return img;
+}
+
+LightMasks Renderer::lightMasks() const {
+    return mImpl->lastMethod ? mImpl->lastMethod->lightMasks() : LightMasks{};
 }
 
 geometry::FloatImage Renderer::referenceVisibility() const {

@@ -59,6 +59,9 @@ void applyState(const PipelineState& state) {
     setCap(GL_POLYGON_OFFSET_LINE, state.polygonOffset);
     glPolygonOffset(state.polygonOffsetFactor, state.polygonOffsetUnits);
 
+    setCap(GL_COLOR_LOGIC_OP, state.logicOp);
+    glLogicOp(state.logicOpMode);
+
     setCap(GL_DEPTH_CLAMP, state.depthClamp);
     setCap(GL_SCISSOR_TEST, state.scissor);
     if (state.scissor)

@@ -110,6 +110,16 @@ struct RenderSettings {
     float errorScale = geometry::kDefaultErrorScale;
 };
 
+// The light-sample masks of a method that keeps them (wedges-bitmask): per pixel, rows bottom to
+// top, samples / 32 words; bit i % 32 of word i / 32 set when light sample i is hidden (the
+// pattern: geometry::lightMaskPattern(samples, RenderSettings::seed), shifted per pixel with
+// pattern=rotated: geometry::maskPixelShift). Empty (samples 0) for other methods.
+struct LightMasks {
+    int samples = 0;
+    int width = 0, height = 0;
+    std::vector<std::uint32_t> words;
+};
+
 struct CpuTime {
     std::string name;
     double ms = 0.0;
@@ -182,6 +192,8 @@ public:
     // so far (FrameStats::referenceSamplesDone; all of them: the `reference` method's V for the
     // same samples and seed), NaN where no surface; empty (0x0) before the view was first shown.
     geometry::FloatImage referenceVisibility() const;
+    // The last frame's light-sample masks (LightMasks; reads them back from the GPU).
+    LightMasks lightMasks() const;
 
     // Draws the last frame's image (with its debug view) into `framebuffer` (0: the window's)
     // at the viewport (x, y, width, height), lower-left origin, linearly filtered. Leaves the

@@ -61,6 +61,11 @@ struct PipelineState {
     // Per-attachment blend and colour masks (MRT passes that treat targets differently).
     bool independentTargets = false;
     std::array<ColorTargetState, kMaxColorTargets> targets{};
+    // Fixed-function logic op on integer colour targets (dst = src op dst; blending does not
+    // apply to them): wedges-bitmask's XOR of a wedge's light-sample mask into its group's, OR
+    // of the groups' masks into the final one.
+    bool logicOp = false;
+    GLenum logicOpMode = GL_COPY;
 };
 
 // Applies every field (the full state, not a diff).

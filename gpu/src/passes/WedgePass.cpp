@@ -15,8 +15,9 @@ WedgePass::WedgePass(const ShaderLoader& shaders, Output output, std::vector<std
     : mOutput(output), mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
                            .label = "wedge-setup"})),
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
-                                     {GL_FRAGMENT_SHADER, output == Output::Parts4
-                                                              ? "wedge-parts.frag"
+                                     {GL_FRAGMENT_SHADER, output == Output::Parts4 ? "wedge-parts.frag"
+                                                          : output == Output::Bitmask
+                                                              ? "wedge-bitmask.frag"
                                                               : "wedge.frag"}},
                           .defines = std::move(defines),
                           .label = "wedges"})),
@@ -97,6 +98,12 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
                 state.targets[i] = ColorTargetState{
                     .blend = true, .blendEquation = i < 4 ? GLenum(GL_FUNC_ADD) : GLenum(GL_MIN)};
             for (int i = 0; i < 4; ++i) state.targets[i].blendDst = GL_ONE;
+        }
+        if (mOutput == Output::Bitmask) {
+            // Masks by XOR: integer targets, where blending does not apply.
+            state.blend = false;
+            state.logicOp = true;
+            state.logicOpMode = GL_XOR;
         }
         if (markTouched) {
             const StencilFace mark{.func = GL_ALWAYS,

@@ -68,8 +68,10 @@ public:
 
     // What the wedge fragments write: V minus coverage into one float target (additive,
     // multiply), or per-part sums (targets 0-3, by ADD) and minima (4-7, by MIN) into up to 8
-    // float targets (wedges-blend: shaders/wedge-parts.frag).
-    enum class Output { Subtract, Parts4 };
+    // float targets (wedges-blend: shaders/wedge-parts.frag), or the light samples the edge's
+    // region holds, XORed by the logic op into unsigned-integer targets (wedges-bitmask:
+    // shaders/wedge-bitmask.frag).
+    enum class Output { Subtract, Parts4, Bitmask };
 
     // `defines`: the fragment program's variant (wedges-blend: shaders/wedge-parts.frag's).
     explicit WedgePass(const ShaderLoader& shaders, Output output = Output::Subtract,
