@@ -135,7 +135,12 @@ std::vector<RunSpec> expandRuns(const std::vector<std::string>& methodNames,
         const std::vector<std::string> values = splitList(m[3].str());
         if (values.empty()) throw geometry::InputError("--sweep " + text + ": no values");
         const std::string name = m[2].str();
-        if (name == "samples") {
+        // samples: the reference methods' sample count (RenderSettings::samples), or a
+        // parameter of that name the method declares (wedges-bitmask's).
+        const bool hasSamplesParameter =
+            std::any_of(method.parameters.begin(), method.parameters.end(),
+                        [](const gpu::MethodParameter& p) { return p.name == "samples"; });
+        if (name == "samples" && !hasSamplesParameter) {
             if (!method.usesSamples)
                 throw geometry::InputError("--sweep " + text + ": '" + m[1].str() +
                                            "' takes no light samples");
@@ -163,7 +168,7 @@ std::vector<RunSpec> expandRuns(const std::vector<std::string>& methodNames,
             for (const RunSpec& r : partial)
                 for (const std::string& v : values) {
                     RunSpec copy = r;
-                    if (param == "samples")
+                    if (param == "samples" && method.usesSamples)
                         copy.samples = std::stoi(v);
                     else
                         copy.given.push_back({param, v});
@@ -706,7 +711,8 @@ int main(int argc, char** argv) {
     app.add_option("--sweep", opt.sweeps,
                    "METHOD:NAME=V1,V2 — run the method once per value (repeatable; several "
                    "sweeps of one method multiply). NAME is a --param of the method, or "
-                   "'samples' for reference/raytrace");
+                   "'samples' for reference/raytrace (their light samples; wedges-bitmask's samples is "
+                   "its own parameter)");
     app.add_option("--light-scale", opt.lightScales,
                    "comma-separated factors on the light's size (u and v)")
         ->capture_default_str();
