@@ -2,7 +2,8 @@
 // then the light samples the edge's region R holds (lib/LightMask.glsl), XORed into the group's
 // mask by the fixed-function logic op (WedgePass::Output::Bitmask): the order of the edges does
 // not matter and nothing is read back. Samples: the light-samples buffer (geometry
-// lightMaskPattern), shifted per pixel with BITMASK_ROTATED. Words 0-3 in target 0, 4-7 in
+// lightMaskPattern, ordered by angle about the centre: only the run between the region's rays is
+// tested), shifted per pixel with BITMASK_ROTATED (then all of them). Words 0-3 in target 0, 4-7 in
 // target 1 (256 samples).
 #include "lib/Bindings.h"
 #include "lib/Coverage.glsl"
@@ -13,8 +14,22 @@ layout(early_fragment_tests) in;
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
-    vec2 lightSamples[];
+    vec4 lightSamples[]; // (s, t, angle about the centre, 0), by angle (geometry/LightMask.h)
 };
+
+// The first sample whose angle is >= a (BITMASK_SAMPLES when none).
+int firstAtOrAfter(float a) {
+    int lo = 0;
+    int hi = BITMASK_SAMPLES;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (lightSamples[mid].z < a)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
 
 flat in vec4 vE0;
 flat in vec4 vE1;
@@ -41,23 +56,46 @@ void main() {
     vec3 h0, h1, h2;
     float sg;
     if (!edgeRegion(p, vE0.xyz, vE1.xyz, light, h0, h1, h2, sg)) discard;
-#ifdef BITMASK_ROTATED
-    vec2 shift = maskPixelShift(px);
-#endif
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     uint any = 0u;
+#ifdef BITMASK_ROTATED
+    // Shifted per pixel, the samples are in no order: every one is tested.
+    vec2 shift = maskPixelShift(px);
     for (int w = 0; w < BITMASK_WORDS; ++w) {
         uint bits = 0u;
         for (int b = 0; b < 32; ++b) {
-            vec2 y = lightSamples[32 * w + b];
-#ifdef BITMASK_ROTATED
-            y = maskShifted(y, shift);
-#endif
+            vec2 y = maskShifted(lightSamples[32 * w + b].xy, shift);
             if (regionHolds(h0, h1, h2, sg, y)) bits |= 1u << uint(b);
         }
         words[w] = bits;
         any |= bits;
     }
+#else
+    // The samples between the rays are a run of the angle-ordered pattern: from the first at
+    // or after the sector's start, counter-clockwise, to the first at or after its end (a
+    // sample on the start ray is in, on the end ray out: regionHolds' rule). The sector is
+    // under pi; a span over pi is the rounding of a sector of almost nothing.
+    // The rays' directions from their half-planes (h0 = sg (-q0.y, q0.x), h1 = sg (q1.y, -q1.x),
+    // exact): counter-clockwise from q0 to q1 when sg > 0, from q1 to q0 otherwise.
+    vec2 q0 = sg * vec2(h0.y, -h0.x);
+    vec2 q1 = sg * vec2(-h1.y, h1.x);
+    vec2 r0 = sg > 0.0 ? q0 : q1; // the start ray's direction
+    vec2 r1 = sg > 0.0 ? q1 : q0; // the end ray's
+    float from = atan(r0.y, r0.x);
+    float to = atan(r1.y, r1.x);
+    float span = to - from;
+    if (span < 0.0) span += 6.28318530718;
+    if (span > 3.14159265359) discard;
+    int first = firstAtOrAfter(from);
+    int count = firstAtOrAfter(to) - first;
+    if (count < 0) count += BITMASK_SAMPLES;
+    for (int k = 0; k < count; ++k) {
+        int i = (first + k) & (BITMASK_SAMPLES - 1);
+        vec2 y = lightSamples[i].xy;
+        if (dot(h2, vec3(y, 1.0)) >= 0.0) words[i >> 5] |= 1u << uint(i & 31);
+    }
+    for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
+#endif
     if (any == 0u) discard; // XOR with nothing
     oMask0 = uvec4(words[0], words[1], words[2], words[3]);
 #if BITMASK_WORDS > 4

@@ -22,7 +22,7 @@
 #define BINDING_PCSS_STATS 7  // pcss: uint, receiver pixels outside both maps (lit)
 #define BINDING_DEBUG_SUMS 8  // error debug view: vec2 per work group (sum |dV|, pixels)
 #define BINDING_SURFACE_TILES 9 // per-silhouette methods: surface bounds per 16x16 tile (2 vec4)
-#define BINDING_LIGHT_SAMPLES 10 // wedges-bitmask: vec2 per light sample (light coordinates)
+#define BINDING_LIGHT_SAMPLES 10 // wedges-bitmask: vec4 per light sample (s, t, angle, 0)
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)

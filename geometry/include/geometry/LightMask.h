@@ -28,9 +28,13 @@ namespace geometry {
 // Sample counts the method offers (a multiple of 32: whole 32-bit words).
 inline constexpr int kLightMaskSampleCounts[] = {32, 64, 128, 256};
 
-// The fixed pattern: stratifiedSquare(n, seed), the `reference` method's points for the same n
-// and seed (so that the two estimate the same sum). n must be one of kLightMaskSampleCounts.
+// The fixed pattern: the points of stratifiedSquare(n, seed), the `reference` method's for the
+// same n and seed (so that the two estimate the same sum), ordered by their angle about the
+// light centre (maskSampleAngle, ascending): bit i of a mask is the i-th in that order. n must
+// be one of kLightMaskSampleCounts (an InputError otherwise).
 std::vector<glm::vec2> lightMaskPattern(int n, std::uint32_t seed);
+// The angle of a sample about the centre, atan2(t, s) in (-pi, pi], as the GPU's table holds it.
+float maskSampleAngle(glm::vec2 y);
 
 // The per-pixel shift (the `rotated` pattern): a Cranley-Patterson rotation in [0, 2)^2 by a
 // hash of the pixel (x, y from the lower left), and a point shifted and wrapped back into

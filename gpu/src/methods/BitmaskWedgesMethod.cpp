@@ -13,9 +13,11 @@
 // need a read-modify-write per fragment. Parity is exact while a group's projection from the
 // receiver covers no sample twice (convex occluders, plates, most level geometry); where it
 // folds (a torus seen obliquely) a sample behind two layers reads as lit (README: measured).
-// Parameters (gpu/Methods.cpp): samples 32 | 64 | 128 | 256, the pattern stratifiedSquare(N,
-// seed) (the `reference` method's for the same N and seed); pattern fixed | rotated (a shift
-// per pixel: banding traded for noise). Targets: R32UI (32), RG32UI (64), RGBA32UI (128),
+// Parameters (gpu/Methods.cpp): samples 32 | 64 | 128 | 256, the points of
+// stratifiedSquare(N, seed) (the `reference` method's for the same N and seed) ordered by angle
+// about the centre, so that a wedge fragment tests only the run of samples between its region's
+// rays (found by bisection); pattern fixed | rotated (a shift per pixel: banding traded for
+// noise; then every sample is tested). Targets: R32UI (32), RG32UI (64), RGBA32UI (128),
 // 2 x RGBA32UI (256), for the group mask and the final mask each.
 #include "../DebugViews.h"
 #include "../Method.h"
@@ -164,8 +166,12 @@ public:
 private:
     void uploadPattern(std::uint32_t seed) {
         if (mSamples.size() > 0 && seed == mSeed) return;
-        const std::vector<glm::vec2> pattern = geometry::lightMaskPattern(mLayout.samples, seed);
-        mSamples = Buffer({.size = pattern.size() * sizeof(glm::vec2), .data = pattern.data(),
+        // (s, t, angle about the centre, 0) per sample, in the pattern's angle order
+        // (shaders/wedge-bitmask.frag finds the run between two rays by bisection).
+        std::vector<glm::vec4> table;
+        for (const glm::vec2 y : geometry::lightMaskPattern(mLayout.samples, seed))
+            table.emplace_back(y, geometry::maskSampleAngle(y), 0.0f);
+        mSamples = Buffer({.size = table.size() * sizeof(glm::vec4), .data = table.data(),
                            .flags = 0, .label = "light-samples"});
         mSeed = seed;
     }
