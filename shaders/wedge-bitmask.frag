@@ -35,9 +35,16 @@ flat in vec4 vE0;
 flat in vec4 vE1;
 flat in vec4 vPlanes[4];
 flat in uint vBounded;
+#ifdef BITMASK_COUNTS
+// combine=counts: per sample a 4-bit count biased by 8, eight to a layer; the edge adds its sign
+// (edgeCoverage's) to the samples R holds by atomic adds, which never carry between counts
+// while each stays in [-8, 7] relative to the bias.
+layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform coherent uimage2DArray iCounts;
+#else
 layout(location = 0) out uvec4 oMask0;
 #if BITMASK_WORDS > 4
 layout(location = 1) out uvec4 oMask1;
+#endif
 #endif
 
 void main() {
@@ -97,8 +104,23 @@ void main() {
     for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
 #endif
     if (any == 0u) discard; // XOR with nothing
+#ifdef BITMASK_COUNTS
+    bool positive = (dot(light.n, p - light.c) > 0.0) == (sg > 0.0);
+    for (int w = 0; w < BITMASK_WORDS; ++w) {
+        for (int k = 0; k < 4; ++k) {
+            uint lanes = (words[w] >> uint(8 * k)) & 0xFFu;
+            if (lanes == 0u) continue;
+            // Bit j of the byte to bit 4 j: a 1 in each count whose sample R holds.
+            lanes = (lanes | (lanes << 12u)) & 0x000F000Fu;
+            lanes = (lanes | (lanes << 6u)) & 0x03030303u;
+            lanes = (lanes | (lanes << 3u)) & 0x11111111u;
+            imageAtomicAdd(iCounts, ivec3(px, 4 * w + k), positive ? lanes : 0u - lanes);
+        }
+    }
+#else
     oMask0 = uvec4(words[0], words[1], words[2], words[3]);
 #if BITMASK_WORDS > 4
     oMask1 = uvec4(words[4], words[5], words[6], words[7]);
+#endif
 #endif
 }

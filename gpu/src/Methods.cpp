@@ -28,6 +28,7 @@ constexpr MethodParameter kBlendParameters[] = {
 // wedges-bitmask: light samples per pixel and their pattern.
 constexpr std::string_view kBitmaskSamples[] = {"32", "64", "128", "256"};
 constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
+constexpr std::string_view kBitmaskCombine[] = {"parity", "counts"};
 constexpr MethodParameter kBitmaskParameters[] = {
     {"samples", kBitmaskSamples, "64",
      "light samples per pixel and silhouette group, one bit each (the reference's stratified "
@@ -35,6 +36,10 @@ constexpr MethodParameter kBitmaskParameters[] = {
     {"pattern", kBitmaskPattern, "fixed",
      "fixed: the same samples at every pixel and frame (stable, bands in wide penumbrae); "
      "rotated: shifted per pixel (noise instead of bands)"},
+    {"combine", kBitmaskCombine, "counts",
+     "within a group: counts (signed 4-bit counts per sample by image atomics; exact while each "
+     "stays in [-8, 7]) or parity (XOR by the logic op, no atomics; a sample the group covers "
+     "twice reads as lit: open level geometry folding behind itself)"},
 };
 
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
@@ -95,7 +100,7 @@ const std::array<MethodInfo, 10> kMethods = {{
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
      createBlendWedgesMethod, kBlendParameters},
     {"wedges-bitmask",
-     "per-silhouette light-sample bit masks, combined exactly (OR over groups; parity per group)",
+     "per-silhouette light-sample masks (per-sample counts within a group), ORed over groups",
      false, createBitmaskWedgesMethod, kBitmaskParameters},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},

@@ -27,6 +27,7 @@
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
 #define IMAGE_OCCLUSION_DST 2 // occlusion: the prefilter's output (N-buffer levels or SAT)
+#define IMAGE_GROUP_COUNTS 3 // wedges-bitmask combine=counts: r32ui array, 8 biased 4-bit counts a layer
 
 // Explicit uniform locations (plain uniforms set per draw).
 #define UNIFORM_MATERIAL 0      // lib/Material.glsl: vec4 alpha cutoff, base alpha, textured
@@ -61,6 +62,7 @@
 #define TEXUNIT_OCCLUSION 18 // occlusion: the prefiltered slices (N-buffers, mipmaps or SAT)
 #define TEXUNIT_PCSS 19      // pcss: the shadow maps, one layer per side of the light
 #define TEXUNIT_DEBUG0 20    // debug views: their own inputs (reference, part visibility)
+#define TEXUNIT_STENCIL 22   // wedges-bitmask combine=counts: the frame's stencil (STENCIL_INDEX view)
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 

@@ -507,8 +507,9 @@ TEST_F(AdditiveWedges, PerSilhouetteMethodsOnALevelAreMeasured) {
                 counter(mul, "groups_drawn"), counter(mul, "groups_culled"),
                 counter(mul, "batches"), e.meanAbs, e.p99, e.badPixelPct);
     EXPECT_LT(e.meanAbs, 0.06); // measured 0.0485 (hard 0.0376, additive 0.0776)
-    // wedges-bitmask with the reference's own 64 samples: overlap within a group is exact too
-    // (the samples, not areas, are toggled), where parity holds.
+    // wedges-bitmask with the reference's own 64 samples (measured 0.0365; with combine=parity
+    // 0.0446: a group of open level geometry folding behind itself reads doubly covered samples
+    // as lit). What remains is the centre's silhouette standing for the whole light's.
     const Rendered bits = testutil::render(scene, "wedges-bitmask", 128, 96, 1);
     expectValidIn(bits);
     const auto ek = geometry::compareVisibility(bits.visibility.data, ref.visibility.data);

@@ -1,24 +1,22 @@
 // wedges-bitmask: per silhouette group, the set of the light's N samples it hides, as a bit
 // mask; groups combine exactly, V = 1 - popcount(OR over groups) / N (geometry/LightMask.h).
 // Per batch of groups that cannot interact on screen (GroupBatches.h), scissored to the batch:
-// - the groups' own z-fail volumes into the stencil (the centre's state of each group);
-// - their wedges XOR, per fragment, the samples their edge's region holds into the group mask
-//   (shaders/wedge-bitmask.frag; the fixed-function logic op, so nothing is read back and the
-//   order of the edges does not matter): the samples whose state differs from the centre's;
-// - where they touched, the group mask (centre lit) or its complement (centre hidden) is ORed
-//   into the final mask (shaders/bitmask-combine.frag, logic op OR); in the group's umbra,
-//   where no wedge reached, every sample;
+// - the groups' own z-fail volumes into the stencil (the centre's count of each group);
+// - their wedges find, per fragment, the samples their edge's region holds
+//   (shaders/wedge-bitmask.frag) and record them for the group, by one of two rules
+//   (`combine`):
+//   - counts (default): each sample's signed crossing count, 4 bits biased by 8, eight to a
+//     32-bit layer of an R32UI array, by image atomic adds (order-free, no carries while each
+//     count stays in [-8, 7]); where they touched, bitmask-combine.frag reads the stencil's
+//     centre count (a STENCIL_INDEX view of the frame's depth-stencil) and hides the samples
+//     whose centre + count is non-zero. Exact wherever the counts fit, folds included;
+//   - parity: XOR of the samples into the group mask by the fixed-function logic op (no
+//     atomics, nothing read back); where the centre is hidden the complement is taken. Exact
+//     while the group's projection covers no sample twice; where it folds (open level geometry
+//     behind itself, a torus seen obliquely) a doubly covered sample reads as lit;
+// - the group's mask is ORed into the final mask by the logic op; in the group's umbra, where no
+//   wedge reached, every sample;
 // - after the last batch, V from the final mask's popcount (shaders/bitmask-resolve.frag).
-// Parity rather than signed counts per sample: logic ops give parity and OR for free, counts
-// need a read-modify-write per fragment. Parity is exact while a group's projection from the
-// receiver covers no sample twice (convex occluders, plates, most level geometry); where it
-// folds (a torus seen obliquely) a sample behind two layers reads as lit (README: measured).
-// Parameters (gpu/Methods.cpp): samples 32 | 64 | 128 | 256, the points of
-// stratifiedSquare(N, seed) (the `reference` method's for the same N and seed) ordered by angle
-// about the centre, so that a wedge fragment tests only the run of samples between its region's
-// rays (found by bisection); pattern fixed | rotated (a shift per pixel: banding traded for
-// noise; then every sample is tested). Targets: R32UI (32), RG32UI (64), RGBA32UI (128),
-// 2 x RGBA32UI (256), for the group mask and the final mask each.
 #include "../DebugViews.h"
 #include "../Method.h"
 #include "../passes/FullscreenPass.h"
@@ -42,6 +40,7 @@ namespace {
 struct MaskLayout {
     int samples = 64;
     bool rotated = false;
+    bool counts = false; // combine=counts
 
     int targets() const { return samples > 128 ? 2 : 1; }
     GLenum format() const {
@@ -51,7 +50,14 @@ struct MaskLayout {
     std::vector<std::string> defines() const {
         std::vector<std::string> d{"BITMASK_SAMPLES " + std::to_string(samples)};
         if (rotated) d.push_back("BITMASK_ROTATED 1");
+        if (counts) d.push_back("BITMASK_COUNTS 1");
         return d;
+    }
+    // The parity variant's (the umbra step of combine=counts draws with it).
+    std::vector<std::string> parityDefines() const {
+        MaskLayout l = *this;
+        l.counts = false;
+        return l.defines();
     }
 };
 
@@ -60,6 +66,7 @@ MaskLayout maskLayout(std::span<const ParameterValue> parameters) {
     if (const std::string_view n = parameterValue(parameters, "samples"); !n.empty())
         l.samples = std::stoi(std::string(n));
     l.rotated = parameterValue(parameters, "pattern") == "rotated";
+    l.counts = parameterValue(parameters, "combine") == "counts";
     return l;
 }
 
@@ -72,10 +79,15 @@ class BitmaskWedgesMethod final : public VisibilityMethod {
 public:
     explicit BitmaskWedgesMethod(const MethodResources& r)
         : mLayout(maskLayout(r.parameters)), mSurface(r.shaders), mVolumes(r.shaders),
-          mWedges(r.shaders, WedgePass::Output::Bitmask, mLayout.defines()),
+          mWedges(r.shaders,
+                  mLayout.counts ? WedgePass::Output::BitmaskCounts : WedgePass::Output::Bitmask,
+                  mLayout.defines()),
           mCombine(r.shaders, "bitmask-combine.frag", "bitmask-combine", kCombineState,
                    mLayout.defines()),
-          mClear(r.shaders, "bitmask-clear.frag", "bitmask-clear", PipelineState{}),
+          mUmbra(r.shaders, "bitmask-combine.frag", "bitmask-umbra", kCombineState,
+                 mLayout.parityDefines()),
+          mClear(r.shaders, mLayout.counts ? "bitmask-counts-reset.frag" : "bitmask-clear.frag",
+                 "bitmask-clear", PipelineState{}, mLayout.defines()),
           mResolve(r.shaders, "bitmask-resolve.frag", "bitmask-resolve", PipelineState{},
                    mLayout.defines()),
           mSamples({.size = 0, .label = "light-samples"}) {}
@@ -92,12 +104,19 @@ public:
         }
         mGroupFbo = Framebuffer({.attachments = group, .label = "bitmask-group"});
         mFinalFbo = Framebuffer({.attachments = final, .label = "bitmask-final"});
+        mFinalNoStencilFbo = Framebuffer({.attachments = final, .label = "bitmask-final"});
+        if (mLayout.counts)
+            mCounts = Texture({.target = GL_TEXTURE_2D_ARRAY, .width = width, .height = height,
+                               .layers = mLayout.samples / 8, .format = GL_R32UI,
+                               .label = "bitmask-counts"});
+        mStencilView.reset();
         mWidth = width;
         mHeight = height;
     }
 
     std::size_t targetBytesPerPixel() const override {
-        return 2 * std::size_t(mLayout.targets()) * mLayout.bytesPerTarget();
+        return 2 * std::size_t(mLayout.targets()) * mLayout.bytesPerTarget() +
+               (mLayout.counts ? std::size_t(mLayout.samples) / 2 : 0); // 4 bits a sample
     }
 
     void execute(const FrameContext& ctx) override {
@@ -114,16 +133,29 @@ public:
             glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, i, empty.data());
         }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_SAMPLES, mSamples.id());
+        if (mLayout.counts) {
+            const GLuint bias = 0x88888888u; // every 4-bit count at its bias, 8
+            glClearTexImage(mCounts.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &bias);
+            glBindImageTexture(IMAGE_GROUP_COUNTS, mCounts.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
+                               GL_R32UI);
+            bindStencilView(t);
+        }
         runSilhouetteBatches(
             ctx, mSurface, mVolumes, mWedges, mGroupFbo,
             {.combine =
                  [&](const GroupBatch&, const TouchedStates& states) {
+                     if (mLayout.counts) {
+                         combineCounts(t, states.touched);
+                         return;
+                     }
                      combine(t, states.lit, kGroupMask);
                      combine(t, states.occluded, kComplement);
                  },
              .reset =
                  [&](const GroupBatch&, const PipelineState& stencil) {
                      mClear.execute(mGroupFbo, t.width, t.height, stencil, [] {});
+                     // The next batch's wedges add to the counts just reset.
+                     if (mLayout.counts) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
                  },
              .umbra = [&](const GroupBatch&,
                           const UmbraStates& states) { combine(t, states.zero, kEverySample); }});
@@ -176,19 +208,59 @@ private:
         mSeed = seed;
     }
 
-    // The group masks into the final mask where `stencil` selects (bitmask-combine.frag).
+    // The group masks into the final mask where `stencil` selects (bitmask-combine.frag); the
+    // umbra (kEverySample) with the parity program in either mode (it reads no group state).
     void combine(const Targets& t, const PipelineState& stencil, CombineMode mode) {
         for (int i = 0; i < mLayout.targets(); ++i)
             glBindTextureUnit(TEXUNIT_PARTS0 + i, mGroup[i].id());
-        mCombine.execute(mFinalFbo, t.width, t.height, withStencil(kCombineState, stencil),
-                         [&] { glUniform1ui(0, mode); });
+        const FullscreenPass& pass = mode == kEverySample ? mUmbra : mCombine;
+        pass.execute(mFinalFbo, t.width, t.height, withStencil(kCombineState, stencil),
+                     [&] { glUniform1ui(0, mode); });
     }
+
+    // combine=counts: the batch's touched pixels (the shader reads the stencil's mark and
+    // centre count itself, so the final mask's framebuffer has no stencil attached), within
+    // the batch's scissor.
+    void combineCounts(const Targets& t, const PipelineState& touched) {
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the wedges' atomic adds
+        PipelineState state = kCombineState;
+        state.scissor = touched.scissor;
+        state.scissorRect = touched.scissorRect;
+        mCombine.execute(mFinalNoStencilFbo, t.width, t.height, state,
+                         [&] { glUniform1ui(0, kGroupMask); });
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // before the reset overwrites them
+    }
+
+    // A view of the frame's depth-stencil texture that samples its stencil (made again when the
+    // targets are).
+    void bindStencilView(const Targets& t) {
+        if (!mStencilView || mStencilSource != t.depthStencil.id()) {
+            GLuint view = 0;
+            glGenTextures(1, &view);
+            glTextureView(view, GL_TEXTURE_2D, t.depthStencil.id(), GL_DEPTH32F_STENCIL8, 0, 1,
+                          0, 1);
+            glTextureParameteri(view, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
+            glTextureParameteri(view, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTextureParameteri(view, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            mStencilView = Handle<TextureDeleter>(view);
+            mStencilSource = t.depthStencil.id();
+        }
+        glBindTextureUnit(TEXUNIT_STENCIL, mStencilView.id());
+    }
+
+    struct TextureDeleter {
+        void operator()(GLuint id) const { glDeleteTextures(1, &id); }
+    };
 
     MaskLayout mLayout;
     SurfaceTilePass mSurface;
     StencilVolumePass mVolumes;
     WedgePass mWedges;
-    FullscreenPass mCombine, mClear, mResolve;
+    FullscreenPass mCombine, mUmbra, mClear, mResolve;
+    Texture mCounts; // combine=counts: 4 bits a sample, biased
+    Handle<TextureDeleter> mStencilView;
+    GLuint mStencilSource = 0;
+    Framebuffer mFinalNoStencilFbo;
     Buffer mSamples;
     std::uint32_t mSeed = 0;
     std::array<Texture, 2> mGroup, mFinal;

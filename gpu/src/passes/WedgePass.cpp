@@ -16,7 +16,8 @@ WedgePass::WedgePass(const ShaderLoader& shaders, Output output, std::vector<std
                            .label = "wedge-setup"})),
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
                                      {GL_FRAGMENT_SHADER, output == Output::Parts4 ? "wedge-parts.frag"
-                                                          : output == Output::Bitmask
+                                                          : output == Output::Bitmask ||
+                                                                    output == Output::BitmaskCounts
                                                               ? "wedge-bitmask.frag"
                                                               : "wedge.frag"}},
                           .defines = std::move(defines),
@@ -104,6 +105,10 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
             state.blend = false;
             state.logicOp = true;
             state.logicOpMode = GL_XOR;
+        }
+        if (mOutput == Output::BitmaskCounts) {
+            state.blend = false; // image atomics only
+            state.colorWrite = false;
         }
         if (markTouched) {
             const StencilFace mark{.func = GL_ALWAYS,

@@ -71,7 +71,9 @@ public:
     // float targets (wedges-blend: shaders/wedge-parts.frag), or the light samples the edge's
     // region holds, XORed by the logic op into unsigned-integer targets (wedges-bitmask:
     // shaders/wedge-bitmask.frag).
-    enum class Output { Subtract, Parts4, Bitmask };
+    // BitmaskCounts: the same samples added, signed, to per-sample counts by image atomics
+    // (wedges-bitmask combine=counts); no colour writes.
+    enum class Output { Subtract, Parts4, Bitmask, BitmaskCounts };
 
     // `defines`: the fragment program's variant (wedges-blend: shaders/wedge-parts.frag's).
     explicit WedgePass(const ShaderLoader& shaders, Output output = Output::Subtract,
