@@ -83,10 +83,11 @@ constexpr MethodParameter kPcssParameters[] = {
 };
 
 // auto: which wedge method serves the objects it gives to wedges.
-constexpr std::string_view kAutoWedges[] = {"blend", "additive", "multiply"};
+constexpr std::string_view kAutoWedges[] = {"blend", "additive", "multiply", "bitmask"};
 constexpr MethodParameter kAutoParameters[] = {
     {"wedges", kAutoWedges, "blend",
-     "the wedge method of the objects auto gives to wedges: wedges-blend, -additive or -multiply"},
+     "the wedge method of the objects auto gives to wedges: wedges-blend, -additive, -multiply "
+     "or -bitmask (its default parameters)"},
 };
 
 const std::array<MethodInfo, 10> kMethods = {{

@@ -53,6 +53,10 @@ TEST_F(AutoMethod, AllWedgeObjectsRenderAsTheWedgeMethod) {
     const Rendered additive = testutil::render(scene, "wedges-additive", 96, 96, 1);
     EXPECT_EQ(maxDifference(autoAdditive, additive), 0.0);
     EXPECT_GT(maxDifference(autoAdditive, autoBlend), 0.0); // the parameter does something
+    const Rendered autoBitmask =
+        testutil::render(scene, "auto", 96, 96, 1, {{"wedges", "bitmask"}});
+    EXPECT_EQ(maxDifference(autoBitmask, testutil::render(scene, "wedges-bitmask", 96, 96, 1)),
+              0.0);
 }
 
 TEST_F(AutoMethod, ObjectsWithMethodNoneAreNotChosenFor) {
