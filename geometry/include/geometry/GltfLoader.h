@@ -13,6 +13,7 @@
 #include <geometry/Types.h>
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,5 +53,15 @@ GltfContents loadGltfWithCameras(const std::filesystem::path& path,
 // Cameras only: no mesh is read (a file without meshes is fine). Same camera errors.
 std::vector<GltfCamera> loadGltfCameras(const std::filesystem::path& path,
                                         const glm::mat4& transform = glm::mat4(1.0f));
+
+// loadGltfWithCameras on a file's bytes already in memory (a .gltf's JSON or a GLB, told by the
+// content). `name` stands for the file in messages and names the mesh (its stem); a name ending
+// in .glb must hold a GLB, as a file would. External buffer and image URIs resolve against
+// `folder` under the same confinement as a file in that folder; with an empty `folder` every
+// external URI is refused (only data: URIs and the GLB's own BIN chunk are read), so nothing
+// outside `bytes` is touched. Throws what loadGltfWithCameras throws.
+GltfContents parseGltf(std::span<const unsigned char> bytes, const std::filesystem::path& folder,
+                       const std::string& name = "<glTF>",
+                       const glm::mat4& transform = glm::mat4(1.0f));
 
 } // namespace geometry
