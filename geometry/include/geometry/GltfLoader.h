@@ -23,9 +23,12 @@ namespace geometry {
 // Throws InputError: missing/unreadable file, parse error, a .glb without the GLB magic, no
 // meshes, no triangles, NaN/Inf positions or world coordinates beyond +-kMaxCoordinate
 // (geometry/Limits.h), more than kMaxSceneTriangles triangles, out-of-range indices or indices
-// of a wrong type, a node hierarchy deeper than 1000 levels, and a buffer or image URI that is
-// neither a data: URI nor a relative path staying inside the file's folder once "..", percent
-// escapes and symlinks are resolved (those files are never opened).
+// of a wrong type, accessor counts beyond the triangle budget's vertices, a node hierarchy
+// deeper than 1000 levels or a node reached twice (listed by two parents, or twice by one), JSON
+// nested deeper than 256 levels, GLB chunk lengths that do not fit the file, and a buffer or
+// image URI that is neither a data: URI nor a relative path to a regular file staying inside the
+// file's folder once "..", percent escapes and symlinks are resolved (those files are never
+// opened; nor is a FIFO or device inside it).
 MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform = glm::mat4(1.0f));
 
 // A perspective glTF camera placed by its node's world transform (the meshes' transform chain,
