@@ -11,6 +11,7 @@ packages=(
     libgtest-dev libbenchmark-dev
     libegl-mesa0 libgl1-mesa-dri          # EGL + llvmpipe: the headless renderer and GL tests
     python3 python3-matplotlib python3-numpy
+    clang-14 libclang-rt-14-dev           # libFuzzer + sanitizers: scripts/fuzz.sh
 )
 
 missing=()

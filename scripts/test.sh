@@ -8,3 +8,4 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 cd build
 ctest --output-on-failure -j"$(nproc)" --timeout 300
+bash ../scripts/fuzz.sh # libFuzzer on the loaders, bounded (README § Hardening, Fuzzing)

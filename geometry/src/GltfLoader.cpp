@@ -14,6 +14,8 @@
 #include <geometry/Error.h>
 #include <geometry/Limits.h>
 
+#include "JsonDepth.h"
+
 #include <tiny_gltf.h>
 
 #include <nlohmann/json.hpp>
@@ -25,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cctype>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
@@ -32,8 +35,10 @@
 #include <map>
 #include <numbers>
 #include <regex>
+#include <span>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <unordered_set>
 
 namespace geometry {
@@ -41,6 +46,14 @@ namespace {
 
 // Levels of the node hierarchy walked (the root is level 1); real files have a handful.
 constexpr int kMaxNodeDepth = 1000;
+
+// Nesting of the glTF JSON (arrays and objects); tinygltf converts extras and extensions by
+// recursion, one stack frame per level. A glTF file's own structure is 5 levels deep.
+constexpr std::size_t kMaxJsonDepth = 256;
+
+// Elements one accessor may have: the vertices (three per triangle) or indices of a scene at its
+// triangle budget (geometry/Limits.h). Checked before anything is allocated.
+constexpr std::size_t kMaxAccessorCount = 3 * kMaxSceneTriangles;
 
 // Every accessor element as doubles (exact for all glTF component types), row per element.
 struct AccessorValues {
@@ -65,10 +78,10 @@ private:
     }
 
     AccessorValues readAccessor(int index, const std::string& what) const;
+    // Checks the byte range first, then sizes `out` to count * components and fills it.
     void readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_t byteOffset,
                  std::size_t stride, std::size_t count, int componentType, int components,
-                 bool normalized, const std::string& what, double* out,
-                 std::size_t outStride) const;
+                 bool normalized, const std::string& what, std::vector<double>& out) const;
 
     // `node 3 "spawn 1 (info_player_start)"` (the name only when there is one).
     std::string nodeLabel(int nodeIndex) const;
@@ -91,6 +104,7 @@ private:
     std::map<int, std::uint32_t> mMaterialMap; // glTF material (-1 = default) → ours
     std::map<int, int> mTextureMap;            // glTF texture → MeshData::textures
     std::vector<int> mOnPath;                  // nodes on the current path (cycle check)
+    std::vector<bool> mVisited;                // nodes walked so far (each at most once)
 };
 
 int componentSize(int type) {
@@ -225,8 +239,8 @@ double decodeComponent(const unsigned char* p, int type, bool normalized) {
 
 void Loader::readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_t byteOffset,
                      std::size_t stride, std::size_t count, int componentType, int components,
-                     bool normalized, const std::string& what, double* out,
-                     std::size_t outStride) const {
+                     bool normalized, const std::string& what,
+                     std::vector<double>& out) const {
     if (view.buffer < 0 || std::size_t(view.buffer) >= mModel.buffers.size()) {
         fail(what + ": bufferView " + std::to_string(viewIndex) + " names a missing buffer");
     }
@@ -244,12 +258,15 @@ void Loader::readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_
                  std::to_string(viewIndex));
         }
     }
+    // Only now is the size known to be backed by data: a header claiming millions of elements
+    // over a few bytes costs nothing.
+    out.assign(count * components, 0.0);
     const unsigned char* base = data.data() + view.byteOffset + byteOffset;
     const int compBytes = componentSize(componentType);
     for (std::size_t i = 0; i < count; ++i) {
         const unsigned char* e = base + i * stride;
         for (int c = 0; c < components; ++c) {
-            out[i * outStride + c] = decodeComponent(e + c * compBytes, componentType, normalized);
+            out[i * components + c] = decodeComponent(e + c * compBytes, componentType, normalized);
         }
     }
 }
@@ -267,12 +284,20 @@ AccessorValues Loader::readAccessor(int index, const std::string& what) const {
     if (result.components == 0 || componentSize(acc.componentType) == 0) {
         fail(name + ": unsupported type/componentType");
     }
-    // Refuse absurd counts before allocating (a few hundred million values is no mesh of ours).
-    if (acc.count > (std::size_t(1) << 28)) fail(name + ": count too large");
-    result.values.assign(acc.count * result.components, 0.0);
+    // Refuse absurd counts before allocating anything.
+    if (acc.count > kMaxAccessorCount) {
+        fail(name + ": count " + std::to_string(acc.count) + " is more than the " +
+             std::to_string(kMaxAccessorCount) + " elements an accessor may have (" +
+             std::to_string(kMaxSceneTriangles) + " triangles a scene)");
+    }
+    if (acc.bufferView < 0 && !(acc.sparse.isSparse && acc.sparse.count > 0)) {
+        fail(name + ": accessor has neither a bufferView nor sparse data (compressed mesh?)");
+    }
 
     // No bufferView means all zeros (only meaningful with sparse substitution below).
-    if (acc.bufferView >= 0) {
+    if (acc.bufferView < 0) {
+        result.values.assign(acc.count * result.components, 0.0);
+    } else {
         if (std::size_t(acc.bufferView) >= mModel.bufferViews.size()) {
             fail(name + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
         }
@@ -282,7 +307,7 @@ AccessorValues Loader::readAccessor(int index, const std::string& what) const {
         const std::size_t stride = view.byteStride ? view.byteStride : packed;
         if (stride < packed) fail(name + ": byteStride smaller than one element");
         readRaw(view, acc.bufferView, acc.byteOffset, stride, acc.count, acc.componentType,
-                result.components, acc.normalized, name, result.values.data(), result.components);
+                result.components, acc.normalized, name, result.values);
     }
 
     if (acc.sparse.isSparse && acc.sparse.count > 0) {
@@ -304,15 +329,15 @@ AccessorValues Loader::readAccessor(int index, const std::string& what) const {
         if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) {
             fail(name + ": negative sparse byteOffset");
         }
-        std::vector<double> indices(n);
+        std::vector<double> indices;
         readRaw(view(sp.indices.bufferView), sp.indices.bufferView,
                 std::size_t(sp.indices.byteOffset), std::size_t(componentSize(idxType)), n, idxType,
-                1, false, name + " sparse indices", indices.data(), 1);
-        std::vector<double> values(n * result.components);
+                1, false, name + " sparse indices", indices);
+        std::vector<double> values;
         readRaw(view(sp.values.bufferView), sp.values.bufferView, std::size_t(sp.values.byteOffset),
                 std::size_t(componentSize(acc.componentType)) * result.components, n,
                 acc.componentType, result.components, acc.normalized, name + " sparse values",
-                values.data(), result.components);
+                values);
         for (std::size_t k = 0; k < n; ++k) {
             if (indices[k] >= double(acc.count)) {
                 fail(name + ": sparse index " + std::to_string(std::size_t(indices[k])) +
@@ -322,8 +347,6 @@ AccessorValues Loader::readAccessor(int index, const std::string& what) const {
             std::copy_n(values.begin() + k * result.components, result.components,
                         result.values.begin() + dst);
         }
-    } else if (acc.bufferView < 0) {
-        fail(name + ": accessor has neither a bufferView nor sparse data (compressed mesh?)");
     }
     return result;
 }
@@ -362,6 +385,16 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
     if (std::find(mOnPath.begin(), mOnPath.end(), nodeIndex) != mOnPath.end()) {
         fail("node hierarchy has a cycle through node " + std::to_string(nodeIndex));
     }
+    // glTF 2.0 §3.5.3: the nodes form disjoint trees, so a node is met once. A node listed by two
+    // parents (or twice by one) would be walked once per path to it: a chain of n nodes, each
+    // naming the next twice, is 2^n visits.
+    if (mVisited.empty()) mVisited.assign(mModel.nodes.size(), false);
+    if (mVisited[nodeIndex]) {
+        fail(nodeLabel(nodeIndex) +
+             " is reached a second time: a node may have only one parent and be listed once "
+             "(glTF 2.0 node hierarchy: disjoint trees)");
+    }
+    mVisited[nodeIndex] = true;
     // The walk recurses once per level: bounded so a hostile chain cannot exhaust the stack.
     if (depth >= kMaxNodeDepth) {
         fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) +
@@ -530,6 +563,11 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
             if (acc.type != TINYGLTF_TYPE_VEC2 || !okType) {
                 fail(where + ": TEXCOORD_0 must be VEC2 of float or normalized unsigned "
                              "byte/short");
+            }
+            // Before reading: a count that differs is wrong whatever the data holds.
+            if (acc.count != pos.count) {
+                fail(where + ": TEXCOORD_0 has " + std::to_string(acc.count) +
+                     " elements, POSITION " + std::to_string(pos.count));
             }
         }
         const AccessorValues uv = readAccessor(uvIt->second, where + " TEXCOORD_0");
@@ -841,12 +879,13 @@ GltfContents Loader::load(const glm::mat4& transform) {
 
 // The folder a model may read external files from: its own and the folders below it. Buffer and
 // image URIs are untrusted input: "../../etc/passwd", an absolute path or a symlink out of the
-// folder must not read another file (nor reveal its size in an error).
+// folder must not read another file (nor reveal its size in an error), and a FIFO or device
+// inside it must not be opened (a read that blocks forever, or never ends). An empty folder
+// (in-memory input without one) contains nothing: every external file is refused.
 class ModelFolder {
 public:
-    explicit ModelFolder(const std::filesystem::path& model) {
-        const std::filesystem::path parent = model.parent_path();
-        mRoot = resolve(parent.empty() ? std::filesystem::path(".") : parent); // "a.gltf": here
+    explicit ModelFolder(const std::filesystem::path& folder) {
+        if (!folder.empty()) mRoot = resolve(folder);
     }
     const std::filesystem::path& root() const { return mRoot; }
 
@@ -864,6 +903,12 @@ public:
         const std::filesystem::path rel = resolved.lexically_relative(mRoot);
         return !rel.empty() && *rel.begin() != "..";
     }
+    // Something at `resolved` that is not a regular file (a FIFO, device, socket or folder).
+    static bool special(const std::filesystem::path& resolved) {
+        std::error_code ec;
+        const auto status = std::filesystem::status(resolved, ec);
+        return !ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status);
+    }
 
     // tinygltf's file callbacks, refusing what lies outside (user data: this). tinygltf also
     // looks for a file missing beside the model in the working directory; that is refused too.
@@ -874,17 +919,30 @@ public:
                 .WriteWholeFile = nullptr,
                 .user_data = this};
     }
-    // The first file refused (resolved), empty when none was.
+    // The first file refused (resolved), empty when none was; `refusedWhy` says why.
     const std::filesystem::path& refused() const { return mRefused; }
+    const std::string& refusedWhy() const { return mRefusedWhy; }
 
 private:
+    void refuse(const std::filesystem::path& resolved, const std::string& why) {
+        if (!mRefused.empty()) return;
+        mRefused = resolved;
+        mRefusedWhy = why;
+    }
+    std::string outsideWhy() const {
+        return mRoot.empty() ? "no external file may be read (the glTF data has no folder)"
+                             : "outside the model's folder " + mRoot.string();
+    }
     static bool fileExists(const std::string& file, void* self) {
         auto& folder = *static_cast<ModelFolder*>(self);
         const std::filesystem::path resolved = resolve(file);
         std::error_code ec;
         if (!folder.contains(resolved)) {
-            if (folder.mRefused.empty() && std::filesystem::exists(resolved, ec))
-                folder.mRefused = resolved;
+            if (std::filesystem::exists(resolved, ec)) folder.refuse(resolved, folder.outsideWhy());
+            return false;
+        }
+        if (special(resolved)) {
+            folder.refuse(resolved, "not a regular file");
             return false;
         }
         return tinygltf::FileExists(file, nullptr);
@@ -894,8 +952,13 @@ private:
         auto& folder = *static_cast<ModelFolder*>(self);
         const std::filesystem::path resolved = resolve(file);
         if (!folder.contains(resolved)) {
-            if (folder.mRefused.empty()) folder.mRefused = resolved;
+            folder.refuse(resolved, folder.outsideWhy());
             if (err) *err += "outside the model's folder";
+            return false;
+        }
+        if (special(resolved)) {
+            folder.refuse(resolved, "not a regular file");
+            if (err) *err += "not a regular file";
             return false;
         }
         return tinygltf::ReadWholeFile(out, err, file, nullptr);
@@ -903,6 +966,7 @@ private:
 
     std::filesystem::path mRoot;
     std::filesystem::path mRefused;
+    std::string mRefusedWhy;
 };
 
 // The decoding tinygltf applies to a URI before using it as a path: %XX escapes, '+' as space.
@@ -927,11 +991,10 @@ std::string decodeUri(const std::string& uri) {
     return out;
 }
 
-// Every buffer and image URI of the glTF JSON is a data: URI or a relative path that stays in
-// `folder`; an InputError naming the key otherwise. JSON that does not parse is left to tinygltf,
-// whose error is better (the file callbacks still guard it).
-void checkUris(const std::filesystem::path& path, const std::string& json,
-               const ModelFolder& folder) {
+// Every buffer and image URI of the glTF JSON is a data: URI or a relative path to a regular
+// file that stays in `folder`; an InputError naming the key otherwise. JSON that does not parse
+// is left to tinygltf, whose error is better (the file callbacks still guard it).
+void checkUris(const std::string& origin, const std::string& json, const ModelFolder& folder) {
     const nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
     if (!doc.is_object()) return;
     for (const char* list : {"buffers", "images"}) {
@@ -945,7 +1008,7 @@ void checkUris(const std::filesystem::path& path, const std::string& json,
             const std::string key = std::string(list) + "[" + std::to_string(i) + "].uri '" + uri +
                                     "'";
             auto refuse = [&](const std::string& why) {
-                throw InputError(path.string() + ": " + key + " " + why +
+                throw InputError(origin + ": " + key + " " + why +
                                  ": a glTF file may read only files in its own folder or below "
                                  "it, and data: URIs");
             };
@@ -954,17 +1017,26 @@ void checkUris(const std::filesystem::path& path, const std::string& json,
             static const std::regex scheme(R"(^[A-Za-z][A-Za-z0-9+.\-]*:.*)");
             if (std::regex_match(decoded, scheme)) refuse("is a URL, not a relative path");
             if (decoded.front() == '/' || decoded.front() == '\\') refuse("is an absolute path");
+            if (folder.root().empty()) {
+                refuse("names an external file, and this glTF data has no folder to read it from");
+            }
             const std::filesystem::path resolved = ModelFolder::resolve(folder.root() / decoded);
             if (!folder.contains(resolved)) {
                 refuse("leads outside the model's folder " + folder.root().string() +
                        (resolved.empty() ? std::string() : " (to " + resolved.string() + ")"));
+            }
+            if (ModelFolder::special(resolved)) {
+                throw InputError(origin + ": " + key + " is not a regular file (" +
+                                 resolved.string() +
+                                 " is a FIFO, device, socket or folder); buffers and images "
+                                 "must be files");
             }
         }
     }
 }
 
 // "'glTX' (67 6c 54 58)": the first bytes of a file, for a message.
-std::string describeBytes(const std::vector<unsigned char>& bytes, std::size_t n) {
+std::string describeBytes(std::span<const unsigned char> bytes, std::size_t n) {
     std::ostringstream text, hex;
     for (std::size_t i = 0; i < std::min(n, bytes.size()); ++i) {
         const unsigned char c = bytes[i];
@@ -974,25 +1046,77 @@ std::string describeBytes(const std::vector<unsigned char>& bytes, std::size_t n
     return "'" + text.str() + "' (" + hex.str() + ")";
 }
 
-// Parses the file (binary or JSON, told by its content) and walks it once.
-GltfContents parseAndLoad(const std::filesystem::path& path, const glm::mat4& transform,
-                          bool readMeshes) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) {
-        throw InputError(path.string() + ": glTF file not found");
+std::uint32_t readU32(std::span<const unsigned char> bytes, std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4); // GLB is little-endian, as is every target here
+    return v;
+}
+
+// The GLB container (glTF 2.0 §4.4): a 12-byte header (magic, version, total length), a JSON
+// chunk, then optionally a BIN chunk, each chunk an 8-byte header (length, type) and its data.
+// Checked here, before tinygltf, whose own checks let a BIN chunk run 8 bytes past the data and
+// whose messages do not say which length is wrong. Returns the JSON chunk.
+std::string_view checkGlbLayout(const std::string& origin, std::span<const unsigned char> bytes) {
+    auto fail = [&](const std::string& what) {
+        throw InputError(origin + ": malformed GLB: " + what);
+    };
+    const std::size_t size = bytes.size();
+    if (size < 20) {
+        fail("only " + std::to_string(size) +
+             " bytes; a GLB has a 12-byte header and an 8-byte JSON chunk header at least");
     }
-    std::vector<unsigned char> bytes;
-    {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw InputError(path.string() + ": cannot open glTF file");
-        const auto size = std::filesystem::file_size(path, ec);
-        // tinygltf takes the length as an unsigned int.
-        if (ec || size > std::numeric_limits<unsigned int>::max())
-            throw InputError(path.string() + ": glTF file too large (4 GiB at most)");
-        bytes.resize(size);
-        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
-        if (!in) throw InputError(path.string() + ": cannot read glTF file");
+    if (const std::uint32_t version = readU32(bytes, 4); version != 2) {
+        fail("version " + std::to_string(version) + " (only glTF 2.0 GLB is read)");
     }
+    const std::uint64_t length = readU32(bytes, 8);
+    if (length > size) {
+        fail("the header gives a length of " + std::to_string(length) + " bytes but there are " +
+             std::to_string(size) + " (truncated?)");
+    }
+    const std::uint64_t jsonLength = readU32(bytes, 12);
+    if (std::memcmp(bytes.data() + 16, "JSON", 4) != 0) {
+        fail("the first chunk is of type " + describeBytes(bytes.subspan(16, 4), 4) +
+             ", not 'JSON'");
+    }
+    if (jsonLength == 0) fail("the JSON chunk is empty");
+    if (20 + jsonLength > length) {
+        fail("the JSON chunk's length " + std::to_string(jsonLength) + " runs past the end (" +
+             std::to_string(length - 20) + " bytes follow its header)");
+    }
+    const std::uint64_t binAt = 20 + jsonLength;
+    if (binAt < length) {
+        if (binAt + 8 > length) {
+            fail(std::to_string(length - binAt) +
+                 " bytes after the JSON chunk, too few for a chunk header (8 bytes)");
+        }
+        const std::uint64_t binLength = readU32(bytes, std::size_t(binAt));
+        if (binAt + 8 + binLength > length) {
+            fail("the chunk after the JSON chunk claims " + std::to_string(binLength) +
+                 " bytes but " + std::to_string(length - binAt - 8) + " follow its header");
+        }
+    }
+    return {reinterpret_cast<const char*>(bytes.data() + 20), std::size_t(jsonLength)};
+}
+
+// Refuses JSON nested deeper than kMaxJsonDepth before any parser recurses into it.
+void checkJsonDepth(const std::string& origin, std::string_view json) {
+    const detail::JsonDepth d = detail::jsonNestingDepth(json, kMaxJsonDepth);
+    if (d.depth > kMaxJsonDepth) {
+        throw InputError(origin + ": glTF JSON is nested deeper than " +
+                         std::to_string(kMaxJsonDepth) + " levels (at byte " +
+                         std::to_string(d.offset) + "); not supported");
+    }
+}
+
+// Parses a glTF (binary or JSON, told by its content) and walks it once. `name` stands for the
+// file in messages; external files are read from `folder` only.
+GltfContents parseBytes(std::span<const unsigned char> bytes, const std::filesystem::path& folder,
+                        const std::filesystem::path& name, const glm::mat4& transform,
+                        bool readMeshes) {
+    const std::string origin = name.string();
+    // tinygltf takes the length as an unsigned int.
+    if (bytes.size() > std::numeric_limits<unsigned int>::max())
+        throw InputError(origin + ": glTF file too large (4 GiB at most)");
     // Decide binary vs JSON from the content, not the extension: a mislabelled file should still
     // load. Garbage gets tinygltf's JSON parse error, unless it is named .glb: then its magic is
     // what is wrong.
@@ -1004,53 +1128,69 @@ GltfContents parseAndLoad(const std::filesystem::path& path, const glm::mat4& tr
     while (first < bytes.size() && std::isspace(bytes[first]))
         ++first;
     const bool looksJson = first < bytes.size() && bytes[first] == '{';
-    std::string ext = path.extension().string();
+    std::string ext = name.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     if (!binary && !looksJson && ext == ".glb") {
-        throw InputError(path.string() + ": not a binary glTF file: it begins with " +
+        throw InputError(origin + ": not a binary glTF file: it begins with " +
                          describeBytes(bytes, 4) + " where a GLB begins with the magic 'glTF'");
     }
 
-    // The JSON, for the URI check: all of a .gltf, the first chunk of a GLB (header 12 bytes,
-    // chunk length and type 8; a malformed header is left to tinygltf).
-    ModelFolder folder(path);
-    std::string json;
-    if (!binary) {
-        json.assign(bytes.begin(), bytes.end());
-    } else if (bytes.size() >= 20 && std::memcmp(bytes.data() + 16, "JSON", 4) == 0) {
-        std::uint32_t length = 0;
-        std::memcpy(&length, bytes.data() + 12, 4);
-        if (length <= bytes.size() - 20)
-            json.assign(bytes.begin() + 20, bytes.begin() + 20 + length);
-    }
-    checkUris(path, json, folder);
+    // The JSON, for the depth and URI checks: all of a .gltf, the first chunk of a GLB.
+    const std::string_view json =
+        binary ? checkGlbLayout(origin, bytes)
+               : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    checkJsonDepth(origin, json);
+    ModelFolder modelFolder(folder);
+    checkUris(origin, std::string(json), modelFolder);
 
     tinygltf::TinyGLTF gltf;
-    gltf.SetFsCallbacks(folder.callbacks());
+    gltf.SetFsCallbacks(modelFolder.callbacks());
     tinygltf::Model model;
     std::string err, warn;
-    const std::string baseDir = path.parent_path().string();
+    const std::string baseDir = folder.string();
     const bool ok =
         binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
                                            static_cast<unsigned int>(bytes.size()), baseDir)
                : gltf.LoadASCIIFromString(&model, &err, &warn,
                                           reinterpret_cast<const char*>(bytes.data()),
                                           static_cast<unsigned int>(bytes.size()), baseDir);
-    if (!folder.refused().empty()) {
-        throw InputError(path.string() + ": a buffer or image file resolves to " +
-                         folder.refused().string() + ", outside the model's folder " +
-                         folder.root().string() +
+    if (!modelFolder.refused().empty()) {
+        throw InputError(origin + ": a buffer or image file resolves to " +
+                         modelFolder.refused().string() + ", " + modelFolder.refusedWhy() +
                          ": a glTF file may read only files in its own folder or below it, and "
                          "data: URIs");
     }
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r'))
             err.pop_back();
-        throw InputError(path.string() + ": glTF parse error: " +
+        throw InputError(origin + ": glTF parse error: " +
                          (err.empty() ? std::string("unknown error") : err));
     }
-    return Loader(path, model, readMeshes).load(transform);
+    return Loader(name, model, readMeshes).load(transform);
+}
+
+// Reads the file and parses it with its own folder as the one external files may come from.
+GltfContents parseAndLoad(const std::filesystem::path& path, const glm::mat4& transform,
+                          bool readMeshes) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        throw InputError(path.string() + ": glTF file not found");
+    }
+    std::vector<unsigned char> bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InputError(path.string() + ": cannot open glTF file");
+        const auto size = std::filesystem::file_size(path, ec);
+        if (ec || size > std::numeric_limits<unsigned int>::max())
+            throw InputError(path.string() + ": glTF file too large (4 GiB at most)");
+        bytes.resize(size);
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
+        if (!in) throw InputError(path.string() + ": cannot read glTF file");
+    }
+    const std::filesystem::path parent = path.parent_path();
+    return parseBytes(bytes, parent.empty() ? std::filesystem::path(".") : parent, path,
+                      transform, readMeshes); // "a.gltf": its folder is the working directory
 }
 
 } // namespace
@@ -1066,6 +1206,11 @@ GltfContents loadGltfWithCameras(const std::filesystem::path& path, const glm::m
 std::vector<GltfCamera> loadGltfCameras(const std::filesystem::path& path,
                                         const glm::mat4& transform) {
     return parseAndLoad(path, transform, false).cameras;
+}
+
+GltfContents parseGltf(std::span<const unsigned char> bytes, const std::filesystem::path& folder,
+                       const std::string& name, const glm::mat4& transform) {
+    return parseBytes(bytes, folder, name, transform, true);
 }
 
 } // namespace geometry

@@ -30,6 +30,8 @@
 #include <geometry/Limits.h>
 #include <geometry/Primitives.h>
 
+#include "JsonDepth.h"
+
 #include <nlohmann/json.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -48,6 +50,11 @@ namespace geometry {
 namespace {
 
 using Json = nlohmann::json;
+
+// Nesting a scene JSON may have. Its own structure is 4 levels deep ({"objects": [{"center":
+// [...]}]}); the bound keeps recursive code (nlohmann's dump() in messages, which echo the
+// offending value) from exhausting the stack on hostile input.
+constexpr std::size_t kMaxSceneJsonDepth = 64;
 
 std::string fmt(const glm::vec3& v) {
     std::ostringstream s;
@@ -220,6 +227,12 @@ void SceneParser::checkBudget(const std::string& keyPath, std::size_t triangles,
 }
 
 Json SceneParser::parseJson(const std::string& text) const {
+    if (const detail::JsonDepth d = detail::jsonNestingDepth(text, kMaxSceneJsonDepth);
+        d.depth > kMaxSceneJsonDepth) {
+        throw InputError(mOrigin + ": JSON nested deeper than " +
+                         std::to_string(kMaxSceneJsonDepth) + " levels (at byte " +
+                         std::to_string(d.offset) + "); a scene is 4 levels deep");
+    }
     // The parser callback follows the key path of the value being parsed, so that errors raised
     // inside the JSON parser (a number like 1e999 that overflows) can still name their key, and
     // catches duplicated keys, which nlohmann would silently resolve to the last one.

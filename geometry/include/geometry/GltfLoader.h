@@ -13,6 +13,7 @@
 #include <geometry/Types.h>
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,9 +23,12 @@ namespace geometry {
 // Throws InputError: missing/unreadable file, parse error, a .glb without the GLB magic, no
 // meshes, no triangles, NaN/Inf positions or world coordinates beyond +-kMaxCoordinate
 // (geometry/Limits.h), more than kMaxSceneTriangles triangles, out-of-range indices or indices
-// of a wrong type, a node hierarchy deeper than 1000 levels, and a buffer or image URI that is
-// neither a data: URI nor a relative path staying inside the file's folder once "..", percent
-// escapes and symlinks are resolved (those files are never opened).
+// of a wrong type, accessor counts beyond the triangle budget's vertices, a node hierarchy
+// deeper than 1000 levels or a node reached twice (listed by two parents, or twice by one), JSON
+// nested deeper than 256 levels, GLB chunk lengths that do not fit the file, and a buffer or
+// image URI that is neither a data: URI nor a relative path to a regular file staying inside the
+// file's folder once "..", percent escapes and symlinks are resolved (those files are never
+// opened; nor is a FIFO or device inside it).
 MeshData loadGltf(const std::filesystem::path& path, const glm::mat4& transform = glm::mat4(1.0f));
 
 // A perspective glTF camera placed by its node's world transform (the meshes' transform chain,
@@ -52,5 +56,15 @@ GltfContents loadGltfWithCameras(const std::filesystem::path& path,
 // Cameras only: no mesh is read (a file without meshes is fine). Same camera errors.
 std::vector<GltfCamera> loadGltfCameras(const std::filesystem::path& path,
                                         const glm::mat4& transform = glm::mat4(1.0f));
+
+// loadGltfWithCameras on a file's bytes already in memory (a .gltf's JSON or a GLB, told by the
+// content). `name` stands for the file in messages and names the mesh (its stem); a name ending
+// in .glb must hold a GLB, as a file would. External buffer and image URIs resolve against
+// `folder` under the same confinement as a file in that folder; with an empty `folder` every
+// external URI is refused (only data: URIs and the GLB's own BIN chunk are read), so nothing
+// outside `bytes` is touched. Throws what loadGltfWithCameras throws.
+GltfContents parseGltf(std::span<const unsigned char> bytes, const std::filesystem::path& folder,
+                       const std::string& name = "<glTF>",
+                       const glm::mat4& transform = glm::mat4(1.0f));
 
 } // namespace geometry
