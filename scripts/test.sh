@@ -8,3 +8,4 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 cd build
 ctest --output-on-failure -j"$(nproc)" --timeout 300
+bash ../scripts/sanitize.sh  # the same suite under ASan + UBSan + LSan (README § Sanitizers)
