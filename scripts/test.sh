@@ -9,3 +9,4 @@ bash scripts/build.sh
 cd build
 ctest --output-on-failure -j"$(nproc)" --timeout 300
 bash ../scripts/fuzz.sh # libFuzzer on the loaders, bounded (README § Hardening, Fuzzing)
+bash ../scripts/sanitize.sh  # the same suite under ASan + UBSan + LSan (README § Sanitizers)

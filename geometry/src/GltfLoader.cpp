@@ -85,7 +85,8 @@ private:
 
     // `node 3 "spawn 1 (info_player_start)"` (the name only when there is one).
     std::string nodeLabel(int nodeIndex) const;
-    void visitNode(int nodeIndex, const glm::dmat4& parent, int depth);
+    void walkNodes(int rootIndex, const glm::dmat4& root);
+    glm::dmat4 visitNode(int nodeIndex, const glm::dmat4& parent, int depth);
     void addCamera(int nodeIndex, const glm::dmat4& world);
     void addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& world,
                       const std::string& where);
@@ -103,8 +104,13 @@ private:
     bool mAnyTexcoords = false;
     std::map<int, std::uint32_t> mMaterialMap; // glTF material (-1 = default) → ours
     std::map<int, int> mTextureMap;            // glTF texture → MeshData::textures
-    std::vector<int> mOnPath;                  // nodes on the current path (cycle check)
     std::vector<bool> mVisited;                // nodes walked so far (each at most once)
+    struct PathEntry {
+        int node;
+        glm::dmat4 world;
+        std::size_t nextChild;
+    };
+    std::vector<PathEntry> mWalk; // the walk's current path from the root (cycle check)
 };
 
 int componentSize(int type) {
@@ -378,11 +384,31 @@ std::string Loader::nodeLabel(int nodeIndex) const {
     return "node " + std::to_string(nodeIndex) + (name.empty() ? "" : " \"" + name + "\"");
 }
 
-void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
+// Depth first, children in order, with an explicit stack: a recursive walk's frame is a few KiB
+// (more under AddressSanitizer, where a chain of kMaxNodeDepth levels overflowed the 8 MiB stack).
+void Loader::walkNodes(int rootIndex, const glm::dmat4& root) {
+    mWalk.clear();
+    mWalk.push_back({rootIndex, visitNode(rootIndex, root, 0), 0});
+    while (!mWalk.empty()) {
+        PathEntry& top = mWalk.back();
+        const std::vector<int>& children = mModel.nodes[top.node].children;
+        if (top.nextChild == children.size()) {
+            mWalk.pop_back();
+            continue;
+        }
+        const int child = children[top.nextChild++];
+        const glm::dmat4 world = visitNode(child, top.world, int(mWalk.size()));
+        mWalk.push_back({child, world, 0});
+    }
+}
+
+// One node: its checks, camera and meshes; returns its world transform for its children.
+glm::dmat4 Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
     if (nodeIndex < 0 || std::size_t(nodeIndex) >= mModel.nodes.size()) {
         fail("node " + std::to_string(nodeIndex) + " does not exist");
     }
-    if (std::find(mOnPath.begin(), mOnPath.end(), nodeIndex) != mOnPath.end()) {
+    if (std::any_of(mWalk.begin(), mWalk.end(),
+                    [&](const PathEntry& e) { return e.node == nodeIndex; })) {
         fail("node hierarchy has a cycle through node " + std::to_string(nodeIndex));
     }
     // glTF 2.0 §3.5.3: the nodes form disjoint trees, so a node is met once. A node listed by two
@@ -395,7 +421,7 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
              "(glTF 2.0 node hierarchy: disjoint trees)");
     }
     mVisited[nodeIndex] = true;
-    // The walk recurses once per level: bounded so a hostile chain cannot exhaust the stack.
+    // Bounded so a hostile chain cannot make the walk (and its cycle check) unbounded.
     if (depth >= kMaxNodeDepth) {
         fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) +
              " levels (node " + std::to_string(nodeIndex) + " is at level " +
@@ -422,10 +448,7 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
                              std::to_string(p));
         }
     }
-    mOnPath.push_back(nodeIndex);
-    for (int child : node.children)
-        visitNode(child, world, depth + 1);
-    mOnPath.pop_back();
+    return world;
 }
 
 void Loader::addCamera(int nodeIndex, const glm::dmat4& world) {
@@ -856,7 +879,7 @@ GltfContents Loader::load(const glm::mat4& transform) {
         }
     }
     for (int r : roots)
-        visitNode(r, root, 0);
+        walkNodes(r, root);
 
     if (mReadMeshes && mMesh.triangles.empty())
         fail("no triangles (no node of the scene draws a triangle mesh)");

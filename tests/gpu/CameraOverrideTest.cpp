@@ -6,7 +6,9 @@
 
 #include <geometry/Error.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 #include <string>
 
 namespace {
@@ -76,6 +78,10 @@ TEST_F(CameraOverride, FramesThatDoNotWaitReportEarlierPassTimes) {
     s.waitForGpu = false;
     int measured = 0;
     for (int f = 0; f < 12; ++f) {
+        // Paced like a viewer's frames (100 ms apart), so that a loaded machine or an
+        // instrumented build still completes each frame's queries within the ring's depth; the
+        // count of frames with times below depends on that, not on the renderer's speed.
+        if (f > 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
         const gpu::FrameStats stats = renderer.renderFrame(s);
         // The ring holds at most a few frames in flight: times are never older than that.
         EXPECT_LE(stats.gpuTimesLag, 3) << "frame " << f;
