@@ -2,9 +2,10 @@
 // edgeCoverage (lib/Coverage.glsl) — the light points beyond the edge projected from p, seen
 // from the light centre, between the rays to its ends — kept as the set of the light's N
 // samples it holds rather than as an area: bit i set when sample i lies in R, i.e. when the
-// segment from the centre to the sample crosses the projected edge. Over a silhouette group the
-// bits toggled an odd number of times are the samples whose occlusion differs from the
-// centre's (DESIGN.md §4: parity is exact while the group's projection covers no sample twice).
+// segment from the centre to the sample crosses the projected edge. Over a silhouette group, the
+// centre's count plus each sample's signed crossings is the sample's count (hidden where
+// non-zero: combine=counts); their parity alone (combine=parity) is exact while the group's
+// projection covers no sample twice.
 // The CPU model is geometry/LightMask.h (double, exact polygons); the arithmetic up to the
 // half-planes is edgeCoverage's, except that an end point of the edge kept whole is projected
 // from its own vector (not from an interpolation at l = 1), so that the two edges meeting at a
