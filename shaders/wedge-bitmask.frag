@@ -81,7 +81,8 @@ void main() {
     // The samples between the rays are a run of the angle-ordered pattern: from the first at
     // or after the sector's start, counter-clockwise, to the first at or after its end (a
     // sample on the start ray is in, on the end ray out: regionHolds' rule). The sector is
-    // under pi; a span over pi is the rounding of a sector of almost nothing.
+    // under pi: a span near 2 pi is the rounding of a sector of almost nothing (empty), one a
+    // little over pi that of a sector of almost pi (the edge's line passing by the centre).
     // The rays' directions from their half-planes (h0 = sg (-q0.y, q0.x), h1 = sg (q1.y, -q1.x),
     // exact): counter-clockwise from q0 to q1 when sg > 0, from q1 to q0 otherwise.
     vec2 q0 = sg * vec2(h0.y, -h0.x);
@@ -92,7 +93,7 @@ void main() {
     float to = atan(r1.y, r1.x);
     float span = to - from;
     if (span < 0.0) span += 6.28318530718;
-    if (span > 3.14159265359) discard;
+    if (span > 4.71238898038) discard; // over 3 pi / 2: empty
     int first = firstAtOrAfter(from);
     int count = firstAtOrAfter(to) - first;
     if (count < 0) count += BITMASK_SAMPLES;
