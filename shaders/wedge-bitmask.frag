@@ -1,14 +1,14 @@
 // wedges-bitmask, per wedge fragment: the G-buffer point P, the hull planes as an early out,
-// then the light samples the edge's region R holds (lib/LightMask.glsl), XORed into the group's
+// then the light samples the edge's region R holds (shared/LightMask.h), XORed into the group's
 // mask by the fixed-function logic op (WedgePass::Output::Bitmask): the order of the edges does
 // not matter and nothing is read back. Samples: the light-samples buffer (geometry
 // lightMaskPattern, ordered by angle about the centre: only the run between the region's rays is
 // tested), shifted per pixel with BITMASK_ROTATED (then all of them). Words 0-3 in target 0, 4-7 in
 // target 1 (256 samples).
 #include "lib/Bindings.h"
-#include "lib/Coverage.glsl"
-#include "lib/LightMask.glsl"
-#include "lib/WedgeHull.glsl"
+#include "shared/Coverage.h"
+#include "shared/LightMask.h"
+#include "shared/WedgeHull.h"
 
 layout(early_fragment_tests) in;
 

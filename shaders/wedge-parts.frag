@@ -1,5 +1,5 @@
 // Wedge pass of wedges-blend, per fragment: what one directed silhouette edge adds to its group's
-// per-part state at the G-buffer point P (geometry/BlendModel.h, shaders/lib/Parts.glsl), for one
+// per-part state at the G-buffer point P (geometry/BlendModel.h, shaders/shared/Parts.h), for one
 // set of at most four radial parts (gpu/src/methods/BlendWedgesMethod.cpp explains the layout).
 // Every output is a sum or a minimum, so fixed-function blending accumulates them in any fragment
 // order with no read-modify-write: locations 0-3 by ADD, 4-7 by MIN (WedgePass's state).
@@ -20,9 +20,9 @@
 #endif
 
 #include "lib/Bindings.h"
-#include "lib/Coverage.glsl"
-#include "lib/Parts.glsl"
-#include "lib/WedgeHull.glsl"
+#include "shared/Coverage.h"
+#include "shared/Parts.h"
+#include "shared/WedgeHull.h"
 
 layout(early_fragment_tests) in;
 

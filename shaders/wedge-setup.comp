@@ -1,12 +1,12 @@
 // Wedge set-up: one invocation per directed silhouette edge of a range of the frame's edges.
 // - The wedge is built here, on the GPU, from the edge and the light (no CPU wedges): the
-//   conservative hull of geometry/WedgeHull.h (shaders/lib/WedgeHull.glsl);
+//   conservative hull of geometry/WedgeHull.h (shaders/shared/WedgeHull.h);
 // - a wedge whose group's influence bounds miss the view frustum is culled (draws nothing);
 // - kinds are counted for the report.
 #include "lib/Bindings.h"
 #include "lib/Casters.glsl"
 #include "lib/Frustum.glsl"
-#include "lib/WedgeHull.glsl"
+#include "shared/WedgeHull.h"
 
 layout(local_size_x = 64) in;
 

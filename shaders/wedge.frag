@@ -1,10 +1,10 @@
 // Wedge pass, per fragment: the G-buffer point P, the wedge's hull planes as an early out, then
 // the signed light coverage of the edge (Assarsson & Akenine-Möller 2003; the arithmetic of
-// geometry::edgeCoverage, shaders/lib/Coverage.glsl), written for subtractive blending:
+// geometry::edgeCoverage, shaders/shared/Coverage.h), written for subtractive blending:
 // V = V_hard(centre) - sum over the edges' coverage.
 #include "lib/Bindings.h"
-#include "lib/Coverage.glsl"
-#include "lib/WedgeHull.glsl"
+#include "shared/Coverage.h"
+#include "shared/WedgeHull.h"
 
 // The depth test (hull exit behind the surface) runs before the shader: no depth is written.
 layout(early_fragment_tests) in;

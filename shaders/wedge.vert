@@ -11,7 +11,7 @@
 // - anything else: every vertex at one point outside the view, nothing is rasterised.
 // WEDGE_DEPTH_BIAS (the wedges debug view): depth scaled by 1 + bias.
 #include "lib/Bindings.h"
-#include "lib/WedgeHull.glsl"
+#include "shared/WedgeHull.h"
 
 layout(std430, binding = BINDING_WEDGES) readonly buffer Wedges {
     GpuWedge wedges[];

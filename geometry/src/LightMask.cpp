@@ -1,6 +1,8 @@
-// Light-sample masks (geometry/LightMask.h): the pattern, the per-pixel shift (twin of
-// shaders/lib/LightMask.glsl) and the double model of a group's mask.
+// Light-sample masks (geometry/LightMask.h): the pattern, the per-pixel shift (the shaders' own
+// shaders/shared/LightMask.h) and the double model of a group's mask.
 #include <geometry/LightMask.h>
+
+#include <shared/LightMask.h>
 
 #include <geometry/Error.h>
 #include <geometry/Sampling.h>
@@ -15,12 +17,6 @@ namespace {
 
 using glm::dvec2;
 using glm::dvec3;
-
-std::uint32_t maskHash(std::uint32_t x) {
-    x = (x ^ (x >> 15)) * 0x2c1b3c6du;
-    x = (x ^ (x >> 12)) * 0x297a2d39u;
-    return x ^ (x >> 15);
-}
 
 // The light's frame in double: unit normal and the dual basis of (u, v) in its plane.
 struct MaskLight {
@@ -84,16 +80,11 @@ float maskSampleAngle(glm::vec2 y) {
 }
 
 glm::vec2 maskPixelShift(int x, int y) {
-    const std::uint32_t h =
-        maskHash(static_cast<std::uint32_t>(x) * 0x9e3779b9u + maskHash(static_cast<std::uint32_t>(y)));
-    const std::uint32_t g = maskHash(h);
-    return glm::vec2(static_cast<float>(h >> 8), static_cast<float>(g >> 8)) *
-           (1.0f / 8388608.0f);
+    return shader::maskPixelShift(glm::ivec2(x, y));
 }
 
 glm::vec2 maskShifted(glm::vec2 y, glm::vec2 shift) {
-    const glm::vec2 s = y + shift;
-    return {s.x >= 1.0f ? s.x - 2.0f : s.x, s.y >= 1.0f ? s.y - 2.0f : s.y};
+    return shader::maskShifted(y, shift);
 }
 
 GroupMaskModel groupMaskModel(const dvec3& p, std::span<const MaskEdge> edges, int centreCount,

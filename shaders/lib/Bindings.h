@@ -135,7 +135,7 @@ struct GpuGroup {
 };
 
 // One penumbra wedge as the GPU draws it: the edge and its conservative hull
-// E + cone(rays) (geometry/WedgeHull.h, shaders/lib/WedgeHull.glsl).
+// E + cone(rays) (geometry/WedgeHull.h, shaders/shared/WedgeHull.h).
 struct GpuWedge {
     vec4 e0;        // xyz: edge start (light-oriented triangles to the left of e0 -> e1)
     vec4 e1;        // xyz: edge end

@@ -1,5 +1,5 @@
-// Fixed-topology wedge hulls (geometry/WedgeHull.h) and the float coverage twin
-// (geometry/Coverage.h), both mirrors of shaders/lib/*.glsl:
+// Fixed-topology wedge hulls and the float coverage, the shaders' own source (shaders/shared/)
+// compiled as C++ (geometry/WedgeHull.h, geometry/Coverage.h):
 // - every shadow ray through the edge, and every point with non-zero coverage, is inside the
 //   float hull (its planes and its 8 triangles), for random edges and lights including the
 //   awkward ones (nearly in the light's plane, crossing it, pointing at the light or a corner,
@@ -624,7 +624,7 @@ TEST(WedgeHullTest, LoosenessAgainstTheExactWedge) {
     EXPECT_GE(quantile(stats[static_cast<int>(EdgeKind::TowardLight)].far, 0.5), 0.1);
 }
 
-// (4) The float coverage twin (geometry/Coverage.h, line for line shaders/lib/Coverage.glsl)
+// (4) The float coverage (shaders/shared/Coverage.h, compiled as C++)
 // against the double geometry::edgeCoverage, at points on shadow rays through the edge and
 // around it, for every kind of edge. Points within 1e-4 rad of the plane through the edge and
 // the light centre are counted apart: there the coverage jumps by 1 between sides (the hard

@@ -1,6 +1,6 @@
-// shaders/lib/Parts.glsl on the driver: a compute shader runs edgeParts4 (and edgePartSet for
-// every R) over random lights, edges and points and the results match the float C++ twin
-// (geometry/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
+// shaders/shared/Parts.h on the driver: a compute shader runs edgeParts4 (and edgePartSet for
+// every R) over random lights, edges and points and the results match the same source
+// compiled as C++ (geometry/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
 #include "GlTestEnv.h"
 
 #include <geometry/Coverage.h>
@@ -51,8 +51,8 @@ private:
 // vec4s per item: coverage, bounds[4], (windings[q], 0) for q = 0..3.
 constexpr int kStride = 9;
 
-const char* kPartsComp = R"(#include "lib/Coverage.glsl"
-#include "lib/Parts.glsl"
+const char* kPartsComp = R"(#include "shared/Coverage.h"
+#include "shared/Parts.h"
 layout(local_size_x = 64) in;
 struct PartsInput {
     vec4 e0;
@@ -225,8 +225,8 @@ TEST_F(PartsShaderTest, ComputeMatchesTheCppTwin) {
 // edgePartSet: vec4s per item coverage, momentX, momentY, bounds[4], windings.
 constexpr int kSetStride = 8;
 
-const char* kPartSetComp = R"(#include "lib/Coverage.glsl"
-#include "lib/Parts.glsl"
+const char* kPartSetComp = R"(#include "shared/Coverage.h"
+#include "shared/Parts.h"
 layout(local_size_x = 64) in;
 struct PartsInput {
     vec4 e0;

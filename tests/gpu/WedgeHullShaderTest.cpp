@@ -1,9 +1,9 @@
-// shaders/lib/WedgeHull.glsl and shaders/lib/Coverage.glsl on the driver:
+// shaders/shared/WedgeHull.h and shaders/shared/Coverage.h on the driver:
 // - a vertex-pulling vertex shader and a fragment shader that include them compile and link;
 // - drawn by vertex pulling (back faces only, no depth test, depth clamp), the hull covers every
 //   pixel whose view ray meets it exactly once, from outside it and from inside it;
-// - a compute shader runs them over random edges, lights and points, and the results match their
-//   float C++ twins (geometry/WedgeHull.h, geometry/Coverage.h): same kinds, same hulls and
+// - a compute shader runs them over random edges, lights and points, and the results match the same
+//   source compiled as C++ (geometry/WedgeHull.h, geometry/Coverage.h): same kinds, same hulls and
 //   coverage up to the driver's rounding, the same vertex table, and GPU hulls that contain every
 //   shadow ray through their edge.
 #include "TestRandom.h"
@@ -62,7 +62,7 @@ private:
 
 // How a renderer would use the libraries: one draw of 24 vertices per edge, the edges pulled
 // from a buffer, the planes passed flat to the fragment shader.
-const char* kPullVert = R"(#include "lib/WedgeHull.glsl"
+const char* kPullVert = R"(#include "shared/WedgeHull.h"
 layout(std430, binding = 0) readonly buffer Edges { vec4 edges[]; }; // e0, e1 per edge
 uniform mat4 viewProj;
 uniform vec3 lightC;
@@ -81,8 +81,8 @@ void main() {
 }
 )";
 
-const char* kCoverageFrag = R"(#include "lib/WedgeHull.glsl"
-#include "lib/Coverage.glsl"
+const char* kCoverageFrag = R"(#include "shared/WedgeHull.h"
+#include "shared/Coverage.h"
 uniform vec3 lightC;
 uniform vec3 lightU;
 uniform vec3 lightV;
@@ -100,8 +100,8 @@ void main() {
 // vec4s per item: (kind, coverage, contains, 0), g[4], planes[4], the 24 vertices.
 constexpr int kStride = 33;
 
-const char* kCheckComp = R"(#include "lib/WedgeHull.glsl"
-#include "lib/Coverage.glsl"
+const char* kCheckComp = R"(#include "shared/WedgeHull.h"
+#include "shared/Coverage.h"
 layout(local_size_x = 64) in;
 struct CheckInput {
     vec4 e0;

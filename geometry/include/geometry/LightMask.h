@@ -38,7 +38,7 @@ float maskSampleAngle(glm::vec2 y);
 
 // The per-pixel shift (the `rotated` pattern): a Cranley-Patterson rotation in [0, 2)^2 by a
 // hash of the pixel (x, y from the lower left), and a point shifted and wrapped back into
-// [-1, 1)^2. Bit for bit the GLSL of shaders/lib/LightMask.glsl.
+// [-1, 1)^2. The shaders' own code (shaders/shared/LightMask.h).
 glm::vec2 maskPixelShift(int x, int y);
 glm::vec2 maskShifted(glm::vec2 y, glm::vec2 shift);
 

@@ -1,26 +1,51 @@
-// Float twin of shaders/lib/Parts.glsl (geometry/Parts.h): every statement below has its
-// counterpart there, in the same order and with the same names; only the C++ spelling differs
-// (0.0f, references for inout). Change both together.
-#include <geometry/Parts.h>
+// Per radial part of the light (R = 4: quadrants) the quantities one wedge fragment adds for one
+// directed silhouette edge (DESIGN.md §4 "Per-silhouette blending"; the double CPU model is
+// geometry/BlendModel.h, whose top comment explains them): the signed fraction of each quadrant
+// in R_e (partCoverage), the bounds of the projected edge clipped to each quadrant
+// (partEdgeBounds) and which of each quadrant's corners lie in R_e (cornerWinding). Pure
+// functions, no bindings, GLSL and C++ alike (Prelude.h); the prologue (projection, half-planes)
+// is Coverage.h's.
+//
+// Quadrant q = 0..3 is the model's radialPart(4, q): signs (σx, σy) = (+,+), (-,+), (-,-), (+,-),
+// part coordinates x = σx s, y = σy t in [0, 1]^2, the light centre at the corner (0, 0).
+// Corners k = 1, 2, 3 of a part are (1, 0), (1, 1), (0, 1) (corner 0, the centre, is never in
+// R_e).
+//
+// edgeParts4 is the paper's configuration (R = 4). edgePartSet serves every R (1, 4, 8) and adds
+// the first moments (for the centroid), for one *set* of at most four parts at a time (R = 8:
+// parts 4 set .. 4 set + 3, radialPart(8, i): quadrant i / 2, the half |s| >= |t| for even i,
+// mirrored to the triangle 0 <= y <= x <= 1; R = 1: the whole light, x = (s + 1) / 2,
+// y = (t + 1) / 2). Area and moments are integrated along the boundary of R_e ∩ part with the
+// light centre as origin (the pieces along R_e's rays, through the centre, add nothing), in the
+// light's coordinates for R = 1 (whose part has the centre inside, not at a corner). Its corner
+// windings come as one mixed-radix number per part, Σ_j 16^j w_j over the corners that are not
+// the centre (R = 1: corners 0..3; R = 4: 1..3; R = 8: 1, 2), each w_j in {-1, 0, 1}: exact in
+// float, and so are sums of them while every corner's sum stays in [-8, 7].
 
-#include "CoverageDetail.h"
+#ifndef PENUMBRA_SHARED_PARTS_H
+#define PENUMBRA_SHARED_PARTS_H
 
-#include <cmath>
+#include "Coverage.h"
 
-namespace geometry {
-namespace {
+SHARED_BEGIN
 
-using glm::vec2;
-using glm::vec3;
-using glm::vec4;
-using std::abs;
-using std::max;
-using std::min;
-using namespace coverage_detail;
+struct EdgeParts4 {
+    vec4 coverage;    // per quadrant: signed |R_e ∩ part| / |part| (Σ / 4 = edgeCoverage)
+    vec4 bounds[4];   // per quadrant: (min x, min y, max x, max y), empty = (1, 1, 0, 0)
+    vec3 windings[4]; // per quadrant: corners 1, 2, 3: the edge's sign when in R_e, else 0
+};
+
+struct EdgePartSet {
+    vec4 coverage;  // per part of the set: signed |R_e ∩ part| / |part|
+    vec4 momentX;   // per part: signed ∫ x dA over R_e ∩ part, over |part| (part coordinates)
+    vec4 momentY;   // the same for y
+    vec4 bounds[4]; // per part: (min x, min y, max x, max y), empty = (1, 1, 0, 0)
+    vec4 windings;  // per part: Σ_j 16^j w_j over its corners j that are not the centre
+};
 
 // A light-coordinate half-plane dot(h, (s, t, 1)) >= 0 in the part coordinates of the quadrant
 // with signs sg: the sign flips are exact.
-vec3 partsHalf(vec3 h, vec2 sg) {
+SHARED_FN vec3 partsHalf(vec3 h, vec2 sg) {
     return vec3(h.x * sg.x, h.y * sg.y, h.z);
 }
 
@@ -28,7 +53,7 @@ vec3 partsHalf(vec3 h, vec2 sg) {
 // boundary integral (its points are collinear with the origin); only where the line q0 q1
 // crosses it matters: the start (leave) or end (enter) of the line's piece, as in
 // coverageSquareEdge.
-void partsAxisSide(vec2 a, vec2 b, float fa, float fb, vec2& leave, vec2& enter) {
+SHARED_FN void partsAxisSide(vec2 a, vec2 b, float fa, float fb, SHARED_INOUT(vec2) leave, SHARED_INOUT(vec2) enter) {
     if (fa < 0.0f && fb < 0.0f) return;
     if (fa >= 0.0f && fb >= 0.0f) return;
     float l = fa / (fa - fb);
@@ -42,7 +67,7 @@ void partsAxisSide(vec2 a, vec2 b, float fa, float fb, vec2& leave, vec2& enter)
 // |R_e ∩ [0, 1]^2| with R_e's half-planes h0, h1 (rays from the centre) and h2 (beyond the line)
 // in part coordinates: Green along the part's boundary counter-clockwise, as edgeCoverage does
 // along the light's; the two sides on the axes only place the line's piece.
-float partsQuadrantArea(vec3 h0, vec3 h1, vec3 h2) {
+SHARED_FN float partsQuadrantArea(vec3 h0, vec3 h1, vec3 h2) {
     float f0 = h2.z; // at the centre (0, 0)
     float f1 = dot(h2, vec3(1.0f, 0.0f, 1.0f));
     float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
@@ -61,7 +86,7 @@ float partsQuadrantArea(vec3 h0, vec3 h1, vec3 h2) {
 
 // Bounds of the finite end points of a + l (b - a), l in [lo, hi] (homogeneous, w >= 0);
 // (1, 1, 0, 0) when neither is finite.
-vec4 partsSegmentBounds(vec3 a, vec3 b, float lo, float hi) {
+SHARED_FN vec4 partsSegmentBounds(vec3 a, vec3 b, float lo, float hi) {
     vec4 r = vec4(1.0f, 1.0f, 0.0f, 0.0f);
     vec3 x0 = a + lo * (b - a);
     vec3 x1 = a + hi * (b - a);
@@ -71,8 +96,8 @@ vec4 partsSegmentBounds(vec3 a, vec3 b, float lo, float hi) {
     }
     if (x1.z > 0.0f) {
         vec2 y1 = vec2(x1.x / x1.z, x1.y / x1.z);
-        r = r.x > r.z ? vec4(y1, y1)
-                      : vec4(min(r.x, y1.x), min(r.y, y1.y), max(r.z, y1.x), max(r.w, y1.y));
+        r = r.x > r.z ? vec4(y1, y1) : vec4(min(r.x, y1.x), min(r.y, y1.y), max(r.z, y1.x),
+                                           max(r.w, y1.y));
     }
     return r;
 }
@@ -80,7 +105,7 @@ vec4 partsSegmentBounds(vec3 a, vec3 b, float lo, float hi) {
 // The segment a -> b (part homogeneous coordinates, w >= 0) clipped to the part [0, 1]^2 (the
 // half-planes x >= 0, y >= 0, w - x >= 0, w - y >= 0, closed), bounds of its finite end points;
 // (1, 1, 0, 0) when it misses.
-vec4 partsEdgeBounds(vec3 a, vec3 b) {
+SHARED_FN vec4 partsEdgeBounds(vec3 a, vec3 b) {
     vec4 r = vec4(1.0f, 1.0f, 0.0f, 0.0f);
     float lo = 0.0f;
     float hi = 1.0f;
@@ -92,7 +117,7 @@ vec4 partsEdgeBounds(vec3 a, vec3 b) {
 }
 
 // The same for the triangle part 0 <= y <= x <= 1 (y >= 0, x - y >= 0, w - x >= 0).
-vec4 partsTriangleBounds(vec3 a, vec3 b) {
+SHARED_FN vec4 partsTriangleBounds(vec3 a, vec3 b) {
     vec4 r = vec4(1.0f, 1.0f, 0.0f, 0.0f);
     float lo = 0.0f;
     float hi = 1.0f;
@@ -105,7 +130,7 @@ vec4 partsTriangleBounds(vec3 a, vec3 b) {
 // Whether the corner c moved by ε d1 + ε² d2 (into the part) lies in dot(h, (x, y, 1)) >= 0:
 // the model's tie rule, so that two edges sharing a projected vertex never both count a corner
 // on their common ray, nor neither.
-bool partsInside(vec3 h, vec2 c, vec2 d1, vec2 d2) {
+SHARED_FN bool partsInside(vec3 h, vec2 c, vec2 d1, vec2 d2) {
     float f = dot(h, vec3(c, 1.0f));
     if (f != 0.0f) return f > 0.0f;
     float g1 = h.x * d1.x + h.y * d1.y;
@@ -113,12 +138,55 @@ bool partsInside(vec3 h, vec2 c, vec2 d1, vec2 d2) {
     return h.x * d2.x + h.y * d2.y > 0.0f;
 }
 
-// edgeSign when the corner c (moved as partsInside says) lies in R_e, else 0.
-float partsCornerWinding(vec3 h0, vec3 h1, vec3 h2, vec2 c, vec2 d1, vec2 d2, float edgeSign) {
+// edgeSign when the corner c (moved as partsInside says) lies in R_e, else 0.f
+SHARED_FN float partsCornerWinding(vec3 h0, vec3 h1, vec3 h2, vec2 c, vec2 d1, vec2 d2, float edgeSign) {
     if (!partsInside(h0, c, d1, d2)) return 0.0f;
     if (!partsInside(h1, c, d1, d2)) return 0.0f;
     if (!partsInside(h2, c, d1, d2)) return 0.0f;
     return edgeSign;
+}
+
+// All four quadrants for the directed edge e0 -> e1 seen from p; the projection and the
+// half-planes are edgeCoverage's (edgeProjection, edgeHalfPlanes).
+SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
+    EdgeParts4 parts;
+    parts.coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    for (int q = 0; q < 4; ++q) {
+        parts.bounds[q] = vec4(1.0f, 1.0f, 0.0f, 0.0f);
+        parts.windings[q] = vec3(0.0f, 0.0f, 0.0f);
+    }
+    vec3 q0;
+    vec3 q1;
+    float hp;
+    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return parts;
+    // The bounds need only the segment; the rest needs R_e to have area.
+    for (int q = 0; q < 4; ++q) {
+        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        parts.bounds[q] = partsEdgeBounds(partsHalf(q0, sq), partsHalf(q1, sq));
+    }
+    vec3 h0;
+    vec3 h1;
+    vec3 h2;
+    float sg;
+    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return parts;
+    float edgeSign = hp > 0.0f ? sg : -sg;
+    for (int q = 0; q < 4; ++q) {
+        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        vec3 g0 = partsHalf(h0, sq);
+        vec3 g1 = partsHalf(h1, sq);
+        vec3 g2 = partsHalf(h2, sq);
+        parts.coverage[q] = edgeSign * partsQuadrantArea(g0, g1, g2);
+        // Corners (1, 0), (1, 1), (0, 1); d1 towards the part's centroid, d2 along the side to
+        // the next corner counter-clockwise (the model's cornerWinding).
+        parts.windings[q] =
+            vec3(partsCornerWinding(g0, g1, g2, vec2(1.0f, 0.0f), vec2(-0.5f, 0.5f), vec2(0.0f, 1.0f),
+                                    edgeSign),
+                 partsCornerWinding(g0, g1, g2, vec2(1.0f, 1.0f), vec2(-0.5f, -0.5f), vec2(-1.0f, 0.0f),
+                                    edgeSign),
+                 partsCornerWinding(g0, g1, g2, vec2(0.0f, 1.0f), vec2(0.5f, -0.5f), vec2(0.0f, -1.0f),
+                                    edgeSign));
+    }
+    return parts;
 }
 
 // --- Every R, with moments (edgePartSet) ---
@@ -126,7 +194,7 @@ float partsCornerWinding(vec3 h0, vec3 h1, vec3 h2, vec2 c, vec2 d1, vec2 d2, fl
 // Twice the area and six times the first moments, (cross(x0, x1), cross(x0, x1) (x0 + x1)), of
 // the triangle (0, x0, x1) for the piece x0 -> x1 of a + l (b - a), l in [lo, hi], between the
 // rays h0, h1: one term of Green's theorem with the centre as origin.
-vec3 partsSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1) {
+SHARED_FN vec3 partsSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1) {
     if (!coverageClipHalf(h0, a, b, lo, hi)) return vec3(0.0f, 0.0f, 0.0f);
     if (!coverageClipHalf(h1, a, b, lo, hi)) return vec3(0.0f, 0.0f, 0.0f);
     vec2 x0 = a + lo * (b - a);
@@ -137,7 +205,8 @@ vec3 partsSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1) {
 
 // coverageSquareEdge with the moments: the piece of R's boundary along the part's side a -> b
 // (counter-clockwise; fa, fb: the line's h2 at a and b), placing the line's piece as it goes.
-vec3 partsSide(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1, vec2& leave, vec2& enter) {
+SHARED_FN vec3 partsSide(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1, SHARED_INOUT(vec2) leave,
+               SHARED_INOUT(vec2) enter) {
     if (fa < 0.0f && fb < 0.0f) return vec3(0.0f, 0.0f, 0.0f);
     float lo = 0.0f;
     float hi = 1.0f;
@@ -156,7 +225,7 @@ vec3 partsSide(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1, vec2& leave
 }
 
 // (2 area, 6 ∫x, 6 ∫y) of R_e ∩ [0, 1]^2, the centre at (0, 0): partsQuadrantArea's walk.
-vec3 partsSquareMoments(vec3 h0, vec3 h1, vec3 h2) {
+SHARED_FN vec3 partsSquareMoments(vec3 h0, vec3 h1, vec3 h2) {
     float f0 = h2.z;
     float f1 = dot(h2, vec3(1.0f, 0.0f, 1.0f));
     float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
@@ -175,7 +244,7 @@ vec3 partsSquareMoments(vec3 h0, vec3 h1, vec3 h2) {
 
 // (2 area, 6 ∫x, 6 ∫y) of R_e ∩ the triangle 0 <= y <= x <= 1, the centre at (0, 0): its sides
 // on y = 0 and on the diagonal pass through the centre and only place the line's piece.
-vec3 partsTriangleMoments(vec3 h0, vec3 h1, vec3 h2) {
+SHARED_FN vec3 partsTriangleMoments(vec3 h0, vec3 h1, vec3 h2) {
     float f0 = h2.z;
     float f1 = dot(h2, vec3(1.0f, 0.0f, 1.0f));
     float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
@@ -191,7 +260,7 @@ vec3 partsTriangleMoments(vec3 h0, vec3 h1, vec3 h2) {
 }
 
 // (2 area, 6 ∫s, 6 ∫t) of R_e ∩ the light [-1, 1]^2 in light coordinates: edgeCoverage's walk.
-vec3 partsLightMoments(vec3 h0, vec3 h1, vec3 h2) {
+SHARED_FN vec3 partsLightMoments(vec3 h0, vec3 h1, vec3 h2) {
     float f0 = dot(h2, vec3(-1.0f, -1.0f, 1.0f));
     float f1 = dot(h2, vec3(1.0f, -1.0f, 1.0f));
     float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
@@ -211,137 +280,63 @@ vec3 partsLightMoments(vec3 h0, vec3 h1, vec3 h2) {
 // Corner windings as one mixed-radix number; d1 towards the part's centroid, d2 along the side
 // to the next corner counter-clockwise (the model's cornerWinding; directions scaled to exact
 // small numbers). Square: corners (1, 0), (1, 1), (0, 1).
-float partsSquareWindings(vec3 g0, vec3 g1, vec3 g2, float edgeSign) {
+SHARED_FN float partsSquareWindings(vec3 g0, vec3 g1, vec3 g2, float edgeSign) {
     return partsCornerWinding(g0, g1, g2, vec2(1.0f, 0.0f), vec2(-0.5f, 0.5f), vec2(0.0f, 1.0f),
                               edgeSign) +
            16.0f * partsCornerWinding(g0, g1, g2, vec2(1.0f, 1.0f), vec2(-0.5f, -0.5f),
-                                      vec2(-1.0f, 0.0f), edgeSign) +
+                                     vec2(-1.0f, 0.0f), edgeSign) +
            256.0f * partsCornerWinding(g0, g1, g2, vec2(0.0f, 1.0f), vec2(0.5f, -0.5f),
-                                       vec2(0.0f, -1.0f), edgeSign);
+                                      vec2(0.0f, -1.0f), edgeSign);
 }
 
 // Triangle (centroid (2/3, 1/3)): corners (1, 0), (1, 1).
-float partsTriangleWindings(vec3 g0, vec3 g1, vec3 g2, float edgeSign) {
+SHARED_FN float partsTriangleWindings(vec3 g0, vec3 g1, vec3 g2, float edgeSign) {
     return partsCornerWinding(g0, g1, g2, vec2(1.0f, 0.0f), vec2(-1.0f, 1.0f), vec2(0.0f, 1.0f),
                               edgeSign) +
            16.0f * partsCornerWinding(g0, g1, g2, vec2(1.0f, 1.0f), vec2(-1.0f, -2.0f),
-                                      vec2(-1.0f, -1.0f), edgeSign);
+                                     vec2(-1.0f, -1.0f), edgeSign);
 }
 
 // The whole light, in light coordinates: its corners (-1, -1), (1, -1), (1, 1), (-1, 1) (the
 // part's (0, 0), (1, 0), (1, 1), (0, 1)).
-float partsLightWindings(vec3 h0, vec3 h1, vec3 h2, float edgeSign) {
+SHARED_FN float partsLightWindings(vec3 h0, vec3 h1, vec3 h2, float edgeSign) {
     return partsCornerWinding(h0, h1, h2, vec2(-1.0f, -1.0f), vec2(1.0f, 1.0f), vec2(1.0f, 0.0f),
                               edgeSign) +
            16.0f * partsCornerWinding(h0, h1, h2, vec2(1.0f, -1.0f), vec2(-1.0f, 1.0f),
-                                      vec2(0.0f, 1.0f), edgeSign) +
+                                     vec2(0.0f, 1.0f), edgeSign) +
            256.0f * partsCornerWinding(h0, h1, h2, vec2(1.0f, 1.0f), vec2(-1.0f, -1.0f),
-                                       vec2(-1.0f, 0.0f), edgeSign) +
+                                      vec2(-1.0f, 0.0f), edgeSign) +
            4096.0f * partsCornerWinding(h0, h1, h2, vec2(-1.0f, 1.0f), vec2(1.0f, -1.0f),
-                                        vec2(0.0f, -1.0f), edgeSign);
+                                       vec2(0.0f, -1.0f), edgeSign);
 }
 
 // Light homogeneous coordinates (points and half-planes alike: a signed permutation) in the part
-// coordinates of part `index` of R = 4 or 8.
-vec3 partsFrame(vec3 h, int parts, int index) {
+// coordinates of part `index` of R = 4 or 8.f
+SHARED_FN vec3 partsFrame(vec3 h, int parts, int index) {
     int q = parts == 8 ? index / 2 : index;
     vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
     vec3 g = partsHalf(h, sq);
     return parts == 8 && index % 2 == 1 ? vec3(g.y, g.x, g.z) : g;
 }
 
-// A light homogeneous point in the part coordinates of R = 1: x = (s + 1) / 2, y = (t + 1) / 2.
-vec3 partsWhole(vec3 q) {
+// A light homogeneous point in the part coordinates of R = 1: x = (s + 1) / 2, y = (t + 1) / 2.f
+SHARED_FN vec3 partsWhole(vec3 q) {
     return vec3(0.5f * (q.x + q.z), 0.5f * (q.y + q.z), q.z);
-}
-
-} // namespace
-
-// All four quadrants for the directed edge e0 -> e1 seen from p; the projection is
-// edgeCoverage's, statement for statement.
-EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light) {
-    EdgeParts4 parts;
-    parts.coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
-    for (int q = 0; q < 4; ++q) {
-        parts.bounds[q] = vec4(1.0f, 1.0f, 0.0f, 0.0f);
-        parts.windings[q] = vec3(0.0f, 0.0f, 0.0f);
-    }
-    vec3 pc = p - light.c;
-    vec3 k0 = e0 - light.c;
-    vec3 k1 = e1 - light.c;
-    vec3 d0 = e0 - p;
-    vec3 d1 = e1 - p;
-    float hp = dot(light.n, pc);
-    if (!(abs(hp) > 0.0f)) return parts;
-    float z0 = dot(light.n, k0) / hp;
-    float z1 = dot(light.n, k1) / hp;
-    float w0 = -dot(light.n, d0) / hp;
-    float w1 = -dot(light.n, d1) / hp;
-    float lo = 0.0f;
-    float hi = 1.0f;
-    if (!coverageClipLe0(-z0, -z1, lo, hi)) return parts;
-    if (!coverageClipLe0(-w0, -w1, lo, hi)) return parts;
-    vec3 q0 = coverageProject(lo, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
-    vec3 q1 = coverageProject(hi, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
-    // The bounds need only the segment; the rest needs R_e to have area.
-    for (int q = 0; q < 4; ++q) {
-        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
-        parts.bounds[q] = partsEdgeBounds(partsHalf(q0, sq), partsHalf(q1, sq));
-    }
-    float cr = q0.x * q1.y - q0.y * q1.x;
-    if (cr == 0.0f) return parts;
-    float sg = cr > 0.0f ? 1.0f : -1.0f;
-    vec3 line = cross(q0, q1);
-    vec3 h0 = vec3(-sg * q0.y, sg * q0.x, 0.0f);
-    vec3 h1 = vec3(sg * q1.y, -sg * q1.x, 0.0f);
-    vec3 h2 = -sg * line;
-    float edgeSign = hp > 0.0f ? sg : -sg;
-    for (int q = 0; q < 4; ++q) {
-        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
-        vec3 g0 = partsHalf(h0, sq);
-        vec3 g1 = partsHalf(h1, sq);
-        vec3 g2 = partsHalf(h2, sq);
-        parts.coverage[q] = edgeSign * partsQuadrantArea(g0, g1, g2);
-        // Corners (1, 0), (1, 1), (0, 1); d1 towards the part's centroid, d2 along the side to
-        // the next corner counter-clockwise (the model's cornerWinding).
-        parts.windings[q] =
-            vec3(partsCornerWinding(g0, g1, g2, vec2(1.0f, 0.0f), vec2(-0.5f, 0.5f),
-                                    vec2(0.0f, 1.0f), edgeSign),
-                 partsCornerWinding(g0, g1, g2, vec2(1.0f, 1.0f), vec2(-0.5f, -0.5f),
-                                    vec2(-1.0f, 0.0f), edgeSign),
-                 partsCornerWinding(g0, g1, g2, vec2(0.0f, 1.0f), vec2(0.5f, -0.5f),
-                                    vec2(0.0f, -1.0f), edgeSign));
-    }
-    return parts;
 }
 
 // The parts of set `set` of R = `parts` (1, 4, 8) for the directed edge e0 -> e1 seen from p
 // (parts 4 set + k, k < 4; R = 1: k = 0 only); the projection is edgeCoverage's.
-EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light, int parts, int set) {
+SHARED_FN EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, CoverageLight light, int parts, int set) {
     EdgePartSet e;
     e.coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
     e.momentX = vec4(0.0f, 0.0f, 0.0f, 0.0f);
     e.momentY = vec4(0.0f, 0.0f, 0.0f, 0.0f);
     e.windings = vec4(0.0f, 0.0f, 0.0f, 0.0f);
-    for (int k = 0; k < 4; ++k)
-        e.bounds[k] = vec4(1.0f, 1.0f, 0.0f, 0.0f);
-    vec3 pc = p - light.c;
-    vec3 k0 = e0 - light.c;
-    vec3 k1 = e1 - light.c;
-    vec3 d0 = e0 - p;
-    vec3 d1 = e1 - p;
-    float hp = dot(light.n, pc);
-    if (!(abs(hp) > 0.0f)) return e;
-    float z0 = dot(light.n, k0) / hp;
-    float z1 = dot(light.n, k1) / hp;
-    float w0 = -dot(light.n, d0) / hp;
-    float w1 = -dot(light.n, d1) / hp;
-    float lo = 0.0f;
-    float hi = 1.0f;
-    if (!coverageClipLe0(-z0, -z1, lo, hi)) return e;
-    if (!coverageClipLe0(-w0, -w1, lo, hi)) return e;
-    vec3 q0 = coverageProject(lo, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
-    vec3 q1 = coverageProject(hi, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    for (int k = 0; k < 4; ++k) e.bounds[k] = vec4(1.0f, 1.0f, 0.0f, 0.0f);
+    vec3 q0;
+    vec3 q1;
+    float hp;
+    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return e;
     int count = parts == 1 ? 1 : 4;
     // The bounds need only the segment; the rest needs R_e to have area.
     for (int k = 0; k < count; ++k) {
@@ -349,19 +344,17 @@ EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light, in
         if (parts == 1)
             e.bounds[k] = partsEdgeBounds(partsWhole(q0), partsWhole(q1));
         else if (parts == 4)
-            e.bounds[k] =
-                partsEdgeBounds(partsFrame(q0, parts, index), partsFrame(q1, parts, index));
+            e.bounds[k] = partsEdgeBounds(partsFrame(q0, parts, index),
+                                          partsFrame(q1, parts, index));
         else
-            e.bounds[k] =
-                partsTriangleBounds(partsFrame(q0, parts, index), partsFrame(q1, parts, index));
+            e.bounds[k] = partsTriangleBounds(partsFrame(q0, parts, index),
+                                              partsFrame(q1, parts, index));
     }
-    float cr = q0.x * q1.y - q0.y * q1.x;
-    if (cr == 0.0f) return e;
-    float sg = cr > 0.0f ? 1.0f : -1.0f;
-    vec3 line = cross(q0, q1);
-    vec3 h0 = vec3(-sg * q0.y, sg * q0.x, 0.0f);
-    vec3 h1 = vec3(sg * q1.y, -sg * q1.x, 0.0f);
-    vec3 h2 = -sg * line;
+    vec3 h0;
+    vec3 h1;
+    vec3 h2;
+    float sg;
+    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return e;
     float edgeSign = hp > 0.0f ? sg : -sg;
     for (int k = 0; k < count; ++k) {
         int index = 4 * set + k;
@@ -383,7 +376,7 @@ EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light, in
                 e.momentY[k] = edgeSign * m.z / 6.0f;
                 e.windings[k] = partsSquareWindings(g0, g1, g2, edgeSign);
             } else {
-                // |part| = 1/2.
+                // |part| = 1/2.f
                 vec3 m = partsTriangleMoments(g0, g1, g2);
                 e.coverage[k] = edgeSign * abs(m.x);
                 e.momentX[k] = edgeSign * m.y / 3.0f;
@@ -395,4 +388,6 @@ EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, const CoverageLight& light, in
     return e;
 }
 
-} // namespace geometry
+SHARED_END
+
+#endif // PENUMBRA_SHARED_PARTS_H

@@ -1,0 +1,320 @@
+// Conservative hull of a penumbra wedge with a fixed topology (8 triangles, 24 vertices), built
+// per vertex on the GPU for vertex pulling (no CPU wedge building). Pure functions, no bindings;
+// GLSL and C++ alike (Prelude.h): the CPU tests (tests/geometry/WedgeHullTest.cpp) run these
+// very statements, and a GL test compares the driver's result with them.
+//
+// The exact wedge of edge E = [e0, e1] for the light c + s u + t v (s, t in [-1, 1]) is
+// W = E + cone{e_i - c_j} (geometry/Wedge.h). With a = unit(e1 - e0), every ray e_i - c_j is
+// P_j + A_j a (P_j ⟂ a; e1's rays have the same P_j and A_j + |e1 - e0|). When the P_j lie in a
+// sector narrower than 180° (the edge's line misses the light's projection along a), its two
+// boundary directions F and B give W's exact front and back planes span(a, F), span(a, B)
+// through E. The side plane at e0 is a plane A = dot(P, h0) below every ray (A_j >=
+// dot(P_j, h0)), the one at e1 a plane A = dot(P, h1) above every ray of e1; each is one of W's
+// own side facets (a plane through the end point and two light corners), the one leaving the
+// hull the smallest solid angle. Then with
+//     g1 = F + dot(F, h0) a,  g2 = F + dot(F, h1) a,  g3 = B + dot(B, h0) a,  g4 = B + dot(B, h1) a
+// (normalised) the cone K = cone(g1..g4) = { P + A a : P in the sector, dot(P, h0) <= A <=
+// dot(P, h1) } holds every ray, and H = E + K ⊇ W. H is bounded by the front quad (E, g1, g2),
+// the back quad (E, g3, g4), one side triangle at each end point and a quad at infinity:
+// 8 triangles, 24 vertices, whatever the edge and light. (One slope per side against the
+// sector's bisector, tried first, was looser: for generic edges far out, a median of 0.89 of the
+// hull inside W and a 10th percentile of 0.66, against 0.95 and 0.80 here.)
+//
+// Float safety: the sector is widened and h0, h1 moved outward by amounts derived from a bound
+// on the rounding of every ray coordinate, and the planes are pushed outward, so that every
+// exact point of W lies inside the float planes (tested in tests/geometry/WedgeHullTest.cpp,
+// which also shows the margins are needed: a 16th of them fails). The hull is Fullscreen
+// instead where that bound is too weak (the edge's line passes within 3e-4 (|e0 - c| + |u| + |v|)
+// + 1.5e-4 |e1 - e0| of a light corner, seen along the edge), where the sector is wider than 178°,
+// or where the side planes would cross inside the sector (a ray nearly along the edge). Quads are
+// split into two triangles whose planes agree only to the rounding of their vertices (~1e-7 of
+// the scene).
+//
+//
+// Vertex shader use (one instance or 24 vertices per directed silhouette edge):
+//     WedgeHull hull = wedgeHull(e0, e1, frame.lightCenter.xyz, frame.lightU.xyz, frame.lightV.xyz);
+//     gl_Position = wedgeHullClipVertex(hull, gl_VertexID % kWedgeHullVertexCount, frame.viewProj);
+//     vPlanes = hull.planes;  // flat, for wedgeHullContains in the fragment shader
+// Draw back faces only, no depth test, depth clamp on (the face the view ray leaves through may
+// lie in front of the near plane when the camera is inside the hull).
+
+#ifndef PENUMBRA_SHARED_WEDGEHULL_H
+#define PENUMBRA_SHARED_WEDGEHULL_H
+
+#include "Prelude.h"
+
+SHARED_BEGIN
+
+// The hull's kind (a plain int, the same in both languages).
+const int kWedgeHullBounded = 0;    // the 24 vertices below bound W
+const int kWedgeHullFullscreen = 1; // no useful bound (the edge touches or crosses the light,
+                                    // sees it over ~180 degrees, or points at a corner): test
+                                    // every pixel (scissored); vertices 0..2 cover the viewport
+const int kWedgeHullDegenerate = 2; // zero-length (or non-finite) edge: draw nothing
+const int kWedgeHullVertexCount = 24;
+
+// Vertex slots of the 24 hull vertices: 0 e0, 1 e1, 2..5 g1..g4 (w = 0). Outward winding
+// (counter-clockwise seen from outside; a triangle at infinity counts as seen from any finite
+// point, which is inside):
+//   front  (e1, e0, g1) (e1, g1, g2)    back   (e0, e1, g4) (e0, g4, g3)
+//   side 0 (e0, g3, g1)                 side 1 (e1, g2, g4)
+//   far    (g1, g3, g4) (g1, g4, g2)
+const int kWedgeHullIndex[kWedgeHullVertexCount] = {
+    1, 0, 2, 1, 2, 3, // front
+    0, 1, 5, 0, 5, 4, // back
+    0, 4, 2,          // side at e0
+    1, 3, 5,          // side at e1
+    2, 4, 5, 2, 5, 3, // far
+};
+
+// "Front" is the plane with the sector on its counter-clockwise side about a = e1 - e0: with the
+// loop orientation of geometry/Silhouette.h (occluder to the left of e0 -> e1 seen from the
+// light centre) it borders the lit side and "back" the umbra side.
+struct WedgeHull {
+    int kind;
+    vec3 e0;
+    vec3 e1;
+    vec3 g[4];      // g1..g4: unit directions of the cone's edges (Bounded only)
+    vec4 planes[4]; // front, back, side at e0, side at e1: xyz unit outward normal,
+                    // w = -dot(n, point); inside when dot(n, p) + w <= 0
+};
+
+// Rounding of the ray coordinates computed below (unit roundoff 2^-24 = 6e-8), with slack:
+// - per unit of |e0 - c| + |u| + |v|: ~10 roundings of products of that size (k, the frame's
+//   non-orthogonality, the dot products);
+// - per unit of |e1 - e0|: e1's rays are taken as e0's plus len a, and the float a is off the
+//   exact edge direction by ~2 roundings (the difference, the division), plus the frame's ~2.
+const float kWedgeHullRound = 1.0e-6f;
+const float kWedgeHullRoundLen = 5.0e-7f;
+// Angles (radians) by which the sector is widened: at least this, and at most the maximum
+// (beyond it the rounding bound is too weak to trust the sector and the hull is Fullscreen; the
+// margin argument needs twice it below the 2° that kWedgeHullMinHalfCos leaves).
+const float kWedgeHullAngleBase = 1.0e-6f;
+const float kWedgeHullAngleMax = 1.0e-2f;
+// cos(89°): sectors wider than 178° (cos of the half angle below this) are Fullscreen; the
+// hull would be nearly a half-space anyway, and the slope bounds lose accuracy as 1 / cos.
+const float kWedgeHullMinHalfCos = 0.017452406f;
+
+SHARED_FN float wedgeHullCross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
+
+// Solid angle (steradians, up to a constant) of the directions over the sector from fw to bw
+// (counter-clockwise) that lie below the plane A = dot(P, h): with u(φ) the unit direction at
+// azimuth φ, the integral of sin(elevation) = s / sqrt(1 + s^2), s = dot(u, h), which is
+// asin(cross2(h, u) / sqrt(1 + |h|^2)) between the limits.
+SHARED_FN float wedgeHullSpread(vec2 h, vec2 fw, vec2 bw) {
+    float r = 1.0f / sqrt(1.0f + dot(h, h));
+    float sb = clamp(wedgeHullCross2(h, bw) * r, -1.0f, 1.0f);
+    float sf = clamp(wedgeHullCross2(h, fw) * r, -1.0f, 1.0f);
+    return asin(sb) - asin(sf);
+}
+
+// A side plane of the hull, A = dot(P, h) in the frame of wedgeHull, with dot(P[k], h) <= B[k]
+// for the four rays: the feasible intersection of two constraints (one of W's own side facets)
+// that leaves the hull the smallest solid angle, i.e. maximises wedgeHullSpread; then moved
+// along -m until every constraint holds with a margin for rounding. The margin covers the errors
+// of P and B (rho each, so rho (1 + |h|) on the constraint) and the float directions g (~2^-23
+// of |r| (1 + |h|)); two passes, as the margin grows with |h|. Needs dot(P[k], m) > 0.
+SHARED_FN vec2 wedgeHullSide(const vec2 P[4], const float B[4], vec2 fw, vec2 bw, vec2 m, float rho) {
+    vec2 h = vec2(0.0f);
+    float best = -3.0e38f;
+    bool found = false;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = i + 1; j < 4; ++j) {
+            float det = wedgeHullCross2(P[i], P[j]);
+            if (!(abs(det) > 1.0e-4f * length(P[i]) * length(P[j]))) continue;
+            vec2 c = vec2(B[i] * P[j].y - B[j] * P[i].y, P[i].x * B[j] - P[j].x * B[i]) / det;
+            bool feasible = true;
+            for (int k = 0; k < 4; ++k) {
+                float slack = 1.0e-5f * (abs(B[k]) + length(P[k]) * length(c));
+                feasible = feasible && dot(P[k], c) <= B[k] + slack;
+            }
+            float spread = wedgeHullSpread(c, fw, bw);
+            if (feasible && spread > best) {
+                best = spread;
+                h = c;
+                found = true;
+            }
+        }
+    }
+    if (!found) { // (parallel rays only) the plane through the lowest ray along m
+        float lo = 3.0e38f;
+        for (int k = 0; k < 4; ++k)
+            lo = min(lo, B[k] / dot(P[k], m));
+        h = lo * m;
+    }
+    for (int pass = 0; pass < 2; ++pass) {
+        float nh = 1.0f + length(h);
+        float tau = 0.0f;
+        for (int k = 0; k < 4; ++k) {
+            float margin =
+                nh * (2.0f * rho + kWedgeHullAngleBase * (abs(B[k]) + length(P[k])));
+            tau = max(tau, (dot(P[k], h) - B[k] + margin) / dot(P[k], m));
+        }
+        h = h - tau * m;
+    }
+    return h;
+}
+
+
+SHARED_FN WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
+    WedgeHull hull;
+    hull.kind = kWedgeHullDegenerate;
+    hull.e0 = e0;
+    hull.e1 = e1;
+    for (int i = 0; i < 4; ++i) {
+        hull.g[i] = vec3(0.0f);
+        hull.planes[i] = vec4(0.0f);
+    }
+    vec3 d = e1 - e0;
+    float len = length(d);
+    if (!(len > 0.0f) || isinf(len)) return hull; // zero length, or not finite
+    hull.kind = kWedgeHullFullscreen;
+
+    // Orthonormal frame (x, y, a), cross(x, y) = a; 2D vectors below are in (x, y).
+    vec3 a = d / len;
+    vec3 x =
+        normalize(cross(abs(a.x) < 0.5f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f), a));
+    vec3 y = cross(a, x);
+
+    // Rays from e0 through the corners c_j = c + s u + t v, (s, t) = (-1, -1) (1, -1) (1, 1)
+    // (-1, 1): e0 - c_j = P[j] + A[j] a; e1's rays are P[j] + (A[j] + len) a.
+    vec3 k = e0 - c;
+    vec2 o = vec2(dot(k, x), dot(k, y));
+    vec2 pu = vec2(dot(u, x), dot(u, y));
+    vec2 pv = vec2(dot(v, x), dot(v, y));
+    float ak = dot(k, a);
+    float au = dot(u, a);
+    float av = dot(v, a);
+    // Bound on the error of every P[j] and A[j] against the exact rays in this float frame.
+    float rho =
+        kWedgeHullRound * (length(k) + length(u) + length(v)) + kWedgeHullRoundLen * len;
+    vec2 P[4];
+    float A[4];
+    float minPerp = 3.0e38f;
+    for (int j = 0; j < 4; ++j) {
+        float s = (j == 1 || j == 2) ? 1.0f : -1.0f;
+        float t = (j >= 2) ? 1.0f : -1.0f;
+        P[j] = o - s * pu - t * pv;
+        A[j] = ak - s * au - t * av;
+        minPerp = min(minPerp, length(P[j]));
+    }
+    // The rays' directions in the plane ⟂ a are known to rho / |P[j]|; where that exceeds
+    // kWedgeHullAngleMax the sector cannot be trusted. (Compared before dividing: minPerp may
+    // be 0.)
+    if (!(3.0f * rho < (kWedgeHullAngleMax - kWedgeHullAngleBase) * minPerp)) return hull;
+
+    // The sector's clockwise-most (f) and counter-clockwise-most (b) ray; meaningful only when
+    // the P[j] lie in an open half-plane, which the test after widening checks.
+    int f = 0;
+    int b = 0;
+    for (int j = 1; j < 4; ++j) {
+        if (wedgeHullCross2(P[f], P[j]) < 0.0f) f = j;
+        if (wedgeHullCross2(P[b], P[j]) > 0.0f) b = j;
+    }
+    vec2 fu = P[f] / length(P[f]);
+    vec2 bu = P[b] / length(P[b]);
+    // Widening, per side: every ray within 3 rho of a boundary is turned 3 rho inside it (the
+    // angle that takes is 3 rho / |P[j]|, at most kWedgeHullAngleMax).
+    float thetaF = kWedgeHullAngleBase;
+    float thetaB = kWedgeHullAngleBase;
+    for (int j = 0; j < 4; ++j) {
+        float need = kWedgeHullAngleBase + 3.0f * rho / length(P[j]);
+        if (wedgeHullCross2(fu, P[j]) < 3.0f * rho) thetaF = max(thetaF, need);
+        if (wedgeHullCross2(P[j], bu) < 3.0f * rho) thetaB = max(thetaB, need);
+    }
+    // cos and sin to ~theta^3 / 6 <= 2e-7 of theta: GPU sin and cos may have absolute errors of
+    // ~5e-7, more than the smallest theta.
+    float csF = 1.0f - 0.5f * thetaF * thetaF;
+    float snF = thetaF;
+    float csB = 1.0f - 0.5f * thetaB * thetaB;
+    float snB = thetaB;
+    vec2 fw = vec2(csF * fu.x + snF * fu.y, csF * fu.y - snF * fu.x); // fu turned by -thetaF
+    vec2 bw = vec2(csB * bu.x - snB * bu.y, csB * bu.y + snB * bu.x); // bu turned by +thetaB
+    vec2 sum = fw + bw;
+    float cHalf = 0.5f * length(sum); // cos(half the widened sector)
+    if (!(wedgeHullCross2(fw, bw) > 0.0f && cHalf >= kWedgeHullMinHalfCos)) return hull;
+    vec2 m = sum / length(sum); // the bisector
+    // Every ray at least 1.5 rho inside both boundaries, so the exact rays (within rho) are
+    // strictly inside.
+    for (int j = 0; j < 4; ++j) {
+        if (!(wedgeHullCross2(fw, P[j]) >= 1.5f * rho && wedgeHullCross2(P[j], bw) >= 1.5f * rho))
+            return hull;
+    }
+
+    // Side planes: at e0 the plane A = dot(P, h0) with every ray above it, at e1 A = dot(P, h1)
+    // with every ray below it (e1's rays are the higher ones, A + len).
+    float lower[4];
+    float upper[4];
+    for (int j = 0; j < 4; ++j) {
+        lower[j] = A[j];
+        upper[j] = -(A[j] + len);
+    }
+    vec2 h0 = wedgeHullSide(P, lower, fw, bw, m, rho);
+    vec2 h1 = -wedgeHullSide(P, upper, fw, bw, m, rho);
+    // The cone's edges: where the side planes meet the front and back planes.
+    float f0 = dot(fw, h0);
+    float f1 = dot(fw, h1);
+    float b0 = dot(bw, h0);
+    float b1 = dot(bw, h1);
+    if (!(f1 > f0 && b1 > b0)) return hull; // (the sides would cross inside the sector)
+
+    vec3 F = fw.x * x + fw.y * y;
+    vec3 B = bw.x * x + bw.y * y;
+    hull.g[0] = normalize(F + f0 * a);
+    hull.g[1] = normalize(F + f1 * a);
+    hull.g[2] = normalize(B + b0 * a);
+    hull.g[3] = normalize(B + b1 * a);
+
+    // Planes, pushed outward by the rounding of their offsets and of the normals against E.
+    float push = kWedgeHullRound * (length(e0) + length(e1));
+    vec3 nFront = fw.y * x - fw.x * y;
+    vec3 nBack = bw.x * y - bw.y * x;
+    vec3 nSide0 = normalize(h0.x * x + h0.y * y - a);
+    vec3 nSide1 = normalize(a - h1.x * x - h1.y * y);
+    hull.planes[0] = vec4(nFront, -dot(nFront, e0) - push);
+    hull.planes[1] = vec4(nBack, -dot(nBack, e0) - push);
+    hull.planes[2] = vec4(nSide0, -dot(nSide0, e0) - push);
+    hull.planes[3] = vec4(nSide1, -dot(nSide1, e1) - push);
+    hull.kind = kWedgeHullBounded;
+    return hull;
+}
+
+// Vertex `index` (0..23) as a homogeneous point (w = 1) or direction (w = 0); vec4(0) for every
+// index unless the hull is Bounded.
+SHARED_FN vec4 wedgeHullVertex(WedgeHull hull, int index) {
+    if (hull.kind != kWedgeHullBounded) return vec4(0.0f);
+    int slot = kWedgeHullIndex[index];
+    if (slot == 0) return vec4(hull.e0, 1.0f);
+    if (slot == 1) return vec4(hull.e1, 1.0f);
+    return vec4(hull.g[slot - 2], 0.0f);
+}
+
+// Clip-space position for a draw of 24 vertices per edge: Bounded: viewProj times the vertex;
+// Fullscreen: vertices 0..2 a triangle covering the viewport, wound clockwise in NDC (back-facing
+// under glFrontFace(GL_CCW), like the hull's own back faces), the others vec4(0); Degenerate:
+// vec4(0) (no fragments).
+SHARED_FN vec4 wedgeHullClipVertex(WedgeHull hull, int index, mat4 viewProj) {
+    if (hull.kind == kWedgeHullFullscreen) {
+        if (index == 0) return vec4(-1.0f, -1.0f, 0.0f, 1.0f);
+        if (index == 1) return vec4(-1.0f, 3.0f, 0.0f, 1.0f);
+        if (index == 2) return vec4(3.0f, -1.0f, 0.0f, 1.0f);
+        return vec4(0.0f);
+    }
+    return viewProj * wedgeHullVertex(hull, index);
+}
+
+// The plane test (early-out in the fragment shader): true when p is inside all four planes.
+// The pushes in the planes cover float rounding here; a Fullscreen hull's planes are zero, so
+// every point is inside, and so are a Degenerate hull's (callers draw nothing for it).
+SHARED_FN bool wedgeHullContains(const vec4 planes[4], vec3 p) {
+    for (int i = 0; i < 4; ++i) {
+        if (dot(vec3(planes[i]), p) + planes[i].w > 0.0f) return false;
+    }
+    return true;
+}
+
+SHARED_END
+
+#endif // PENUMBRA_SHARED_WEDGEHULL_H
