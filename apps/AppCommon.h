@@ -2,7 +2,7 @@
 // messages, and the CPU's name for their reports.
 #pragma once
 
-#include <geometry/Error.h>
+#include <geometry/core/Error.h>
 
 #include <unistd.h>
 

@@ -12,11 +12,12 @@
 // results.json gets the same plus the machine, and chart.png is drawn by apps/bench/chart.py with
 // Debian's matplotlib. Input is checked before any work: bad input exits 2, nothing written.
 #include "AppCommon.h"
-#include <geometry/Error.h>
-#include <geometry/ErrorImage.h>
-#include <geometry/ErrorStats.h>
-#include <geometry/ImageIO.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/ErrorImage.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/scene/ImageIO.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 #include <gpu/Context.h>
 #include <gpu/Debug.h>
 #include <gpu/Renderer.h>

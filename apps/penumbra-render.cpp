@@ -10,11 +10,12 @@
 // - with --debug-view NAME image.png shows a debug view of the renderer (gpu/Renderer.h
 //   DebugView) instead of the shaded image.
 #include "AppCommon.h"
-#include <geometry/Error.h>
-#include <geometry/ErrorImage.h>
-#include <geometry/ErrorStats.h>
-#include <geometry/ImageIO.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/ErrorImage.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/scene/ImageIO.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 #include <gpu/Context.h>
 #include <gpu/Renderer.h>
 

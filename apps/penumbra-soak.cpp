@@ -11,10 +11,10 @@
 // Exit 0 when every check holds, 1 when one fails (each failure is printed), 2 on bad input.
 #include "AppCommon.h"
 
-#include <geometry/Error.h>
-#include <geometry/Framing.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
 #include <gpu/Context.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>

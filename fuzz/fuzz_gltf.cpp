@@ -3,9 +3,9 @@
 // answer; anything else (a sanitizer report, another exception, a hang, an allocation past
 // -rss_limit_mb) is a finding. A model that loads must also satisfy what the rest of the
 // engine relies on (checked below; a violation traps).
-#include <geometry/Error.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/Limits.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/core/Limits.h>
 
 #include <cmath>
 #include <cstddef>

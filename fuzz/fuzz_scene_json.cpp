@@ -2,9 +2,9 @@
 // loadScene does). Relative "file" paths of gltf objects resolve against fuzz/assets (a small
 // triangle.gltf is there), or $PENUMBRA_FUZZ_ASSETS. Any InputError is a correct answer;
 // anything else is a finding. A scene that loads must satisfy the budgets it promises.
-#include <geometry/Error.h>
-#include <geometry/Limits.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/core/Limits.h>
+#include <geometry/scene/Scene.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -3,11 +3,11 @@
 #include "../AppCommon.h"
 #include "ViewerCore.h"
 
-#include <geometry/Error.h>
-#include <geometry/Framing.h>
-#include <geometry/ImageIO.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/scene/ImageIO.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
 #include <gpu/Context.h>
 #include <gpu/Renderer.h>
 #include <gpu/State.h>

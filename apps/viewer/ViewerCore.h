@@ -6,7 +6,7 @@
 // - flyThrough(): a path through the glTF cameras (spawn points) for scripted captures.
 #pragma once
 
-#include <geometry/Types.h>
+#include <geometry/core/Types.h>
 
 #include <span>
 #include <vector>

@@ -2,7 +2,7 @@
 // Exit codes: 0 success, 2 bad input or no display/window (a clear message), 1 internal error.
 #include "Viewer.h"
 
-#include <geometry/Error.h>
+#include <geometry/core/Error.h>
 #include <gpu/Context.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>

@@ -7,9 +7,9 @@
 //   invalidated and refilled: orphaning), each caster's ids rebased once on the way.
 #pragma once
 
-#include <geometry/Scene.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
 #include <gpu/Objects.h>
 
 #include <cstdint>

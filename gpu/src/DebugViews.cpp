@@ -7,9 +7,9 @@
 #include "passes/VolumeStates.h"
 #include "passes/WedgePass.h"
 
-#include <geometry/AlphaMask.h>
-#include <geometry/Error.h>
-#include <geometry/Sampling.h>
+#include <geometry/scene/AlphaMask.h>
+#include <geometry/core/Error.h>
+#include <geometry/core/Sampling.h>
 
 #include <algorithm>
 #include <cstdio>

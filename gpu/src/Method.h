@@ -4,7 +4,7 @@
 // per object in one frame).
 #pragma once
 
-#include <geometry/Scene.h>
+#include <geometry/scene/Scene.h>
 #include <gpu/Debug.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>

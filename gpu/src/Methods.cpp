@@ -1,7 +1,7 @@
 // The method table (gpu/Methods.h): the one list of method names.
 #include <gpu/Methods.h>
 
-#include <geometry/Error.h>
+#include <geometry/core/Error.h>
 
 #include "Method.h"
 

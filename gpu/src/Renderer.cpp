@@ -6,7 +6,7 @@
 // - shade: albedo * (ambient + V * n.l).
 #include <gpu/Renderer.h>
 
-#include <geometry/Error.h>
+#include <geometry/core/Error.h>
 #include <gpu/State.h>
 
 #include "DebugViews.h"

@@ -8,7 +8,7 @@
 //   stderr). shaders/lib/Material.glsl reads what bindMaterial sets.
 #pragma once
 
-#include <geometry/Scene.h>
+#include <geometry/scene/Scene.h>
 #include <gpu/Objects.h>
 
 #include <glm/glm.hpp>

@@ -1,7 +1,7 @@
 // penumbra-render's command-line contract (DESIGN.md §3): bad input exits with code 2, prints a
 // clear error naming the key or file, and writes nothing; a good run writes the four outputs.
-#include <geometry/GltfLoader.h>
-#include <geometry/ImageIO.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/ImageIO.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

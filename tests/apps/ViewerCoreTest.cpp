@@ -3,7 +3,7 @@
 // that go where the keys say.
 #include "ViewerCore.h"
 
-#include <geometry/Scene.h>
+#include <geometry/scene/Scene.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // its first glTF camera, renders frames with every registered method and writes a screenshot
 // that shows lit and shadowed surfaces; without a display it exits 2 with a clear message.
 // Xvfb is a dependency like any other: with CI set, a missing Xvfb fails these tests.
-#include <geometry/ImageIO.h>
+#include <geometry/scene/ImageIO.h>
 
 #include <gpu/Methods.h>
 

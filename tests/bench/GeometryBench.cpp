@@ -34,15 +34,15 @@
 #include "geometry/TestMeshes.h"
 #include "geometry/WedgeCases.h"
 
-#include <geometry/GltfLoader.h>
-#include <geometry/LightCheck.h>
-#include <geometry/Primitives.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Scene.h>
-#include <geometry/ShadowVolume.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
-#include <geometry/Wedge.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/LightCheck.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/shadow/ShadowVolume.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
+#include <geometry/shadow/Wedge.h>
 
 #include <benchmark/benchmark.h>
 

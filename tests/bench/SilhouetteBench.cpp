@@ -26,10 +26,11 @@
 //   benchmark thread is pinned to one CPU and runs with Threads(1).
 // - Meshes and their topology are built outside the timed loop and cached; only the most recent
 //   mesh is kept, as the 1M-triangle topologies take a few hundred MB each.
-#include <geometry/Primitives.h>
-#include <geometry/Scene.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
 
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // Alpha-masked materials (geometry/AlphaMask.h) and the ray tracer's alpha filter.
-#include <geometry/AlphaMask.h>
-#include <geometry/RayTracer.h>
+#include <geometry/scene/AlphaMask.h>
+#include <geometry/reference/RayTracer.h>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include <geometry/Analytic.h>
+#include <geometry/reference/Analytic.h>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The `auto` method's per-object rule (geometry/AutoChoice.h), one case per clause.
-#include <geometry/AutoChoice.h>
+#include <geometry/shadow/AutoChoice.h>
 
 #include <gtest/gtest.h>
 

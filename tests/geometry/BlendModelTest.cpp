@@ -2,12 +2,12 @@
 // edgeCoverage, dense sampling and closed forms; the fragment-derived state against the exact
 // projected polygons; the blend on stacked plates parallel to the light (exact for two) and on
 // rotated, tilted and curved occluders against additive and multiply; packing and its bounds.
-#include <geometry/Analytic.h>
-#include <geometry/BlendModel.h>
-#include <geometry/Primitives.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
-#include <geometry/Wedge.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/models/BlendModel.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
+#include <geometry/shadow/Wedge.h>
 
 #include "TestRandom.h"
 

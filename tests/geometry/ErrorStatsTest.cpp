@@ -1,5 +1,5 @@
-#include <geometry/ErrorImage.h>
-#include <geometry/ErrorStats.h>
+#include <geometry/reference/ErrorImage.h>
+#include <geometry/reference/ErrorStats.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-#include <geometry/Error.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/Scene.h>
-#include <geometry/ImageIO.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/scene/ImageIO.h>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-#include <geometry/Error.h>
-#include <geometry/ImageIO.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/ImageIO.h>
 
 #include <gtest/gtest.h>
 

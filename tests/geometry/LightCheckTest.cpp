@@ -1,7 +1,7 @@
-#include <geometry/Error.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/LightCheck.h>
-#include <geometry/Primitives.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/LightCheck.h>
+#include <geometry/scene/Primitives.h>
 
 #include <gtest/gtest.h>
 

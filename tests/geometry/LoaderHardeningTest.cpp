@@ -2,9 +2,9 @@
 // fed to the fuzzers of fuzz/ (README § Hardening, Fuzzing): every one must end in an
 // InputError with a message that says what is wrong, quickly, without touching memory it
 // should not (the fuzz build runs the same inputs under ASan/UBSan).
-#include <geometry/Error.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/Scene.h>
 
 #include <gtest/gtest.h>
 

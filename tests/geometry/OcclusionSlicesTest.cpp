@@ -6,10 +6,11 @@
 // - the fit keeps every receiver in the frustum (or caps the frustum's growth), and the depth
 //   range holds exactly the casters inside it; the slicing projection lands where textureCoord
 //   says.
-#include <geometry/Analytic.h>
-#include <geometry/OcclusionSlices.h>
-#include <geometry/Primitives.h>
-#include <geometry/Scene.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/shadow/OcclusionSlices.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 
 #include "../TestRandom.h"
 

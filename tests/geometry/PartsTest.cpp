@@ -3,9 +3,9 @@
 // (geometry/BlendModel.h: projectEdge, partCoverage, partEdgeBounds, cornerWinding, R = 4) on
 // random lights, edges and points, and against the float edgeCoverage (Σ over the quadrants / 4).
 // Max errors are printed.
-#include <geometry/BlendModel.h>
-#include <geometry/Coverage.h>
-#include <geometry/Parts.h>
+#include <geometry/models/BlendModel.h>
+#include <geometry/shadow/Coverage.h>
+#include <geometry/shadow/Parts.h>
 
 #include <gtest/gtest.h>
 

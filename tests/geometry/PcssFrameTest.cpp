@@ -5,9 +5,10 @@
 // - receivers beyond the light's plane get the second side, receivers reaching the light's
 //   plane clamp the frustum at maxTan (and say so);
 // - the light's half extents along its axes are |u| and |v|.
-#include <geometry/PcssFrame.h>
-#include <geometry/Primitives.h>
-#include <geometry/Scene.h>
+#include <geometry/shadow/PcssFrame.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-#include <geometry/Error.h>
-#include <geometry/Primitives.h>
-#include <geometry/Topology.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/shadow/Topology.h>
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // cases): horizontal quads over a floor under a square light, and grids of floor points.
 #pragma once
 
-#include <geometry/Analytic.h>
-#include <geometry/Scene.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/scene/Scene.h>
 
 #include <glm/glm.hpp>
 

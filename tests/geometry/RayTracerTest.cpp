@@ -1,5 +1,5 @@
-#include <geometry/Analytic.h>
-#include <geometry/RayTracer.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/reference/RayTracer.h>
 
 #include "RayTracerScenes.h"
 

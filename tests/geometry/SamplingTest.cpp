@@ -1,4 +1,4 @@
-#include <geometry/Sampling.h>
+#include <geometry/core/Sampling.h>
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-#include <geometry/Error.h>
-#include <geometry/Framing.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/Limits.h>
-#include <geometry/Primitives.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Scene.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/core/Limits.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
 
 #include <gtest/gtest.h>
 

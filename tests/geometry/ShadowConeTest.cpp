@@ -1,4 +1,4 @@
-#include <geometry/ShadowCone.h>
+#include <geometry/shadow/ShadowCone.h>
 
 #include <gtest/gtest.h>
 

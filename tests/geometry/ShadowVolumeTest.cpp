@@ -4,8 +4,8 @@
 // closed, open and non-manifold meshes alike.
 #include "TestMeshes.h"
 
-#include <geometry/GltfLoader.h>
-#include <geometry/ShadowVolume.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/shadow/ShadowVolume.h>
 
 #include <gtest/gtest.h>
 

@@ -3,10 +3,10 @@
 // (edge fan) and a real OpenArena level.
 #include "TestMeshes.h"
 
-#include <geometry/GltfLoader.h>
-#include <geometry/Primitives.h>
-#include <geometry/ShadowVolume.h>
-#include <geometry/Silhouette.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/shadow/ShadowVolume.h>
+#include <geometry/shadow/Silhouette.h>
 
 #include <gtest/gtest.h>
 

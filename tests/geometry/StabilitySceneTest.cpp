@@ -4,11 +4,12 @@
 // - the camera scenes keep their camera where their names say, over the whole sweep;
 // - the generated glTF casters (scripts/make-stability-meshes.py) have the topology the generator
 //   promises, so a regenerated file that lost its defect fails here.
-#include <geometry/Error.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Scene.h>
-#include <geometry/Topology.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/shadow/Topology.h>
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 // from it in vertex or triangle order, or in how coordinates are computed, which the tests rely on.
 #pragma once
 
-#include <geometry/Primitives.h>
-#include <geometry/Types.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/core/Types.h>
 
 #include <cmath>
 #include <cstddef>

@@ -2,10 +2,10 @@
 // (geometry/Topology.h), on hand-built meshes and on a real game level.
 #include "TestMeshes.h"
 
-#include <geometry/Error.h>
-#include <geometry/GltfLoader.h>
-#include <geometry/Primitives.h>
-#include <geometry/Topology.h>
+#include <geometry/core/Error.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/shadow/Topology.h>
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 
 #include "TestRandom.h"
 
-#include <geometry/Types.h>
+#include <geometry/core/Types.h>
 
 #include <glm/glm.hpp>
 

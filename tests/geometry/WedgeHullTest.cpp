@@ -8,9 +8,9 @@
 // - the hull is not absurdly loose against the exact wedge (fractions printed and bounded);
 // - the float coverage agrees with the double geometry::edgeCoverage (max error printed), also
 //   where the projected edge grazes a side of the light.
-#include <geometry/Coverage.h>
-#include <geometry/Wedge.h>
-#include <geometry/WedgeHull.h>
+#include <geometry/shadow/Coverage.h>
+#include <geometry/shadow/Wedge.h>
+#include <geometry/shadow/WedgeHull.h>
 
 #include "TestRandom.h"
 

@@ -1,8 +1,8 @@
 // Penumbra wedges (geometry/Wedge.h): containment of every shadow ray through the edge, tightness
 // against an independent brute force, the closed boundary mesh, the flags, and the per-edge
 // coverage formula V = V_hard - Σ edgeCoverage against closed forms and dense light sampling.
-#include <geometry/Analytic.h>
-#include <geometry/Wedge.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/shadow/Wedge.h>
 
 #include "WedgeCases.h"
 

@@ -19,12 +19,13 @@
 //   equal as floats (0 or 1 exactly).
 // - Not vacuous: every scene must have many points outside all wedges and many inside some, and
 //   the points inside must include real penumbra (0 < V < 1).
-#include <geometry/Primitives.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Scene.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
-#include <geometry/Wedge.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
+#include <geometry/shadow/Wedge.h>
 
 #include <gtest/gtest.h>
 

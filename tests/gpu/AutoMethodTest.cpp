@@ -2,10 +2,11 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Primitives.h>
+#include <geometry/scene/Primitives.h>
 
-#include <geometry/Error.h>
-#include <geometry/ErrorStats.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/reference/Framing.h>
 
 #include <gtest/gtest.h>
 

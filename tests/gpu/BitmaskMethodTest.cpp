@@ -5,11 +5,13 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/ErrorStats.h>
-#include <geometry/LightMask.h>
-#include <geometry/Scene.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/models/MaskModel.h>
+#include <geometry/shadow/LightMask.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
 #include <gpu/Methods.h>
 
 #include <algorithm>

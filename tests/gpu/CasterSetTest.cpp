@@ -13,7 +13,8 @@
 #include "../../gpu/src/Targets.h"
 #include "../../gpu/src/passes/StencilVolumePass.h"
 
-#include <geometry/Scene.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 #include <gpu/ShaderLoader.h>
 #include <gpu/State.h>
 

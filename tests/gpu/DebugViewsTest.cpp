@@ -5,8 +5,9 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Error.h>
-#include <geometry/ErrorImage.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/ErrorImage.h>
+#include <geometry/reference/Framing.h>
 
 #include <gtest/gtest.h>
 

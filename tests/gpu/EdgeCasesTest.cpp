@@ -8,8 +8,8 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Primitives.h>
-#include <geometry/Scene.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/scene/Scene.h>
 #include <gpu/Methods.h>
 
 #include <algorithm>

@@ -3,9 +3,10 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Analytic.h>
-#include <geometry/Primitives.h>
-#include <geometry/RayTracer.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/scene/Primitives.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/reference/Framing.h>
 
 #include <cmath>
 #include <optional>

@@ -5,7 +5,8 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Error.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/Framing.h>
 
 #include <epoxy/gl.h>
 

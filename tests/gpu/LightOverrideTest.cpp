@@ -4,7 +4,8 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Error.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/Framing.h>
 
 #include <cmath>
 #include <string>

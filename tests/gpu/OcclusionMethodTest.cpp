@@ -10,12 +10,13 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Analytic.h>
-#include <geometry/Error.h>
-#include <geometry/ErrorStats.h>
-#include <geometry/OcclusionSlices.h>
-#include <geometry/Primitives.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/shadow/OcclusionSlices.h>
+#include <geometry/scene/Primitives.h>
 #include <gpu/Methods.h>
+#include <geometry/reference/Framing.h>
 
 #include <algorithm>
 #include <cmath>

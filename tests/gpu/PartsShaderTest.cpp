@@ -3,8 +3,8 @@
 // compiled as C++ (geometry/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
 #include "GlTestEnv.h"
 
-#include <geometry/Coverage.h>
-#include <geometry/Parts.h>
+#include <geometry/shadow/Coverage.h>
+#include <geometry/shadow/Parts.h>
 #include <gpu/Objects.h>
 #include <gpu/ShaderLoader.h>
 

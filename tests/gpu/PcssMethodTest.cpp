@@ -11,10 +11,11 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Error.h>
-#include <geometry/ErrorStats.h>
-#include <geometry/Primitives.h>
+#include <geometry/core/Error.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/scene/Primitives.h>
 #include <gpu/Methods.h>
+#include <geometry/reference/Framing.h>
 
 #include <algorithm>
 #include <cmath>

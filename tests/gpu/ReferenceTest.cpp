@@ -3,8 +3,9 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Analytic.h>
-#include <geometry/ErrorStats.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/reference/Framing.h>
 
 #include <cctype>
 #include <cmath>

@@ -2,8 +2,9 @@
 // Renderer, compare visibility maps, and write actual/expected/diff images on failure.
 #pragma once
 
-#include <geometry/ImageIO.h>
-#include <geometry/Scene.h>
+#include <geometry/scene/ImageIO.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 #include <gpu/Renderer.h>
 
 #include <gtest/gtest.h>

@@ -10,9 +10,9 @@
 
 #include "GlTestEnv.h"
 
-#include <geometry/Coverage.h>
-#include <geometry/Wedge.h>
-#include <geometry/WedgeHull.h>
+#include <geometry/shadow/Coverage.h>
+#include <geometry/shadow/Wedge.h>
+#include <geometry/shadow/WedgeHull.h>
 #include <gpu/Objects.h>
 #include <gpu/ShaderLoader.h>
 #include <gpu/State.h>

@@ -8,14 +8,14 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include <geometry/Analytic.h>
-#include <geometry/BlendModel.h>
-#include <geometry/ErrorStats.h>
-#include <geometry/Framing.h>
-#include <geometry/RayTracer.h>
-#include <geometry/Silhouette.h>
-#include <geometry/Topology.h>
-#include <geometry/Wedge.h>
+#include <geometry/reference/Analytic.h>
+#include <geometry/models/BlendModel.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/reference/Framing.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/shadow/Silhouette.h>
+#include <geometry/shadow/Topology.h>
+#include <geometry/shadow/Wedge.h>
 
 #include <algorithm>
 #include <array>

@@ -5,11 +5,11 @@
 // name.
 #pragma once
 
-#include <geometry/ErrorImage.h>
-#include <geometry/ErrorStats.h>
-#include <geometry/ImageIO.h>
-#include <geometry/Scene.h>
-#include <geometry/Topology.h>
+#include <geometry/reference/ErrorImage.h>
+#include <geometry/reference/ErrorStats.h>
+#include <geometry/scene/ImageIO.h>
+#include <geometry/scene/Scene.h>
+#include <geometry/shadow/Topology.h>
 #include <gpu/Debug.h>
 #include <gpu/Methods.h>
 #include <gpu/Objects.h>

@@ -8,9 +8,9 @@
 #include "../passes/FullscreenPass.h"
 #include "../ShaderBindings.h"
 
-#include <geometry/AlphaMask.h>
-#include <geometry/AutoChoice.h>
-#include <geometry/Error.h>
+#include <geometry/scene/AlphaMask.h>
+#include <geometry/shadow/AutoChoice.h>
+#include <geometry/core/Error.h>
 
 #include <optional>
 

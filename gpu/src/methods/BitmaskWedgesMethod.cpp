@@ -26,7 +26,7 @@
 #include "GroupBatches.h"
 #include "MethodUtil.h"
 
-#include <geometry/LightMask.h>
+#include <geometry/shadow/LightMask.h>
 
 #include <array>
 #include <string>

@@ -9,7 +9,7 @@
 #include "../ShaderBindings.h"
 #include "../Targets.h"
 
-#include <geometry/ShadowCone.h>
+#include <geometry/shadow/ShadowCone.h>
 
 #include <algorithm>
 #include <cmath>

@@ -26,7 +26,7 @@
 #include <gpu/ShaderLoader.h>
 #include <gpu/State.h>
 
-#include <geometry/Types.h>
+#include <geometry/core/Types.h>
 
 #include <glm/glm.hpp>
 

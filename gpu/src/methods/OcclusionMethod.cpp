@@ -18,7 +18,7 @@
 #include "../passes/OcclusionPrefilter.h"
 #include "../passes/OcclusionSlicePass.h"
 
-#include <geometry/OcclusionSlices.h>
+#include <geometry/shadow/OcclusionSlices.h>
 
 #include <cmath>
 #include <optional>

@@ -15,8 +15,8 @@
 #include "../passes/FullscreenPass.h"
 #include "../passes/PcssShadowPass.h"
 
-#include <geometry/PcssFrame.h>
-#include <geometry/Sampling.h>
+#include <geometry/shadow/PcssFrame.h>
+#include <geometry/core/Sampling.h>
 
 #include <string>
 #include <vector>

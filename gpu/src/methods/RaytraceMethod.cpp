@@ -2,7 +2,7 @@
 // rays per pixel to the light; geometry/RayTracer.h), written into V.
 #include "../Method.h"
 
-#include <geometry/RayTracer.h>
+#include <geometry/reference/RayTracer.h>
 
 #include <limits>
 

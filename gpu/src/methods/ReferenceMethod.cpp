@@ -3,7 +3,7 @@
 #include "../Method.h"
 #include "ReferenceSampler.h"
 
-#include <geometry/Sampling.h>
+#include <geometry/core/Sampling.h>
 
 #include <algorithm>
 

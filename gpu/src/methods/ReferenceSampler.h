@@ -9,7 +9,7 @@
 #include "../passes/FullscreenPass.h"
 #include "../passes/StencilVolumePass.h"
 
-#include <geometry/ShadowVolume.h>
+#include <geometry/shadow/ShadowVolume.h>
 
 #include <glm/glm.hpp>
 

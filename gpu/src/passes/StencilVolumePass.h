@@ -7,7 +7,7 @@
 //   first (the reference's per-sample volumes).
 #pragma once
 
-#include <geometry/ShadowVolume.h>
+#include <geometry/shadow/ShadowVolume.h>
 #include <gpu/ShaderLoader.h>
 #include <gpu/State.h>
 

@@ -3,7 +3,7 @@
 #include "../ShaderBindings.h"
 #include "VolumeStates.h"
 
-#include <geometry/WedgeHull.h>
+#include <geometry/shadow/WedgeHull.h>
 
 #include <algorithm>
 #include <cstdint>

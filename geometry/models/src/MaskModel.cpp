@@ -1,0 +1,158 @@
+// The double model of a silhouette group's light-sample mask (geometry/models/MaskModel.h).
+#include <geometry/models/MaskModel.h>
+
+#include <geometry/core/Error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace geometry {
+
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+// The light's frame in double: unit normal and the dual basis of (u, v) in its plane.
+struct MaskLight {
+    dvec3 c, n, uStar, vStar;
+};
+
+MaskLight maskLight(const RectLight& light) {
+    MaskLight l;
+    const dvec3 u(light.u), v(light.v);
+    l.c = dvec3(light.center);
+    l.n = glm::normalize(glm::cross(u, v));
+    const dvec3 a = glm::cross(v, l.n);
+    const dvec3 b = glm::cross(l.n, u);
+    l.uStar = a / glm::dot(u, a);
+    l.vStar = b / glm::dot(v, b);
+    return l;
+}
+
+// Signed distance of y from the half-plane dot(h, (y, 1)) >= 0, in light coordinates.
+double halfPlaneDistance(const dvec3& h, const dvec2& y) {
+    const double len = std::hypot(h.x, h.y);
+    return len > 0.0 ? glm::dot(h, dvec3(y, 1.0)) / len : glm::dot(h, dvec3(y, 1.0));
+}
+
+// Whether the light centre (the origin) lies within `tolerance` of the projected edge q0 q1
+// (homogeneous; a point with w = 0 is at infinity in the direction (x, y)).
+bool centreNear(const dvec3& q0, const dvec3& q1, double tolerance) {
+    if (q0.z <= 0.0 && q1.z <= 0.0) return false; // the whole edge at infinity
+    if (q0.z <= 0.0 || q1.z <= 0.0) {             // a ray from the finite end
+        const dvec3& f = q0.z > 0.0 ? q0 : q1;
+        const dvec3& d = q0.z > 0.0 ? q1 : q0;
+        const dvec2 a = dvec2(f) / f.z, dir = glm::normalize(dvec2(d));
+        const double t = std::max(0.0, -glm::dot(a, dir));
+        return glm::length(a + t * dir) < tolerance;
+    }
+    const dvec2 a = dvec2(q0) / q0.z, b = dvec2(q1) / q1.z;
+    const dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(-glm::dot(a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(a + t * ab) < tolerance;
+}
+
+} // namespace
+
+GroupMaskModel groupMaskModel(const dvec3& p, std::span<const MaskEdge> edges, int centreCount,
+                              const RectLight& rect, std::span<const glm::vec2> samples,
+                              double tolerance, double centreTolerance) {
+    const std::size_t n = samples.size();
+    const std::size_t words = (n + 31) / 32;
+    GroupMaskModel model;
+    model.count.assign(n, centreCount);
+    model.ambiguous.assign(words, 0u);
+    const MaskLight light = maskLight(rect);
+    const dvec3 pc = p - light.c;
+    const double hp = glm::dot(light.n, pc);
+    if (hp != 0.0) {
+        for (const MaskEdge& e : edges) {
+            // Heights over p's level relative to the light's (z: 1 at p's level, 0 on the light's
+            // plane) and depths w = 1 - z; only the part with both in [0, 1] can block.
+            const double z0 = glm::dot(light.n, e.first - light.c) / hp;
+            const double z1 = glm::dot(light.n, e.second - light.c) / hp;
+            double lo = 0.0, hi = 1.0;
+            auto keep = [&](double f0, double f1) { // the l where f0 + l (f1 - f0) >= 0
+                if (f0 >= 0.0 && f1 >= 0.0) return lo <= hi;
+                if (f0 < 0.0 && f1 < 0.0) return false;
+                const double l = f0 / (f0 - f1);
+                if (f0 < 0.0)
+                    lo = std::max(lo, l);
+                else
+                    hi = std::min(hi, l);
+                return lo <= hi;
+            };
+            if (!keep(z0, z1) || !keep(1.0 - z0, 1.0 - z1)) continue;
+            // The projection from p onto the light's plane, homogeneous: w (y - c) =
+            // (x - c) - z (p - c) with w = 1 - z.
+            auto project = [&](double l) {
+                const dvec3 x = e.first + l * (e.second - e.first);
+                const double z = z0 + l * (z1 - z0);
+                const dvec3 y = (x - light.c) - z * pc;
+                return dvec3(glm::dot(light.uStar, y), glm::dot(light.vStar, y), 1.0 - z);
+            };
+            const dvec3 q0 = project(lo), q1 = project(hi);
+            const double cr = q0.x * q1.y - q0.y * q1.x;
+            if (cr == 0.0) continue;
+            const double sg = cr > 0.0 ? 1.0 : -1.0;
+            const dvec3 h0(-sg * q0.y, sg * q0.x, 0.0);
+            const dvec3 h1(sg * q1.y, -sg * q1.x, 0.0);
+            const dvec3 h2 = -sg * glm::cross(q0, q1);
+            const int sign = hp > 0.0 ? int(sg) : -int(sg); // edgeCoverage's sign
+            if (centreNear(q0, q1, centreTolerance)) model.centreAmbiguous = true;
+            for (std::size_t i = 0; i < n; ++i) {
+                const dvec2 y(samples[i]);
+                const double a = halfPlaneDistance(h0, y);
+                const double b = halfPlaneDistance(h1, y);
+                const double c = halfPlaneDistance(h2, y);
+                // On a ray: the edge on its counter-clockwise side (shaders/lib/LightMask.glsl).
+                const bool in0 = sg > 0.0 ? a >= 0.0 : a > 0.0;
+                const bool in1 = sg > 0.0 ? b > 0.0 : b >= 0.0;
+                if (in0 && in1 && c >= 0.0) model.count[i] += sign;
+                if (a >= -tolerance && b >= -tolerance && c >= -tolerance &&
+                    std::min({std::abs(a), std::abs(b), std::abs(c)}) < tolerance)
+                    model.ambiguous[i / 32] |= 1u << (i % 32);
+            }
+        }
+    }
+    // Parity: the centre's state toggled by each crossing, i.e. count parity relative to the
+    // centre's, with the centre hidden when its count is non-zero.
+    model.parity.assign(words, 0u);
+    const bool centreHidden = centreCount != 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool toggled = ((model.count[i] - centreCount) & 1) != 0;
+        if (centreHidden != toggled) model.parity[i / 32] |= 1u << (i % 32);
+    }
+    return model;
+}
+
+int segmentCrossings(const dvec3& a, const dvec3& b,
+                     std::span<const std::array<dvec3, 3>> triangles) {
+    const dvec3 d = b - a;
+    int crossings = 0;
+    for (const auto& t : triangles) {
+        // Moller-Trumbore style: a + s d = t0 + beta (t1 - t0) + gamma (t2 - t0).
+        const dvec3 e1 = t[1] - t[0], e2 = t[2] - t[0];
+        const dvec3 pv = glm::cross(d, e2);
+        const double det = glm::dot(e1, pv);
+        if (det == 0.0) continue;
+        const dvec3 tv = a - t[0];
+        const double beta = glm::dot(tv, pv) / det;
+        if (beta < 0.0 || beta > 1.0) continue;
+        const dvec3 qv = glm::cross(tv, e1);
+        const double gamma = glm::dot(d, qv) / det;
+        if (gamma < 0.0 || beta + gamma > 1.0) continue;
+        const double s = glm::dot(e2, qv) / det;
+        // Crossings within 1e-4 of either end are the end points' own surfaces: a receiver on
+        // its occluder's face, whose G-buffer point may lie a float step inside it, the segment
+        // leaving at a grazing angle near the terminator (the volumes' offset caps leave its
+        // own face out too).
+        if (s > 1e-4 && s < 1.0 - 1e-4) ++crossings;
+    }
+    return crossings;
+}
+
+} // namespace geometry

@@ -1,0 +1,36 @@
+// Loading scene files, and the automatic camera and light for a model given without a scene
+// file (a bare .gltf/.glb is framed by casting rays, hence here with the ray tracer rather than
+// in geometry/scene).
+#pragma once
+
+#include <geometry/scene/Scene.h>
+
+#include <optional>
+#include <span>
+
+namespace geometry {
+
+// Load a scene JSON (.json) or a glTF/GLB file (.gltf/.glb). Throws InputError.
+Scene loadScene(const std::filesystem::path& path);
+
+// Makes the automatic framing the scene's camera (cameraSource "framed"): the view loadScene
+// gives a .gltf/.glb without cameras (frameInterior's, else defaultCamera). The light is kept.
+void selectFramedCamera(Scene& scene);
+
+// For an enclosed model (a game level): finds the most open point of its interior by casting
+// rays from a grid of candidate points, puts the camera there looking along its longest free
+// horizontal view, and hangs the light under the ceiling above the viewed spot. Returns false,
+// leaving the scene unchanged, when no candidate point is enclosed (an object seen from outside:
+// then defaultCamera/defaultLight frame its bounds from outside).
+bool frameInterior(Scene& scene);
+
+class RayTracer;
+
+// A small area light (a lamp, facing down) hung under the ceiling above the first of `bases` with
+// a ceiling over it: 0.85, 0.7 or 0.5 of the way up, its half-width 0.1 × the ceiling height
+// (clamped to 0.5–3% of the scene diagonal) and halved until it touches nothing. Nothing when
+// every base sees open sky or no size fits. `tracer` is built on `scene`.
+std::optional<RectLight> hangLight(const Scene& scene, const RayTracer& tracer,
+                                   std::span<const glm::vec3> bases);
+
+} // namespace geometry

@@ -1,0 +1,36 @@
+// Alpha-masked (alpha-tested) materials: glTF `alphaMode: MASK`, and `BLEND` treated as MASK at
+// a cutoff of 0.5 (DESIGN.md §3: foliage). A surface point occludes when its alpha — the
+// material's base-colour factor alpha times its base-colour texture's alpha at the point's UV —
+// is at least the cutoff. This is the rule every path agrees on: `raytrace` (an Embree filter),
+// the G-buffer and the occlusion textures' slicing pass (the GPU samples the same texture,
+// bilinear with repeat, as sampleAlpha does).
+#pragma once
+
+#include <geometry/core/Types.h>
+
+#include <cstdint>
+
+namespace geometry {
+
+// MASK or BLEND: some of the material may be cut away.
+bool isAlphaMasked(const Material& material);
+// MASK: its alphaCutoff; BLEND: 0.5; OPAQUE: 0 (everything occludes).
+float effectiveAlphaCutoff(const Material& material);
+// Does any triangle of the mesh use an alpha-masked material?
+bool hasAlphaMask(const MeshData& mesh);
+
+// Texture alpha at uv: bilinear between texel centres of the base level, wrapped as the
+// image's sampler says (glTF default REPEAT), rows top to bottom as stored (glTF: v = 0 is the
+// image's top row). 1 for an empty image. (The GPU samples with mipmaps: at a distance its
+// alpha is the average of a texel footprint, a difference of filtering, not of rule.)
+float sampleAlpha(const TextureImage& image, glm::vec2 uv);
+
+// Alpha of triangle `triangle` of `mesh` at barycentric (u, v) (the point (1-u-v) p0 + u p1 +
+// v p2): base-colour factor alpha × texture alpha at the interpolated texcoord (through the
+// material's KHR_texture_transform); 1 for a triangle
+// without a material.
+float surfaceAlpha(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
+// Whether that point occludes (alpha >= the material's effective cutoff).
+bool surfaceOccludes(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
+
+} // namespace geometry
