@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# occlusion benchmark (README "occlusion"): per scene at 512x512, the GPU reference (N = 256),
-# then RUNS (default 3) alternating runs of hard and occlusion (--frames 5), then one run per
-# parameter variant; the oak (data/tree-oak.json) has no reference that honours alpha masks yet:
-# its hard frame is that of a copy where the oak casts nothing. Prints per scene the frame ratio
-# occlusion / hard per run and their median, the GPU pass times and the errors.
+# occlusion benchmark (docs/methods/occlusion.md): per scene at 512x512, the GPU reference
+# (N = 256), then RUNS (default 3) alternating runs of hard and occlusion (--frames 5), then one
+# run per parameter variant; the oak (data/tree-oak.json) has no reference that honours alpha
+# masks yet: its hard frame is that of a copy where the oak casts nothing. Prints per scene the
+# frame ratio occlusion / hard per run and their median, the GPU pass times and the errors.
 # Usage: bash scripts/bench-occlusion.sh   (build penumbra-render first; OUT defaults to
 # out/bench-occlusion)
 set -euo pipefail

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# pcss benchmark (README "pcss"): per scene at 256x256, the GPU reference (N = 1024), then RUNS
-# (default 3) alternating runs of hard and pcss (--frames 5), then one run per parameter variant
-# and one of wedges-blend and occlusion for comparison. Prints per scene the frame ratio
+# pcss benchmark (docs/methods/pcss.md): per scene at 256x256, the GPU reference (N = 1024), then
+# RUNS (default 3) alternating runs of hard and pcss (--frames 5), then one run per parameter
+# variant and one of wedges-blend and occlusion for comparison. Prints per scene the frame ratio
 # pcss / hard per run and their median, the GPU pass times and the errors.
 # Usage: bash scripts/bench-pcss.sh   (build penumbra-render first; OUT defaults to out/bench-pcss)
 set -euo pipefail

@@ -2,7 +2,8 @@
 # Issue 3 benchmark: the per-frame CPU silhouette step (classification, groups, loops, side
 # quads, wedges, bounds) on 10k-1M-triangle meshes and the OpenArena levels, one thread: the full
 # step and the lean one (SilhouetteSettings::lean()) side by side.
-# Writes out/silhouette_bench.{json,txt,md}; the README table comes from the .md.
+# Writes out/silhouette_bench.{json,txt,md}; the table of docs/benchmarks.md
+# (§ Silhouettes) comes from the .md.
 #
 # SILHOUETTE_BASELINE=/path/to/silhouette_bench (another build, e.g. of an older revision:
 # `git worktree add /tmp/base REV` and build its silhouette_bench target) also runs that build's

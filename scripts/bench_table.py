@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Markdown tables of a penumbra-bench results.csv, for the README.
+"""Markdown tables of a penumbra-bench results.csv, for docs/benchmarks.md and docs/methods/.
 
 Usage: bench_table.py RESULTS.csv [--metric err|flicker|speed|all]
 

@@ -3,7 +3,7 @@
 # build-fuzz) and runs their CTests: fuzz.gltf and fuzz.scene_json, each for
 # PENUMBRA_FUZZ_SECONDS seconds (default 20) from the seeds of scripts/make-fuzz-corpus.py.
 # Fails on any crash, sanitizer report, leak, timeout or out-of-memory; the reproducer is left in
-# build-fuzz/fuzz/run-<name>/artifacts/. README § Hardening, Fuzzing.
+# build-fuzz/fuzz/run-<name>/artifacts/. docs/hardening.md, Fuzzing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 launcher=()

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the seed corpus of the loader fuzzers (fuzz/, README § Hardening, Fuzzing).
+"""Writes the seed corpus of the loader fuzzers (fuzz/, docs/hardening.md, Fuzzing).
 
 make-fuzz-corpus.py --kind gltf|scene_json|all --out DIR
 

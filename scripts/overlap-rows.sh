@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# README figure: per overlap scene, one row hard / wedges-additive / wedges-multiply /
-# wedges-blend / reference (visibility, 128x128, reference N = 256), with each method's mean
-# error against the reference. Writes docs/overlap-rows.png.
+# The figure of docs/methods/wedges-blend.md: per overlap scene, one row hard / wedges-additive /
+# wedges-multiply / wedges-blend / reference (visibility, 128x128, reference N = 256), with each
+# method's mean error against the reference. Writes docs/overlap-rows.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh >/dev/null

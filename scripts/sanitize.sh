@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer
-# (CMakePresets.json "asan", README § Hardening › Sanitizers): configure, build into ./build-asan,
+# (CMakePresets.json "asan", docs/hardening.md › Sanitizers): configure, build into ./build-asan,
 # run every test, GL and viewer tests included. Any sanitizer report fails the test it comes from.
 set -euo pipefail
 cd "$(dirname "$0")/.."

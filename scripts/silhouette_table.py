@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Turns silhouette_bench's JSON output into the README's markdown table, with least-squares
-fits of the full and the lean per-frame step's time against triangle count and silhouette length.
+"""Turns silhouette_bench's JSON output into the markdown table of docs/benchmarks.md, with
+least-squares fits of the full and the lean per-frame step's time against triangle count and
+silhouette length.
 
     silhouette_table.py RUN.json [--baseline BASE.json]
 

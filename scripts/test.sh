@@ -8,5 +8,5 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 cd build
 ctest --output-on-failure -j"$(nproc)" --timeout 300
-bash ../scripts/fuzz.sh # libFuzzer on the loaders, bounded (README § Hardening, Fuzzing)
-bash ../scripts/sanitize.sh  # the same suite under ASan + UBSan + LSan (README § Sanitizers)
+bash ../scripts/fuzz.sh # libFuzzer on the loaders, bounded (docs/hardening.md, Fuzzing)
+bash ../scripts/sanitize.sh  # the same suite under ASan + UBSan + LSan (docs/hardening.md)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Frames per second of penumbra-viewer flying through a level (README § penumbra-viewer): each
+# Frames per second of penumbra-viewer flying through a level (docs/viewer.md): each
 # method in turn flies the same path through the level's spawn points (--fly-through) at a modest
 # size, with the light animated, in a real window (Xvfb when there is no display). Prints a
 # markdown table: median frame (wall clock of the whole loop: render, UI, swap), fps, GPU frame

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's viewer screenshots, made by penumbra-viewer's automation mode (--frames N
+# The viewer screenshots of docs/viewer.md, made by penumbra-viewer's automation mode (--frames N
 # --screenshot FILE) in a real window (Xvfb when there is no display): docs/viewer/*.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
