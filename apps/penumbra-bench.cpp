@@ -18,8 +18,8 @@
 #include <geometry/scene/ImageIO.h>
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
-#include <gpu/Context.h>
-#include <gpu/Debug.h>
+#include <gpu/gl/Context.h>
+#include <gpu/gl/Debug.h>
 #include <gpu/Renderer.h>
 
 #include <CLI/CLI.hpp>

@@ -16,7 +16,7 @@
 #include <geometry/scene/ImageIO.h>
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
-#include <gpu/Context.h>
+#include <gpu/gl/Context.h>
 #include <gpu/Renderer.h>
 
 #include <CLI/CLI.hpp>

@@ -15,10 +15,10 @@
 #include <geometry/reference/Framing.h>
 #include <geometry/reference/RayTracer.h>
 #include <geometry/scene/Scene.h>
-#include <gpu/Context.h>
+#include <gpu/gl/Context.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/ShaderLoader.h>
 
 #include <ViewerCore.h>
 

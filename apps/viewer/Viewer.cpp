@@ -8,9 +8,9 @@
 #include <geometry/scene/ImageIO.h>
 #include <geometry/reference/RayTracer.h>
 #include <geometry/scene/Scene.h>
-#include <gpu/Context.h>
+#include <gpu/gl/Context.h>
 #include <gpu/Renderer.h>
-#include <gpu/State.h>
+#include <gpu/gl/State.h>
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>

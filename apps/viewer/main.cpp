@@ -3,7 +3,7 @@
 #include "Viewer.h"
 
 #include <geometry/core/Error.h>
-#include <gpu/Context.h>
+#include <gpu/gl/Context.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>
 

@@ -67,7 +67,7 @@
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 
 #ifdef __cplusplus
-// C++ side: included through gpu/src/ShaderBindings.h, which includes glm first (the GLSL
+// C++ side: included through gpu/src/engine/ShaderBindings.h, which includes glm first (the GLSL
 // loader resolves every #include itself, so this file includes nothing).
 namespace gpu::shader {
 using mat4 = glm::mat4;
@@ -82,7 +82,7 @@ using uint = std::uint32_t;
 
 // Per-frame constants. Only vec4/mat4 members so std140 and C++ layouts agree trivially.
 PENUMBRA_UBO_BEGIN(FrameUniforms, BINDING_FRAME_UBO)
-    mat4 viewProj;    // reversed-Z, infinite far plane (gpu/src/Camera math in Renderer.cpp)
+    mat4 viewProj;    // reversed-Z, infinite far plane (camera math in gpu/src/engine/Renderer.cpp)
     vec4 eye;         // xyz camera position
     vec4 lightCenter; // xyz centre of the rectangular light
     vec4 lightU;      // xyz half-axis u

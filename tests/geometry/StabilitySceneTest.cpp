@@ -105,7 +105,7 @@ TEST(StabilityScenes, CameraInWedgeStaysInThePenumbra) {
     }
 }
 
-// The near plane (at the distance gpu/src/Renderer.cpp uses: 1e-4 of the scene diagonal, at least
+// The near plane (at the distance gpu/src/engine/Renderer.cpp uses: 1e-4 of the scene diagonal, at least
 // 1e-4) is cut by the light centre's shadow volume: its corners are not all on one side.
 TEST(StabilityScenes, NearPlaneCutsAShadowVolume) {
     const geometry::Scene scene = geometry::loadScene(kDir / "near-clip.json");

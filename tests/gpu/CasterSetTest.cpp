@@ -1,4 +1,4 @@
-// The casters' GPU data (gpu/src/CasterSet.h) and the vertex-pulled light-centre volumes:
+// The casters' GPU data (gpu/src/engine/CasterSet.h) and the vertex-pulled light-centre volumes:
 // - the std430 structs shared through shaders/lib/Bindings.h have the member offsets the linked
 //   GLSL program reports (GL_OFFSET), so C++ and GLSL cannot drift;
 // - every group's volume drawn from caps by reference and sides from directed edges is closed:
@@ -8,15 +8,15 @@
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
-#include "../../gpu/src/CasterSet.h"
-#include "../../gpu/src/ShaderBindings.h"
-#include "../../gpu/src/Targets.h"
-#include "../../gpu/src/passes/StencilVolumePass.h"
+#include "engine/CasterSet.h"
+#include "engine/ShaderBindings.h"
+#include "engine/Targets.h"
+#include "passes/StencilVolumePass.h"
 
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 

@@ -1,9 +1,9 @@
 // EGL context creation, GL version/profile, and a clear + read-back through an FBO.
 #include "GlTestEnv.h"
 
-#include <gpu/Context.h>
-#include <gpu/Debug.h>
-#include <gpu/Objects.h>
+#include <gpu/gl/Context.h>
+#include <gpu/gl/Debug.h>
+#include <gpu/gl/Objects.h>
 
 #include <cstdlib>
 #include <optional>

@@ -1,8 +1,8 @@
 // Error capture (glGetError + KHR_debug), debug groups and GPU pass timers.
 #include "GlTestEnv.h"
 
-#include <gpu/Debug.h>
-#include <gpu/Objects.h>
+#include <gpu/gl/Debug.h>
+#include <gpu/gl/Objects.h>
 
 #include <string>
 

@@ -6,8 +6,8 @@
 //   driver setup must not pass as "skipped"); it may skip only when no EGL display exists at all.
 #pragma once
 
-#include <gpu/Context.h>
-#include <gpu/Debug.h>
+#include <gpu/gl/Context.h>
+#include <gpu/gl/Debug.h>
 
 #include <gtest/gtest.h>
 

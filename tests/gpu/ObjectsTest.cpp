@@ -2,10 +2,10 @@
 // draw into an R32F target, and applyState.
 #include "GlTestEnv.h"
 
-#include <gpu/Debug.h>
-#include <gpu/Objects.h>
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/Debug.h>
+#include <gpu/gl/Objects.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
 #include <array>
 #include <cstdint>

@@ -5,8 +5,8 @@
 
 #include <geometry/shadow/Coverage.h>
 #include <geometry/shadow/Parts.h>
-#include <gpu/Objects.h>
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/Objects.h>
+#include <gpu/gl/ShaderLoader.h>
 
 #include <algorithm>
 #include <atomic>

@@ -2,7 +2,7 @@
 // errors mapped back to file:line on the real driver.
 #include "GlTestEnv.h"
 
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/ShaderLoader.h>
 
 #include <algorithm>
 #include <atomic>

@@ -13,9 +13,9 @@
 #include <geometry/shadow/Coverage.h>
 #include <geometry/shadow/Wedge.h>
 #include <geometry/shadow/WedgeHull.h>
-#include <gpu/Objects.h>
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/Objects.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 

@@ -27,7 +27,7 @@ namespace {
 using testutil::Rendered;
 
 // Σ over the light centre's directed silhouette edges of edgeCoverage at every surface pixel
-// (the settings of the GPU path: gpu/src/CasterSet.cpp).
+// (the settings of the GPU path: gpu/src/engine/CasterSet.cpp).
 std::vector<double> cpuCoverageSum(const geometry::Scene& scene, const Rendered& r) {
     const geometry::SilhouetteSettings settings = geometry::SilhouetteSettings::lean();
     std::vector<std::pair<glm::vec3, glm::vec3>> edges;

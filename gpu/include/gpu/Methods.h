@@ -16,8 +16,8 @@
 
 namespace gpu {
 
-class VisibilityMethod; // gpu/src/Method.h
-struct MethodResources; // gpu/src/Method.h
+class VisibilityMethod; // gpu/src/engine/Method.h
+struct MethodResources; // gpu/src/engine/Method.h
 
 struct MethodParameter {
     std::string_view name;

@@ -10,10 +10,10 @@
 #include <geometry/scene/ImageIO.h>
 #include <geometry/scene/Scene.h>
 #include <geometry/shadow/Topology.h>
-#include <gpu/Debug.h>
+#include <gpu/gl/Debug.h>
 #include <gpu/Methods.h>
-#include <gpu/Objects.h>
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/Objects.h>
+#include <gpu/gl/ShaderLoader.h>
 
 #include <cstdint>
 #include <functional>

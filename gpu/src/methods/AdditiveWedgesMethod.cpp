@@ -6,13 +6,13 @@
 //   double-counts (DESIGN.md §4): the resolve counts the pixels its clamp touched;
 // - only the groups and wedges that can reach a tile of visible surface are drawn
 //   (GroupBatches.h: visibleSets; RenderSettings::depthAwareCulling).
-#include "../DebugViews.h"
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/WedgePass.h"
-#include "GroupBatches.h"
-#include "MethodUtil.h"
+#include "engine/DebugViews.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/WedgePass.h"
+#include "methods/GroupBatches.h"
+#include "methods/MethodUtil.h"
 
 namespace gpu {
 

@@ -3,10 +3,10 @@
 // occlusion textures — run each on its own casters and composed in one frame as
 // V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path
 // is decided the first frame it is seen and then kept, so that a moving light never flips it.
-#include "../DebugViews.h"
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../ShaderBindings.h"
+#include "engine/DebugViews.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "engine/ShaderBindings.h"
 
 #include <geometry/scene/AlphaMask.h>
 #include <geometry/shadow/AutoChoice.h>
@@ -84,7 +84,7 @@ public:
             ScopedPass pass(&ctx.timers, "compose");
             glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(),
                                GL_TEXTURE_2D, 0, 0, 0, 0, t.width, t.height, 1);
-            const float zero = 0.0f; // methods start from V = 0 (gpu/src/Method.h)
+            const float zero = 0.0f; // methods start from V = 0 (gpu/src/engine/Method.h)
             glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
         }
         occlusion.execute(subContext(ctx, occlusionCasters));

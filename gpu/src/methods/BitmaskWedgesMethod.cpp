@@ -17,14 +17,14 @@
 // - the group's mask is ORed into the final mask by the logic op; in the group's umbra, where no
 //   wedge reached, every sample;
 // - after the last batch, V from the final mask's popcount (shaders/bitmask-resolve.frag).
-#include "../DebugViews.h"
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/WedgePass.h"
-#include "../ShaderBindings.h"
-#include "GroupBatches.h"
-#include "MethodUtil.h"
+#include "engine/DebugViews.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/WedgePass.h"
+#include "engine/ShaderBindings.h"
+#include "methods/GroupBatches.h"
+#include "methods/MethodUtil.h"
 
 #include <geometry/shadow/LightMask.h>
 

@@ -35,15 +35,15 @@
 // of a set: 2 targets at 8 bits (rect; vCoef | centroid << 8), 4 at 16 (rect min, rect max,
 // vCoef | centroid x << 16, centroid y), one component per part (R = 1: R32UI). R = 8 draws the
 // batch's wedges twice (the wedge-fragment counter counts the first set's draw only).
-#include "../DebugViews.h"
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/WedgePass.h"
-#include "../ShaderBindings.h"
-#include "../passes/VolumeStates.h"
-#include "GroupBatches.h"
-#include "MethodUtil.h"
+#include "engine/DebugViews.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/WedgePass.h"
+#include "engine/ShaderBindings.h"
+#include "passes/VolumeStates.h"
+#include "methods/GroupBatches.h"
+#include "methods/MethodUtil.h"
 
 #include <array>
 #include <optional>

@@ -1,13 +1,13 @@
-#include "GroupBatches.h"
+#include "methods/GroupBatches.h"
 
-#include "MethodUtil.h"
+#include "methods/MethodUtil.h"
 
-#include "../Method.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/VolumeStates.h"
-#include "../passes/WedgePass.h"
-#include "../ShaderBindings.h"
-#include "../Targets.h"
+#include "engine/Method.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/VolumeStates.h"
+#include "passes/WedgePass.h"
+#include "engine/ShaderBindings.h"
+#include "engine/Targets.h"
 
 #include <geometry/shadow/ShadowCone.h>
 

@@ -20,11 +20,11 @@
 //   of whose tiles it touches (conservative: tiles only ever separate more).
 #pragma once
 
-#include "../CasterSet.h"
+#include "engine/CasterSet.h"
 
-#include <gpu/Objects.h>
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/Objects.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
 #include <geometry/core/Types.h>
 

@@ -2,12 +2,12 @@
 // vertex pulling from the frame's silhouette groups, then V = 1 where the count is zero. Only
 // the groups whose volume can reach a tile of visible surface are drawn (GroupBatches.h:
 // visibleSets; RenderSettings::depthAwareCulling).
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/VolumeStates.h"
-#include "GroupBatches.h"
-#include "MethodUtil.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/VolumeStates.h"
+#include "methods/GroupBatches.h"
+#include "methods/MethodUtil.h"
 
 namespace gpu {
 

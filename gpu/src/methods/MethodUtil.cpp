@@ -1,11 +1,11 @@
-#include "MethodUtil.h"
+#include "methods/MethodUtil.h"
 
-#include "../DebugViews.h"
+#include "engine/DebugViews.h"
 
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/VolumeStates.h"
-#include "../passes/WedgePass.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/VolumeStates.h"
+#include "passes/WedgePass.h"
 
 namespace gpu {
 

@@ -1,9 +1,9 @@
 // Small helpers shared by the methods.
 #pragma once
 
-#include "../CasterSet.h"
-#include "../Method.h"
-#include "../Targets.h"
+#include "engine/CasterSet.h"
+#include "engine/Method.h"
+#include "engine/Targets.h"
 
 #include <cstdint>
 #include <span>

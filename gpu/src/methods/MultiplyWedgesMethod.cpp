@@ -8,14 +8,14 @@
 //   coverage) (exact for one group: the additive method's arithmetic, with no other group in
 //   the sum), and where only the volume reached (the group's umbra), by 0.
 // The wedges of every group are built once per frame (one compute dispatch), not per batch.
-#include "../DebugViews.h"
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
-#include "../passes/WedgePass.h"
-#include "../ShaderBindings.h"
-#include "GroupBatches.h"
-#include "MethodUtil.h"
+#include "engine/DebugViews.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
+#include "passes/WedgePass.h"
+#include "engine/ShaderBindings.h"
+#include "methods/GroupBatches.h"
+#include "methods/MethodUtil.h"
 
 namespace gpu {
 

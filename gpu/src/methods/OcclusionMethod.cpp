@@ -12,11 +12,11 @@
 //   front of it (geometry/OcclusionSlices.h explains the kernel and the fade), times the share
 //   of the light in front of the surface (horizon=on; not in the paper).
 // V is written (not multiplied) at every pixel; casters outside the subset are not sliced.
-#include "../Method.h"
-#include "../ShaderBindings.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/OcclusionPrefilter.h"
-#include "../passes/OcclusionSlicePass.h"
+#include "engine/Method.h"
+#include "engine/ShaderBindings.h"
+#include "passes/FullscreenPass.h"
+#include "passes/OcclusionPrefilter.h"
+#include "passes/OcclusionSlicePass.h"
 
 #include <geometry/shadow/OcclusionSlices.h>
 

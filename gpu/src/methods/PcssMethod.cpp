@@ -10,10 +10,10 @@
 //   V is written at every pixel.
 // Receivers beyond the maps' cap (walls reaching the light's plane) get V = 1 and are counted
 // (`pcss_pixels_outside`).
-#include "../Method.h"
-#include "../ShaderBindings.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/PcssShadowPass.h"
+#include "engine/Method.h"
+#include "engine/ShaderBindings.h"
+#include "passes/FullscreenPass.h"
+#include "passes/PcssShadowPass.h"
 
 #include <geometry/shadow/PcssFrame.h>
 #include <geometry/core/Sampling.h>

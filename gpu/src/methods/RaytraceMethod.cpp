@@ -1,6 +1,6 @@
 // raytrace: the G-buffer positions read back and traced on the CPU with Embree (N stratified
 // rays per pixel to the light; geometry/RayTracer.h), written into V.
-#include "../Method.h"
+#include "engine/Method.h"
 
 #include <geometry/reference/RayTracer.h>
 

@@ -1,7 +1,7 @@
 // reference: N exact hard-shadow passes from stratified points of the light, each adding 1/N
 // where lit (DESIGN.md §4 "Reference"; the pass: ReferenceSampler.h).
-#include "../Method.h"
-#include "ReferenceSampler.h"
+#include "engine/Method.h"
+#include "methods/ReferenceSampler.h"
 
 #include <geometry/core/Sampling.h>
 

@@ -1,6 +1,6 @@
-#include "ReferenceSampler.h"
+#include "methods/ReferenceSampler.h"
 
-#include "MethodUtil.h"
+#include "methods/MethodUtil.h"
 
 namespace gpu {
 

@@ -5,9 +5,9 @@
 // no silhouette reuse to trust.
 #pragma once
 
-#include "../Method.h"
-#include "../passes/FullscreenPass.h"
-#include "../passes/StencilVolumePass.h"
+#include "engine/Method.h"
+#include "passes/FullscreenPass.h"
+#include "passes/StencilVolumePass.h"
 
 #include <geometry/shadow/ShadowVolume.h>
 

@@ -1,4 +1,4 @@
-#include "FullscreenPass.h"
+#include "passes/FullscreenPass.h"
 
 namespace gpu {
 

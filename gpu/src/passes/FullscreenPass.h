@@ -2,8 +2,8 @@
 // building block of the accumulate, resolve and shade passes.
 #pragma once
 
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
 #include <functional>
 

@@ -1,4 +1,4 @@
-#include "GBufferPass.h"
+#include "passes/GBufferPass.h"
 
 namespace gpu {
 

@@ -3,11 +3,11 @@
 // texels out (lib/Material.glsl), so leaf cards are seen through where the leaves are not.
 #pragma once
 
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
-#include "../SceneGeometry.h"
-#include "../Targets.h"
+#include "engine/SceneGeometry.h"
+#include "engine/Targets.h"
 
 namespace gpu {
 

@@ -1,6 +1,6 @@
-#include "OcclusionPrefilter.h"
+#include "passes/OcclusionPrefilter.h"
 
-#include "../ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 
 #include <string>
 

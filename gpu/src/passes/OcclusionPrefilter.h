@@ -6,7 +6,7 @@
 // (Mipmaps need no pass of ours: glGenerateTextureMipmap.)
 #pragma once
 
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/ShaderLoader.h>
 
 namespace gpu {
 

@@ -1,6 +1,6 @@
-#include "OcclusionSlicePass.h"
+#include "passes/OcclusionSlicePass.h"
 
-#include "../ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 
 #include <string>
 #include <vector>

@@ -12,10 +12,10 @@
 //   gaps between them do not.
 #pragma once
 
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
-#include "../SceneGeometry.h"
+#include "engine/SceneGeometry.h"
 
 #include <span>
 

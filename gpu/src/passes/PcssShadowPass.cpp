@@ -1,6 +1,6 @@
-#include "PcssShadowPass.h"
+#include "passes/PcssShadowPass.h"
 
-#include "../ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 
 #include <string>
 #include <vector>

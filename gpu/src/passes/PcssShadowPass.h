@@ -5,10 +5,10 @@
 // - Alpha-tested materials cut their texels out (lib/Material.glsl), as in the G-buffer.
 #pragma once
 
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
-#include "../SceneGeometry.h"
+#include "engine/SceneGeometry.h"
 
 #include <cstddef>
 #include <span>

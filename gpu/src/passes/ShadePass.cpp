@@ -1,6 +1,6 @@
-#include "ShadePass.h"
+#include "passes/ShadePass.h"
 
-#include "../ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 
 namespace gpu {
 

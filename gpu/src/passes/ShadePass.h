@@ -1,8 +1,8 @@
 // The image from the G-buffer and V: albedo * (ambient + (1 - ambient) * V * n.l).
 #pragma once
 
-#include "../Targets.h"
-#include "FullscreenPass.h"
+#include "engine/Targets.h"
+#include "passes/FullscreenPass.h"
 
 namespace gpu {
 

@@ -1,6 +1,6 @@
-#include "StencilVolumePass.h"
+#include "passes/StencilVolumePass.h"
 
-#include "VolumeStates.h"
+#include "passes/VolumeStates.h"
 
 #include <glm/glm.hpp>
 

@@ -8,11 +8,11 @@
 #pragma once
 
 #include <geometry/shadow/ShadowVolume.h>
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
-#include "../CasterSet.h"
-#include "../Targets.h"
+#include "engine/CasterSet.h"
+#include "engine/Targets.h"
 
 namespace gpu {
 

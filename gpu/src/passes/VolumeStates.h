@@ -1,7 +1,7 @@
 // Fixed-function state of the z-fail stencil volume passes (STYLE.md: state is data).
 #pragma once
 
-#include <gpu/State.h>
+#include <gpu/gl/State.h>
 
 namespace gpu {
 

@@ -1,7 +1,7 @@
-#include "WedgePass.h"
+#include "passes/WedgePass.h"
 
-#include "../ShaderBindings.h"
-#include "VolumeStates.h"
+#include "engine/ShaderBindings.h"
+#include "passes/VolumeStates.h"
 
 #include <geometry/shadow/WedgeHull.h>
 

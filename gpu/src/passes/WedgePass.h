@@ -9,11 +9,11 @@
 // - resolve(): V = clamp(V, 0, 1), counting the pixels the clamp touched.
 #pragma once
 
-#include <gpu/ShaderLoader.h>
-#include <gpu/State.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <gpu/gl/State.h>
 
-#include "../CasterSet.h"
-#include "../Targets.h"
+#include "engine/CasterSet.h"
+#include "engine/Targets.h"
 
 #include <array>
 #include <cstdint>

@@ -1,6 +1,6 @@
-#include "DebugViews.h"
+#include "engine/DebugViews.h"
 
-#include "ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 #include "methods/MethodUtil.h"
 #include "methods/ReferenceSampler.h"
 #include "passes/StencilVolumePass.h"

@@ -15,7 +15,7 @@
 // Programs are built on first use, so the shaded view costs nothing.
 #pragma once
 
-#include "Method.h"
+#include "engine/Method.h"
 #include "passes/FullscreenPass.h"
 
 #include <glm/glm.hpp>

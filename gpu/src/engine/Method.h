@@ -5,14 +5,14 @@
 #pragma once
 
 #include <geometry/scene/Scene.h>
-#include <gpu/Debug.h>
+#include <gpu/gl/Debug.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/ShaderLoader.h>
 
-#include "CasterSet.h"
-#include "SceneGeometry.h"
-#include "Targets.h"
+#include "engine/CasterSet.h"
+#include "engine/SceneGeometry.h"
+#include "engine/Targets.h"
 
 #include <chrono>
 #include <cstdint>

@@ -1,6 +1,6 @@
-#include "SceneGeometry.h"
+#include "engine/SceneGeometry.h"
 
-#include "ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 
 #include <cstddef>
 #include <cstdio>

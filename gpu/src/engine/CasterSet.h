@@ -10,7 +10,7 @@
 #include <geometry/scene/Scene.h>
 #include <geometry/shadow/Silhouette.h>
 #include <geometry/shadow/Topology.h>
-#include <gpu/Objects.h>
+#include <gpu/gl/Objects.h>
 
 #include <cstdint>
 #include <span>

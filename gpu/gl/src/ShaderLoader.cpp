@@ -5,7 +5,7 @@
 // is 1, and each included file gets the next number the first time it is included. Drivers print
 // the number in front of every message ("1:12(5): error" on Mesa, "1(12) : error" on NVIDIA),
 // which is how a message is traced back to its file.
-#include <gpu/ShaderLoader.h>
+#include <gpu/gl/ShaderLoader.h>
 
 #include <algorithm>
 #include <cstdlib>

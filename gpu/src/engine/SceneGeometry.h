@@ -9,7 +9,7 @@
 #pragma once
 
 #include <geometry/scene/Scene.h>
-#include <gpu/Objects.h>
+#include <gpu/gl/Objects.h>
 
 #include <glm/glm.hpp>
 

@@ -1,6 +1,6 @@
 // RAII GL objects, created and edited with direct state access only.
-#include <gpu/Debug.h>
-#include <gpu/Objects.h>
+#include <gpu/gl/Debug.h>
+#include <gpu/gl/Objects.h>
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,7 +1,7 @@
 // OpenGL 4.5 core contexts: surfaceless EGL (headless) and GLFW (windowed), both loaded through
 // libepoxy, which resolves GL entry points against whichever EGL/GLX context is current.
-#include <gpu/Context.h>
-#include <gpu/Debug.h>
+#include <gpu/gl/Context.h>
+#include <gpu/gl/Debug.h>
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>

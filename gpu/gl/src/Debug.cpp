@@ -1,5 +1,5 @@
 // KHR_debug error capture, glGetError checks, debug groups and GL_TIMESTAMP pass timers.
-#include <gpu/Debug.h>
+#include <gpu/gl/Debug.h>
 
 #include <algorithm>
 #include <cstdio>

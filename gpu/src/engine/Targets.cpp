@@ -1,4 +1,4 @@
-#include "Targets.h"
+#include "engine/Targets.h"
 
 namespace gpu {
 

@@ -7,12 +7,12 @@
 #include <gpu/Renderer.h>
 
 #include <geometry/core/Error.h>
-#include <gpu/State.h>
+#include <gpu/gl/State.h>
 
-#include "DebugViews.h"
-#include "Method.h"
-#include "ShaderBindings.h"
-#include "Targets.h"
+#include "engine/DebugViews.h"
+#include "engine/Method.h"
+#include "engine/ShaderBindings.h"
+#include "engine/Targets.h"
 #include "passes/GBufferPass.h"
 #include "passes/ShadePass.h"
 

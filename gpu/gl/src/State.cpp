@@ -1,6 +1,6 @@
 // Applies a whole PipelineState. Every field is set every time: the state a pass sees depends only
 // on its own PipelineState, never on which pass ran before it.
-#include <gpu/State.h>
+#include <gpu/gl/State.h>
 
 namespace gpu {
 

@@ -1,7 +1,7 @@
 // Casters on the GPU and their per-frame silhouettes (CasterSet.h).
-#include "CasterSet.h"
+#include "engine/CasterSet.h"
 
-#include "ShaderBindings.h"
+#include "engine/ShaderBindings.h"
 
 #include <algorithm>
 #include <cstring>

@@ -5,7 +5,7 @@
 // file:line for each reported line ("shaders/wedge.frag:42: error: ...").
 #pragma once
 
-#include <gpu/Objects.h>
+#include <gpu/gl/Objects.h>
 
 #include <filesystem>
 #include <stdexcept>

@@ -3,7 +3,7 @@
 
 #include <geometry/core/Error.h>
 
-#include "Method.h"
+#include "engine/Method.h"
 
 #include <algorithm>
 #include <array>

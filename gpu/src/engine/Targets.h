@@ -1,7 +1,7 @@
 // Render targets shared by the passes of one frame; recreated when the size changes.
 #pragma once
 
-#include <gpu/Objects.h>
+#include <gpu/gl/Objects.h>
 
 namespace gpu {
 
