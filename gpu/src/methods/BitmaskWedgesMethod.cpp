@@ -23,7 +23,7 @@
 #include "passes/StencilVolumePass.h"
 #include "passes/WedgePass.h"
 #include "engine/ShaderBindings.h"
-#include "methods/GroupBatches.h"
+#include "methods/SilhouetteBatchMethod.h"
 #include "methods/MethodUtil.h"
 
 #include <geometry/shadow/LightMask.h>
@@ -75,13 +75,11 @@ constexpr PipelineState kCombineState{.logicOp = true, .logicOpMode = GL_OR};
 
 enum CombineMode : GLuint { kGroupMask = 0, kComplement = 1, kEverySample = 2 };
 
-class BitmaskWedgesMethod final : public VisibilityMethod {
+class BitmaskWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit BitmaskWedgesMethod(const MethodResources& r)
-        : mLayout(maskLayout(r.parameters)), mSurface(r.shaders), mVolumes(r.shaders),
-          mWedges(r.shaders,
-                  mLayout.counts ? WedgePass::Output::BitmaskCounts : WedgePass::Output::Bitmask,
-                  mLayout.defines()),
+        : SilhouetteBatchMethod(r.shaders, wedgePass(r.shaders, maskLayout(r.parameters))),
+          mLayout(maskLayout(r.parameters)),
           mCombine(r.shaders, "bitmask-combine.frag", "bitmask-combine", kCombineState,
                    mLayout.defines()),
           mUmbra(r.shaders, "bitmask-combine.frag", "bitmask-umbra", kCombineState,
@@ -140,25 +138,7 @@ public:
                                GL_R32UI);
             bindStencilView(t);
         }
-        runSilhouetteBatches(
-            ctx, mSurface, mVolumes, mWedges, mGroupFbo,
-            {.combine =
-                 [&](const GroupBatch&, const TouchedStates& states) {
-                     if (mLayout.counts) {
-                         combineCounts(t, states.touched);
-                         return;
-                     }
-                     combine(t, states.lit, kGroupMask);
-                     combine(t, states.occluded, kComplement);
-                 },
-             .reset =
-                 [&](const GroupBatch&, const PipelineState& stencil) {
-                     mClear.execute(mGroupFbo, t.width, t.height, stencil, [] {});
-                     // The next batch's wedges add to the counts just reset.
-                     if (mLayout.counts) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-                 },
-             .umbra = [&](const GroupBatch&,
-                          const UmbraStates& states) { combine(t, states.zero, kEverySample); }});
+        runBatches(ctx, mGroupFbo);
         {
             ScopedPass pass(&ctx.timers, "resolve");
             for (int i = 0; i < mLayout.targets(); ++i)
@@ -196,6 +176,32 @@ public:
     }
 
 private:
+    static WedgePass wedgePass(const ShaderLoader& shaders, const MaskLayout& layout) {
+        return WedgePass(shaders,
+                         layout.counts ? WedgePass::Output::BitmaskCounts
+                                       : WedgePass::Output::Bitmask,
+                         layout.defines());
+    }
+
+    void combine(const FrameContext& ctx, const GroupBatch&, const TouchedStates& states) override {
+        if (mLayout.counts) {
+            combineCounts(ctx.targets, states.touched);
+            return;
+        }
+        combineMask(ctx.targets, states.lit, kGroupMask);
+        combineMask(ctx.targets, states.occluded, kComplement);
+    }
+
+    void reset(const FrameContext& ctx, const GroupBatch&, const PipelineState& stencil) override {
+        mClear.execute(mGroupFbo, ctx.targets.width, ctx.targets.height, stencil, [] {});
+        // The next batch's wedges add to the counts just reset.
+        if (mLayout.counts) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+
+    void umbra(const FrameContext& ctx, const GroupBatch&, const UmbraStates& states) override {
+        combineMask(ctx.targets, states.zero, kEverySample);
+    }
+
     void uploadPattern(std::uint32_t seed) {
         if (mSamples.size() > 0 && seed == mSeed) return;
         // (s, t, angle about the centre, 0) per sample, in the pattern's angle order
@@ -210,7 +216,7 @@ private:
 
     // The group masks into the final mask where `stencil` selects (bitmask-combine.frag); the
     // umbra (kEverySample) with the parity program in either mode (it reads no group state).
-    void combine(const Targets& t, const PipelineState& stencil, CombineMode mode) {
+    void combineMask(const Targets& t, const PipelineState& stencil, CombineMode mode) {
         for (int i = 0; i < mLayout.targets(); ++i)
             glBindTextureUnit(TEXUNIT_PARTS0 + i, mGroup[i].id());
         const FullscreenPass& pass = mode == kEverySample ? mUmbra : mCombine;
@@ -253,9 +259,6 @@ private:
     };
 
     MaskLayout mLayout;
-    SurfaceTilePass mSurface;
-    StencilVolumePass mVolumes;
-    WedgePass mWedges;
     FullscreenPass mCombine, mUmbra, mClear, mResolve;
     Texture mCounts; // combine=counts: 4 bits a sample, biased
     Handle<TextureDeleter> mStencilView;

@@ -42,7 +42,7 @@
 #include "passes/WedgePass.h"
 #include "engine/ShaderBindings.h"
 #include "passes/VolumeStates.h"
-#include "methods/GroupBatches.h"
+#include "methods/SilhouetteBatchMethod.h"
 #include "methods/MethodUtil.h"
 
 #include <array>
@@ -108,11 +108,12 @@ std::array<GLuint, 4> emptyFinalValue(const BlendLayout& layout, int target) {
     return {v, v, v, v};
 }
 
-class BlendWedgesMethod final : public VisibilityMethod {
+class BlendWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit BlendWedgesMethod(const MethodResources& r)
-        : mLayout(blendLayout(r.parameters)), mSurface(r.shaders), mVolumes(r.shaders),
-          mWedges(r.shaders, WedgePass::Output::Parts4, mLayout.defines()),
+        : SilhouetteBatchMethod(r.shaders, WedgePass(r.shaders, WedgePass::Output::Parts4,
+                                                     blendLayout(r.parameters).defines())),
+          mLayout(blendLayout(r.parameters)),
           mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}, mLayout.defines()),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
           mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{},
@@ -166,18 +167,7 @@ public:
         clearFinalState();
 
         clearPartTargets();
-        runSilhouetteBatches(
-            ctx, mSurface, mVolumes, mWedges, mPartsFbo,
-            {.combine = [&](const GroupBatch& batch,
-                            const TouchedStates& states) { blendPartSets(t, batch, states); },
-             .reset = [&](const GroupBatch&,
-                          const PipelineState& stencil) { resetPartTargets(t, stencil); },
-             .umbra =
-                 [&](const GroupBatch&, const UmbraStates& states) {
-                     for (int set = 0; set < mLayout.sets(); ++set)
-                         blend(t, set == mLayout.sets() - 1 ? states.zero : states.keep, set,
-                               true);
-                 }});
+        runBatches(ctx, mPartsFbo);
         {
             ScopedPass pass(&ctx.timers, "resolve");
             glTextureBarrier();
@@ -195,6 +185,20 @@ public:
     }
 
 private:
+    void combine(const FrameContext& ctx, const GroupBatch& batch,
+                 const TouchedStates& states) override {
+        blendPartSets(ctx.targets, batch, states);
+    }
+
+    void reset(const FrameContext& ctx, const GroupBatch&, const PipelineState& stencil) override {
+        resetPartTargets(ctx.targets, stencil);
+    }
+
+    void umbra(const FrameContext& ctx, const GroupBatch&, const UmbraStates& states) override {
+        for (int set = 0; set < mLayout.sets(); ++set)
+            blend(ctx.targets, set == mLayout.sets() - 1 ? states.zero : states.keep, set, true);
+    }
+
     // The GroupParts debug view: group ctx.settings.debugGroup (wrapped) of the casters served,
     // alone: its own volume (the centre state C) and wedges (the per-part sums), then per part
     // the visibility 1 - clamp(C + coverage) that blend-parts.frag resolves, before any
@@ -335,9 +339,6 @@ private:
     }
 
     BlendLayout mLayout;
-    SurfaceTilePass mSurface;
-    StencilVolumePass mVolumes;
-    WedgePass mWedges;
     FullscreenPass mBlend, mReset, mResolve;
     std::array<Texture, kPartTargets> mParts;
     Framebuffer mPartsFbo;

@@ -3,10 +3,6 @@
 #include "methods/MethodUtil.h"
 
 #include "engine/Method.h"
-#include "passes/StencilVolumePass.h"
-#include "passes/VolumeStates.h"
-#include "passes/WedgePass.h"
-#include "engine/ShaderBindings.h"
 #include "engine/Targets.h"
 
 #include <geometry/shadow/ShadowCone.h>
@@ -72,39 +68,6 @@ bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width,
 }
 
 } // namespace
-
-SurfaceTilePass::SurfaceTilePass(const ShaderLoader& shaders)
-    : mProgram(shaders.load(
-          {.stages = {{GL_COMPUTE_SHADER, "surface-tiles.comp"}}, .label = "surface-tiles"})) {}
-
-SurfaceTiles SurfaceTilePass::measure(const Targets& t) {
-    SurfaceTiles out;
-    out.tile = kTile;
-    out.tilesX = (t.width + kTile - 1) / kTile;
-    out.tilesY = (t.height + kTile - 1) / kTile;
-    const std::size_t tiles = static_cast<std::size_t>(out.tilesX) * out.tilesY;
-    const std::size_t bytes = 2 * tiles * sizeof(glm::vec4);
-    if (mTiles.size() < bytes)
-        mTiles = Buffer({.size = bytes, .flags = 0, .label = "surface-tiles"});
-    glUseProgram(mProgram.id());
-    glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SURFACE_TILES, mTiles.id());
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    glUniform1i(0, out.tilesX);
-    glDispatchCompute(static_cast<GLuint>((out.tilesX + 7) / 8), static_cast<GLuint>(out.tilesY), 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    mScratch.resize(2 * tiles);
-    glGetNamedBufferSubData(mTiles.id(), 0, static_cast<GLsizeiptr>(bytes), mScratch.data());
-    out.boxes.resize(tiles);
-    for (std::size_t i = 0; i < tiles; ++i) {
-        const glm::vec3 lo(mScratch[2 * i]), hi(mScratch[2 * i + 1]);
-        if (lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
-            out.boxes[i].extend(lo);
-            out.boxes[i].extend(hi);
-        }
-    }
-    return out;
-}
 
 namespace {
 
@@ -281,37 +244,6 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
     return out;
 }
 
-namespace {
-
-// Stencil states of the steps after the wedges (VolumeStates.h: count in bits 0-6, wedge mark in
-// bit 7; the test is (ref & 0xFF) func (stencil & 0xFF)).
-constexpr PipelineState stencilSelect(GLenum func, GLint ref, GLenum op) {
-    PipelineState s;
-    s.stencilTest = true;
-    s.stencilWriteMask = 0xFF;
-    s.stencilFront = {.func = func, .ref = ref, .depthPass = op};
-    s.stencilBack = s.stencilFront;
-    return s;
-}
-constexpr GLint kMark = GLint(kStencilWedgeMark);
-constexpr PipelineState kTouchedLit = stencilSelect(GL_EQUAL, kMark, GL_KEEP); // == mark
-constexpr PipelineState kTouchedOccluded = stencilSelect(GL_LESS, kMark, GL_KEEP); // > mark
-constexpr PipelineState kTouched = stencilSelect(GL_LEQUAL, kMark, GL_KEEP);       // >= mark
-constexpr PipelineState kTouchedReset = stencilSelect(GL_LEQUAL, kMark, GL_ZERO);  // >= mark
-// After the reset only the untouched pixels with a non-zero count are left.
-constexpr PipelineState kUmbraKeep = stencilSelect(GL_NOTEQUAL, 0, GL_KEEP);
-constexpr PipelineState kUmbraZero = stencilSelect(GL_NOTEQUAL, 0, GL_ZERO);
-
-PipelineState scissored(PipelineState s, const ScissorRect& rect) {
-    s.scissor = true;
-    s.scissorRect = rect;
-    return s;
-}
-
-} // namespace
-
-namespace {
-
 // Below this many silhouette groups the surface tiles are not measured: the pass and the wait
 // for the G-buffer it needs cost more than culling saves (demo.json, 512x512, hard: +3 ms
 // on 18 with a handful of groups, nothing to cull), and the overlap scenes' few groups batch
@@ -332,6 +264,8 @@ SurfaceTiles measureSurface(const FrameContext& ctx, SurfaceTilePass& surface) {
     ctx.addCpuTime("surface-tiles", msSince(t0)); // mostly the wait for the G-buffer
     return tiles;
 }
+
+namespace {
 
 void append(DrawSet& to, const DrawSet& from) {
     to.triangleFirst.insert(to.triangleFirst.end(), from.triangleFirst.begin(),
@@ -362,85 +296,6 @@ std::optional<VisibleSets> visibleSets(const FrameContext& ctx, SurfaceTilePass&
     ctx.addCounter("groups_hidden", batches.hiddenGroups);
     if (wedges) ctx.addCounter("wedges_hidden", batches.hiddenWedges);
     return out;
-}
-
-void runSilhouetteBatches(const FrameContext& ctx, SurfaceTilePass& surface,
-                          StencilVolumePass& volumes, WedgePass& wedges, const Framebuffer& target,
-                          const BatchSteps& steps) {
-    const Targets& t = ctx.targets;
-    const bool depthAware = depthAwareFrame(ctx);
-    const SurfaceTiles tiles = depthAware ? measureSurface(ctx, surface) : SurfaceTiles{};
-    auto t0 = Clock::now();
-    const GroupBatches batches =
-        batchGroups(ctx.casters, ctx.casterSubset, ctx.viewProj, t.width, t.height,
-                    SurfaceTilePass::kTile, depthAware ? &tiles : nullptr, &ctx.light);
-    ctx.addCpuTime("batching", msSince(t0));
-    const std::vector<CasterRange> runs = casterRuns(ctx.casters, ctx.casterSubset);
-    ctx.casters.bind();
-    {
-        ScopedPass pass(&ctx.timers, "wedge-setup");
-        wedges.beginFrame(ctx.casters.edgeCount());
-        wedges.setup(runs);
-        clearStencil(t);
-    }
-    // Occlusion queries per batch around its combine draws (touched, umbra), read at the end:
-    // reading each at once would stall the pipeline once per batch.
-    std::vector<Query> touched, umbra;
-    touched.reserve(batches.batches.size());
-    umbra.reserve(batches.batches.size());
-    std::uint64_t rectPixels = 0, groupPixels = 0;
-    for (const GroupBatch& batch : batches.batches) {
-        {
-            ScopedPass pass(&ctx.timers, "shadow-volume");
-            volumes.drawCentre(t.visibilityFbo, t, batch.set, &batch.rect);
-        }
-        {
-            ScopedPass pass(&ctx.timers, "wedges");
-            wedges.draw(target, t, batch.wedgeSet, &batch.rect, /*markTouched=*/true);
-        }
-        {
-            ScopedPass pass(&ctx.timers, "blend");
-            touched.emplace_back(GL_SAMPLES_PASSED);
-            glBeginQuery(GL_SAMPLES_PASSED, touched.back().id());
-            steps.combine(batch, {scissored(kTouchedLit, batch.rect),
-                                  scissored(kTouchedOccluded, batch.rect),
-                                  scissored(kTouched, batch.rect)});
-            glEndQuery(GL_SAMPLES_PASSED);
-            steps.reset(batch, scissored(kTouchedReset, batch.rect));
-            umbra.emplace_back(GL_SAMPLES_PASSED);
-            glBeginQuery(GL_SAMPLES_PASSED, umbra.back().id());
-            steps.umbra(batch, {scissored(kUmbraKeep, batch.rect),
-                                scissored(kUmbraZero, batch.rect)});
-            glEndQuery(GL_SAMPLES_PASSED);
-        }
-        rectPixels += batch.pixels;
-        groupPixels += batch.groupPixels;
-    }
-    auto sum = [](const std::vector<Query>& queries) {
-        std::uint64_t total = 0;
-        for (const Query& q : queries) {
-            GLuint64 samples = 0;
-            glGetQueryObjectui64v(q.id(), GL_QUERY_RESULT, &samples);
-            total += samples;
-        }
-        return total;
-    };
-    addWedgeCounters(ctx, wedges.counts(), runs);
-    ctx.addCounter("groups_culled", batches.culledGroups);
-    ctx.addCounter("groups_hidden", batches.hiddenGroups);
-    ctx.addCounter("wedges_hidden", batches.hiddenWedges);
-    {
-        double drawn = 0;
-        for (const GroupBatch& b : batches.batches)
-            for (GLsizei n : b.wedgeSet.edgeCount) drawn += n;
-        ctx.addCounter("wedges_drawn", drawn);
-    }
-    ctx.addCounter("groups_drawn", batches.drawnGroups);
-    ctx.addCounter("batches", static_cast<double>(batches.batches.size()));
-    ctx.addCounter("batch_rect_pixels", static_cast<double>(rectPixels));
-    ctx.addCounter("group_rect_pixels", static_cast<double>(groupPixels));
-    ctx.addCounter("pixels_blended", static_cast<double>(sum(touched)));
-    ctx.addCounter("pixels_umbra", static_cast<double>(sum(umbra)));
 }
 
 } // namespace gpu

@@ -21,9 +21,8 @@
 #pragma once
 
 #include "engine/CasterSet.h"
+#include "passes/SurfaceTilePass.h"
 
-#include <gpu/gl/Objects.h>
-#include <gpu/gl/ShaderLoader.h>
 #include <gpu/gl/State.h>
 
 #include <geometry/core/Types.h>
@@ -31,7 +30,6 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -39,9 +37,6 @@
 namespace gpu {
 
 struct FrameContext;
-struct Targets;
-class StencilVolumePass;
-class WedgePass;
 
 struct GroupBatch {
     DrawSet set;          // the batch's groups' cap triangles and edges (their volumes)
@@ -58,27 +53,6 @@ struct GroupBatches {
     std::uint32_t hiddenGroups = 0; // in the frustum, but no visible surface in their reach
     std::uint32_t hiddenWedges = 0; // of drawn groups: no visible surface in the edge's cone
     std::uint32_t drawnGroups = 0;
-};
-
-// World bounds of the visible surface per tile of `tile` x `tile` pixels, row by row from the
-// bottom left; an empty box where a tile has no surface pixel.
-struct SurfaceTiles {
-    int tile = 16, tilesX = 0, tilesY = 0;
-    std::vector<geometry::Aabb> boxes;
-};
-
-// Measures SurfaceTiles from the G-buffer's positions (shaders/surface-tiles.comp) and reads
-// them back: the CPU batching needs them before the batches' passes (a wait for the G-buffer).
-class SurfaceTilePass {
-public:
-    static constexpr int kTile = 16; // pixels per tile side (shaders/surface-tiles.comp)
-    explicit SurfaceTilePass(const ShaderLoader& shaders);
-    SurfaceTiles measure(const Targets& t);
-
-private:
-    Program mProgram;
-    Buffer mTiles;
-    std::vector<glm::vec4> mScratch;
 };
 
 // Batches on a grid of `tile` pixels; with `surface` (same tile size) and `light`, only the
@@ -101,52 +75,9 @@ struct VisibleSets {
 std::optional<VisibleSets> visibleSets(const FrameContext& ctx, SurfaceTilePass& surface,
                                        const geometry::RectLight& light, bool wedges);
 
-// The frame of the per-silhouette methods (multiply, blend): the visible surface's tiles
-// (SurfaceTilePass: a wait for the G-buffer; skipped as visibleSets skips it); batches; every
-// wedge set up once; the stencil cleared once; then per batch, scissored to it:
-// 1. the batch's groups' z-fail volumes: the count in the stencil's low bits (VolumeStates.h);
-// 2. their wedges (GroupBatch::wedgeSet) into `target` (the method's per-silhouette targets,
-//    holding their empty values everywhere), marking the touched pixels in the stencil
-//    (kStencilWedgeMark);
-// 3. `combine` where a wedge touched: the method draws its combine pass under `lit` (the
-//    group leaves the light centre visible there) and `occluded` (it hides it); `touched`
-//    selects both without changing the stencil (for a method that needs several rounds, e.g.
-//    wedges-blend's part sets: reset its targets and draw the wedges again in between);
-// 4. `reset` where a wedge touched: the per-silhouette targets back to their empty values
-//    (the given state zeroes those pixels' stencil);
-// 5. `umbra` where no wedge touched but the count is non-zero (the group's umbra: its state
-//    there is the full occlusion): drawn under `keep`, the last draw under `zero`, which
-//    zeroes the stencil there.
-// The stencil and the per-silhouette targets are thus clean again after every batch, touched
-// only where the batch drew: no per-batch clears. Where no group's wedge or volume reaches, the
-// final buffer is never touched. Adds the batch and wedge counters to the report
-// ("groups_hidden", "wedges_hidden": left out by the surface tiles; "wedges_drawn";
-// "pixels_blended": the samples of step 3's draws — the touched pixels, once per round of a
-// method that needs several —, "pixels_umbra": those of step 5, summed over batches, by
-// occlusion queries).
-struct TouchedStates {
-    PipelineState lit, occluded, touched;
-};
-struct UmbraStates {
-    PipelineState keep, zero;
-};
-struct BatchSteps {
-    std::function<void(const GroupBatch&, const TouchedStates&)> combine;
-    std::function<void(const GroupBatch&, const PipelineState& stencil)> reset;
-    std::function<void(const GroupBatch&, const UmbraStates&)> umbra;
-};
-// `base` with the stencil test and scissor of `stencil` (a state given to combine or reset).
-inline PipelineState withStencil(PipelineState base, const PipelineState& stencil) {
-    base.stencilTest = stencil.stencilTest;
-    base.stencilWriteMask = stencil.stencilWriteMask;
-    base.stencilFront = stencil.stencilFront;
-    base.stencilBack = stencil.stencilBack;
-    base.scissor = stencil.scissor;
-    base.scissorRect = stencil.scissorRect;
-    return base;
-}
-void runSilhouetteBatches(const FrameContext& ctx, SurfaceTilePass& surface,
-                          StencilVolumePass& volumes, WedgePass& wedges, const Framebuffer& target,
-                          const BatchSteps& steps);
+// Whether this frame culls by the visible surface (RenderSettings::depthAwareCulling and at least
+// 64 silhouette groups), and the tiles measured for it (timed as the "surface-tiles" pass).
+bool depthAwareFrame(const FrameContext& ctx);
+SurfaceTiles measureSurface(const FrameContext& ctx, SurfaceTilePass& surface);
 
 } // namespace gpu

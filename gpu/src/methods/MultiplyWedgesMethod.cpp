@@ -1,6 +1,6 @@
 // wedges-multiply: a visibility buffer per silhouette group, combined as V = Π V_s (the
 // independent-occluder combination; Forest et al. 2006 compare against it). Per batch of groups
-// whose screen rectangles do not overlap (GroupBatches.h: runSilhouetteBatches), scissored to
+// whose screen rectangles do not overlap (SilhouetteBatchMethod.h), scissored to
 // the batch:
 // - the groups' own z-fail volumes into the stencil (the centre's state);
 // - their wedges subtract their edges' coverage from the silhouette target (0 elsewhere);
@@ -14,7 +14,7 @@
 #include "passes/StencilVolumePass.h"
 #include "passes/WedgePass.h"
 #include "engine/ShaderBindings.h"
-#include "methods/GroupBatches.h"
+#include "methods/SilhouetteBatchMethod.h"
 #include "methods/MethodUtil.h"
 
 namespace gpu {
@@ -27,10 +27,10 @@ constexpr PipelineState kMultiplyState{
     .blendDst = GL_ZERO,
 };
 
-class MultiplyWedgesMethod final : public VisibilityMethod {
+class MultiplyWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit MultiplyWedgesMethod(const MethodResources& r)
-        : mSurface(r.shaders), mVolumes(r.shaders), mWedges(r.shaders),
+        : SilhouetteBatchMethod(r.shaders, WedgePass(r.shaders)),
           mMultiply(r.shaders, "blend-multiply.frag", "blend-multiply", kMultiplyState),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}) {}
 
@@ -54,22 +54,7 @@ public:
 
         const float zero = 0.0f;
         glClearTexImage(mSilhouette.id(), 0, GL_RED, GL_FLOAT, &zero);
-        runSilhouetteBatches(
-            ctx, mSurface, mVolumes, mWedges, mSilhouetteFbo,
-            {.combine =
-                 [&](const GroupBatch&, const TouchedStates& states) {
-                     multiply(t, states.lit, 1.0f);
-                     multiply(t, states.occluded, 0.0f);
-                 },
-             .reset =
-                 [&](const GroupBatch&, const PipelineState& stencil) {
-                     mReset.execute(mSilhouetteFbo, t.width, t.height, stencil, [&] {
-                         const float empty[4] = {0, 0, 0, 0};
-                         glUniform4fv(0, 1, empty);
-                     });
-                 },
-             .umbra = [&](const GroupBatch&,
-                          const UmbraStates& states) { multiply(t, states.zero, 0.0f); }});
+        runBatches(ctx, mSilhouetteFbo);
     }
 
     bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
@@ -77,6 +62,22 @@ public:
     }
 
 private:
+    void combine(const FrameContext& ctx, const GroupBatch&, const TouchedStates& states) override {
+        multiply(ctx.targets, states.lit, 1.0f);
+        multiply(ctx.targets, states.occluded, 0.0f);
+    }
+
+    void reset(const FrameContext& ctx, const GroupBatch&, const PipelineState& stencil) override {
+        mReset.execute(mSilhouetteFbo, ctx.targets.width, ctx.targets.height, stencil, [&] {
+            const float empty[4] = {0, 0, 0, 0};
+            glUniform4fv(0, 1, empty);
+        });
+    }
+
+    void umbra(const FrameContext& ctx, const GroupBatch&, const UmbraStates& states) override {
+        multiply(ctx.targets, states.zero, 0.0f);
+    }
+
     // V *= clamp(lit - Σ coverage) where `stencil` selects.
     void multiply(const Targets& t, const PipelineState& stencil, float lit) {
         glBindTextureUnit(TEXUNIT_SILHOUETTE, mSilhouette.id());
@@ -84,9 +85,6 @@ private:
                           [&] { glUniform1f(0, lit); });
     }
 
-    SurfaceTilePass mSurface;
-    StencilVolumePass mVolumes;
-    WedgePass mWedges;
     FullscreenPass mMultiply, mReset;
     Texture mSilhouette;
     Framebuffer mSilhouetteFbo;
