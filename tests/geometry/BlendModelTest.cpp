@@ -33,11 +33,7 @@ using testutil::Rng;
 
 // The scenes' light: horizontal, 1 x 1, at height 4 (visibilityParallelRects' convention).
 RectLight sceneLight() {
-    RectLight light;
-    light.center = {0.0f, 4.0f, 0.0f};
-    light.u = {0.5f, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, 0.5f};
-    return light;
+    return testmeshes::squareLight({0.0f, 4.0f, 0.0f}, 0.5f);
 }
 
 // Groups (the GPU's input) and the true occluder triangles of a set of meshes.

@@ -57,11 +57,7 @@ MeshData torusMesh(float major, float minor, int around, int tube) {
 }
 
 RectLight lightAt(const glm::vec3& center, float halfSize = 0.3f) {
-    RectLight light;
-    light.center = center;
-    light.u = {halfSize, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, halfSize};
-    return light;
+    return testmeshes::squareLight(center, halfSize);
 }
 
 Aabb boxAround(const Topology& topo, float margin) {
