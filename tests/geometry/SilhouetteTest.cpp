@@ -2,6 +2,7 @@
 // brute force on every kind of mesh: closed (sphere, cube, torus), open (box, quad), non-manifold
 // (edge fan) and a real OpenArena level.
 #include "TestMeshes.h"
+#include "TestRandom.h"
 
 #include <geometry/GltfLoader.h>
 #include <geometry/Primitives.h>
@@ -386,14 +387,6 @@ bool segmentHitsAnyTriangle(const Topology& topo, const glm::dvec3& p, const glm
     return hit;
 }
 
-glm::dvec3 randomUnit(std::mt19937& rng) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    for (;;) {
-        const glm::dvec3 d(n(rng), n(rng), n(rng));
-        if (glm::length(d) > 1e-3) return glm::normalize(d);
-    }
-}
-
 // The union of the group volumes against appendHardShadowVolume (two-sided) or the classic
 // "is anything between P and the light" (one-sided closed), at random points of `box`.
 void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
@@ -412,7 +405,7 @@ void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm:
         const glm::dvec3 p = glm::dvec3(box.min) + glm::dvec3(unit(rng), unit(rng), unit(rng)) *
                                                        glm::dvec3(box.extent());
         bool ok = true;
-        const int fromGroups = winding(groups, p, randomUnit(rng), ok);
+        const int fromGroups = winding(groups, p, testutil::gaussianDirection(rng), ok);
         if (oneSided) {
             const bool hit = segmentHitsAnyTriangle(topo, p, glm::dvec3(light), ok);
             if (!ok) continue;
@@ -421,7 +414,7 @@ void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm:
             EXPECT_LE(fromGroups, 1);
             shadowed += hit;
         } else {
-            const int fromHard = winding(whole, p, randomUnit(rng), ok);
+            const int fromHard = winding(whole, p, testutil::gaussianDirection(rng), ok);
             if (!ok) continue;
             EXPECT_EQ(fromGroups, fromHard) << "P (" << p.x << ", " << p.y << ", " << p.z << ")";
             shadowed += fromHard != 0;
@@ -538,7 +531,7 @@ int checkBlocking(const Topology& topo, const SilhouetteFrame& frame, const glm:
         const glm::dvec3 p = glm::dvec3(box.min) + glm::dvec3(unit(rng), unit(rng), unit(rng)) *
                                                        glm::dvec3(box.extent());
         bool ok = true;
-        const int count = winding(volume, p, randomUnit(rng), ok);
+        const int count = winding(volume, p, testutil::gaussianDirection(rng), ok);
         const bool hit = segmentHitsAnyTriangle(topo, p, glm::dvec3(light), ok);
         if (!ok) continue;
         ++checked;
@@ -738,7 +731,7 @@ TEST(Silhouette, ClosedMeshAroundTheLightShadowsEverythingOutside) {
                 const glm::dvec3 p(-3.0 + 6.0 * (i + 0.5) / 15.0, -2.5,
                                    -3.0 + 6.0 * (j + 0.5) / 15.0);
                 bool ok = true;
-                const int count = winding(volume, p, randomUnit(rng), ok);
+                const int count = winding(volume, p, testutil::gaussianDirection(rng), ok);
                 if (!ok) continue;
                 ++checked;
                 lit += count == 0;
