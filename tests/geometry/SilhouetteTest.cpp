@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -1044,13 +1045,22 @@ TEST(Silhouette, ConeBoundsAreConservativeUnderClipping) {
     EXPECT_GT(insideBuilt, 1000);
 }
 
-TEST(Silhouette, LeanModeOnGameLevel) {
+// oa_dm1 from ../shared and the box around it (boxAround, margin 0); a fatal failure when the
+// level is missing.
+void loadGameLevel(std::optional<Topology>& topo, Aabb& box) {
     const std::filesystem::path level =
         std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm1.glb";
     ASSERT_TRUE(std::filesystem::exists(level))
         << "missing " << level << " (../shared must be beside the repo)";
-    const Topology topo(loadGltf(level));
-    const Aabb box = boxAround(topo, 0.0f);
+    topo.emplace(loadGltf(level));
+    box = boxAround(*topo, 0.0f);
+}
+
+TEST(Silhouette, LeanModeOnGameLevel) {
+    std::optional<Topology> level;
+    Aabb box;
+    ASSERT_NO_FATAL_FAILURE(loadGameLevel(level, box));
+    const Topology& topo = *level;
     const RectLight light = lightAt(box.center() + glm::vec3(0.37f, 2.1f, -0.23f), 0.5f);
     SilhouetteExtractor fullExtractor(topo), leanExtractor(topo);
     const SilhouetteFrame& full = fullExtractor.update(light, box, {});
@@ -1130,12 +1140,10 @@ TEST(Silhouette, ReusesAnUnchangedLight) {
 }
 
 TEST(Silhouette, GameLevel) {
-    const std::filesystem::path level =
-        std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm1.glb";
-    ASSERT_TRUE(std::filesystem::exists(level))
-        << "missing " << level << " (../shared must be beside the repo)";
-    const Topology topo(loadGltf(level));
-    const Aabb box = boxAround(topo, 0.0f);
+    std::optional<Topology> level;
+    Aabb box;
+    ASSERT_NO_FATAL_FAILURE(loadGameLevel(level, box));
+    const Topology& topo = *level;
     SilhouetteExtractor extractor(topo);
     const glm::vec3 l = box.center() + glm::vec3(0.37f, 2.1f, -0.23f);
     const bool wedges = wedgesAvailable();
