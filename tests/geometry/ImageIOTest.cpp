@@ -1,18 +1,17 @@
 #include <geometry/Error.h>
 #include <geometry/ImageIO.h>
 
+#include "TestFiles.h"
+
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <random>
 #include <string>
-#include <unistd.h>
 
 namespace {
 
@@ -21,19 +20,9 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // A fresh directory per test, removed afterwards; nothing generated lands in the source tree.
-class ImageIOTest : public ::testing::Test {
+class ImageIOTest : public testutil::TempDirTest {
 protected:
-    void SetUp() override {
-        static std::atomic<int> counter{0};
-        mDir = fs::temp_directory_path() /
-               ("penumbra-imageio-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                "-" + std::to_string(std::random_device{}()));
-        fs::create_directories(mDir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
-    }
+    ImageIOTest() : TempDirTest("imageio") {}
     fs::path file(const std::string& name) const { return mDir / name; }
     void writeBytes(const std::string& name, const std::string& bytes) const {
         std::ofstream(file(name), std::ios::binary) << bytes;
@@ -53,8 +42,6 @@ protected:
         ADD_FAILURE() << name << ": expected InputError";
         return {};
     }
-
-    fs::path mDir;
 };
 
 std::string floatBytes(std::initializer_list<float> values) {
