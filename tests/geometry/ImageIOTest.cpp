@@ -109,10 +109,9 @@ TEST_F(ImageIOTest, PfmFileStoresBottomRowFirstLittleEndian) {
     EXPECT_EQ(bytes.substr(header.size(), 4), std::string("\x00\x00\x40\x40", 4));
     float values[4];
     std::memcpy(values, bytes.data() + header.size(), 16);
-    EXPECT_EQ(values[0], 3.0f);
-    EXPECT_EQ(values[1], 4.0f);
-    EXPECT_EQ(values[2], 1.0f);
-    EXPECT_EQ(values[3], 2.0f);
+    const float bottomRowFirst[4] = {3.0f, 4.0f, 1.0f, 2.0f};
+    for (int i = 0; i < 4; ++i)
+        EXPECT_EQ(values[i], bottomRowFirst[i]) << "value " << i;
 }
 
 TEST_F(ImageIOTest, PfmReadsBigEndianAndFlipsRows) {
@@ -126,10 +125,9 @@ TEST_F(ImageIOTest, PfmReadsBigEndianAndFlipsRows) {
     writeBytes("be.pfm", "Pf\n2 2\n1.0\n" + data);
     const geometry::FloatImage img = geometry::readPfm(file("be.pfm"));
     ASSERT_EQ(img.data.size(), 4u);
-    EXPECT_EQ(img.data[0], 1.0f);
-    EXPECT_EQ(img.data[1], 2.0f);
-    EXPECT_EQ(img.data[2], 3.0f);
-    EXPECT_EQ(img.data[3], 4.0f);
+    const float topRowFirst[4] = {1.0f, 2.0f, 3.0f, 4.0f};
+    for (int i = 0; i < 4; ++i)
+        EXPECT_EQ(img.data[i], topRowFirst[i]) << "value " << i;
 }
 
 TEST_F(ImageIOTest, MalformedPfmIsInputError) {
