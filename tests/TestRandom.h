@@ -32,4 +32,13 @@ struct Rng {
     }
 };
 
+// A unit direction from three standard normal draws of `rng` (redrawn while shorter than 1e-3).
+inline glm::dvec3 gaussianDirection(std::mt19937& rng) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (;;) {
+        const glm::dvec3 d(n(rng), n(rng), n(rng));
+        if (glm::length(d) > 1e-3) return glm::normalize(d);
+    }
+}
+
 } // namespace testutil

@@ -93,11 +93,7 @@ template <class Build> bool buildOrSkip(benchmark::State& state, Build&& build) 
 // --- Silhouettes on the 1M-triangle sphere ------------------------------------------------------
 
 RectLight lightAt(const glm::vec3& center, float halfSize = 0.3f) {
-    RectLight light;
-    light.center = center;
-    light.u = {halfSize, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, halfSize};
-    return light;
+    return testmeshes::squareLight(center, halfSize);
 }
 
 // Frame i's light: 12 positions, the same every turn; consecutive frames always differ, so the

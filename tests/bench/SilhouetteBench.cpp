@@ -26,9 +26,11 @@
 //   benchmark thread is pinned to one CPU and runs with Threads(1).
 // - Meshes and their topology are built outside the timed loop and cached; only the most recent
 //   mesh is kept, as the 1M-triangle topologies take a few hundred MB each.
+#include "geometry/TestMeshes.h"
+
+#include <geometry/reference/Framing.h>
 #include <geometry/scene/Primitives.h>
 #include <geometry/scene/Scene.h>
-#include <geometry/reference/Framing.h>
 #include <geometry/shadow/Silhouette.h>
 #include <geometry/shadow/Topology.h>
 
@@ -75,11 +77,7 @@ struct BenchMesh {
 // terminator follows no ring of the UV sphere), bounds including a 10 x 10 floor below it, where
 // the shadow would fall.
 RectLight sphereLight() {
-    RectLight light;
-    light.center = {1.5f, 4.0f, 1.0f};
-    light.u = {0.5f, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, 0.5f};
-    return light;
+    return testmeshes::squareLight({1.5f, 4.0f, 1.0f}, 0.5f);
 }
 
 Aabb sphereSceneBounds(const MeshData& mesh) {

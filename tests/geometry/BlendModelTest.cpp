@@ -9,6 +9,8 @@
 #include <geometry/shadow/Topology.h>
 #include <geometry/shadow/Wedge.h>
 
+#include "BruteVisibility.h"
+#include "TestMeshes.h"
 #include "TestRandom.h"
 
 #include <gtest/gtest.h>
@@ -31,11 +33,7 @@ using testutil::Rng;
 
 // The scenes' light: horizontal, 1 x 1, at height 4 (visibilityParallelRects' convention).
 RectLight sceneLight() {
-    RectLight light;
-    light.center = {0.0f, 4.0f, 0.0f};
-    light.u = {0.5f, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, 0.5f};
-    return light;
+    return testmeshes::squareLight({0.0f, 4.0f, 0.0f}, 0.5f);
 }
 
 // Groups (the GPU's input) and the true occluder triangles of a set of meshes.
@@ -76,39 +74,7 @@ std::vector<Triangle> occludersOf(const Prepared& s, const dvec3& p) {
 }
 
 // Midpoint-grid V with exact segment-triangle tests (independent of the projected polygons).
-bool hits(const dvec3& p, const dvec3& q, const Triangle& tri) {
-    const dvec3 dir = q - p, ab = tri[1] - tri[0], ac = tri[2] - tri[0];
-    const dvec3 pv = glm::cross(dir, ac);
-    const double det = glm::dot(ab, pv);
-    if (std::abs(det) < 1e-300) return false;
-    const dvec3 tv = p - tri[0];
-    const double u = glm::dot(tv, pv) / det;
-    if (u < 0.0 || u > 1.0) return false;
-    const dvec3 qv = glm::cross(tv, ab);
-    const double v = glm::dot(dir, qv) / det;
-    if (v < 0.0 || u + v > 1.0) return false;
-    const double t = glm::dot(ac, qv) / det;
-    return t > 0.0 && t < 1.0;
-}
-double gridVisibility(const std::vector<Triangle>& tris, const RectLight& light, const dvec3& p,
-                      int n) {
-    int visible = 0;
-    for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-            const double s = -1.0 + (2.0 * i + 1.0) / n, t = -1.0 + (2.0 * j + 1.0) / n;
-            const dvec3 y = dvec3(light.center) + s * dvec3(light.u) + t * dvec3(light.v);
-            bool blocked = false;
-            for (const Triangle& tr : tris) {
-                if (hits(p, y, tr)) {
-                    blocked = true;
-                    break;
-                }
-            }
-            visible += blocked ? 0 : 1;
-        }
-    }
-    return static_cast<double>(visible) / (static_cast<double>(n) * n);
-}
+using testutil::gridVisibility;
 
 bool sameRect(const Rect& a, const Rect& b, double eps) {
     if (a.empty() || b.empty()) return a.empty() == b.empty();

@@ -3,18 +3,17 @@
 #include <geometry/scene/Scene.h>
 #include <geometry/scene/ImageIO.h>
 
+#include "TestFiles.h"
+
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <limits>
-#include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace {
@@ -101,19 +100,9 @@ private:
 
 const char* kOneTriangleMesh = R"([{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}])";
 
-class GltfTest : public ::testing::Test {
+class GltfTest : public testutil::TempDirTest {
 protected:
-    void SetUp() override {
-        static std::atomic<int> counter{0};
-        mDir = fs::temp_directory_path() /
-               ("penumbra-gltf-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                "-" + std::to_string(std::random_device{}()));
-        fs::create_directories(mDir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
-    }
+    GltfTest() : TempDirTest("gltf") {}
     fs::path write(const std::string& name, const std::string& text) const {
         std::ofstream(mDir / name, std::ios::binary) << text;
         return mDir / name;
@@ -129,8 +118,6 @@ protected:
             EXPECT_NE(msg.find(needle), std::string::npos) << msg;
         }
     }
-
-    fs::path mDir;
 };
 
 glm::vec3 normalOf(const geometry::MeshData& m, std::size_t t) {

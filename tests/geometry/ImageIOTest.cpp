@@ -1,18 +1,17 @@
 #include <geometry/core/Error.h>
 #include <geometry/scene/ImageIO.h>
 
+#include "TestFiles.h"
+
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <random>
 #include <string>
-#include <unistd.h>
 
 namespace {
 
@@ -21,19 +20,9 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // A fresh directory per test, removed afterwards; nothing generated lands in the source tree.
-class ImageIOTest : public ::testing::Test {
+class ImageIOTest : public testutil::TempDirTest {
 protected:
-    void SetUp() override {
-        static std::atomic<int> counter{0};
-        mDir = fs::temp_directory_path() /
-               ("penumbra-imageio-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                "-" + std::to_string(std::random_device{}()));
-        fs::create_directories(mDir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
-    }
+    ImageIOTest() : TempDirTest("imageio") {}
     fs::path file(const std::string& name) const { return mDir / name; }
     void writeBytes(const std::string& name, const std::string& bytes) const {
         std::ofstream(file(name), std::ios::binary) << bytes;
@@ -53,8 +42,6 @@ protected:
         ADD_FAILURE() << name << ": expected InputError";
         return {};
     }
-
-    fs::path mDir;
 };
 
 std::string floatBytes(std::initializer_list<float> values) {
@@ -122,10 +109,9 @@ TEST_F(ImageIOTest, PfmFileStoresBottomRowFirstLittleEndian) {
     EXPECT_EQ(bytes.substr(header.size(), 4), std::string("\x00\x00\x40\x40", 4));
     float values[4];
     std::memcpy(values, bytes.data() + header.size(), 16);
-    EXPECT_EQ(values[0], 3.0f);
-    EXPECT_EQ(values[1], 4.0f);
-    EXPECT_EQ(values[2], 1.0f);
-    EXPECT_EQ(values[3], 2.0f);
+    const float bottomRowFirst[4] = {3.0f, 4.0f, 1.0f, 2.0f};
+    for (int i = 0; i < 4; ++i)
+        EXPECT_EQ(values[i], bottomRowFirst[i]) << "value " << i;
 }
 
 TEST_F(ImageIOTest, PfmReadsBigEndianAndFlipsRows) {
@@ -139,10 +125,9 @@ TEST_F(ImageIOTest, PfmReadsBigEndianAndFlipsRows) {
     writeBytes("be.pfm", "Pf\n2 2\n1.0\n" + data);
     const geometry::FloatImage img = geometry::readPfm(file("be.pfm"));
     ASSERT_EQ(img.data.size(), 4u);
-    EXPECT_EQ(img.data[0], 1.0f);
-    EXPECT_EQ(img.data[1], 2.0f);
-    EXPECT_EQ(img.data[2], 3.0f);
-    EXPECT_EQ(img.data[3], 4.0f);
+    const float topRowFirst[4] = {1.0f, 2.0f, 3.0f, 4.0f};
+    for (int i = 0; i < 4; ++i)
+        EXPECT_EQ(img.data[i], topRowFirst[i]) << "value " << i;
 }
 
 TEST_F(ImageIOTest, MalformedPfmIsInputError) {

@@ -81,29 +81,30 @@ std::span<const unsigned char> bytes(const std::string& s) {
     return {reinterpret_cast<const unsigned char*>(s.data()), s.size()};
 }
 
-// parseGltf of `text` with no folder must throw an InputError containing every needle.
-void expectGltfError(const std::string& text, std::initializer_list<std::string> needles) {
+// `parse` must throw an InputError whose message starts with "<name>: " and contains every needle.
+template <class Parse>
+void expectInputError(const Parse& parse, const std::string& name,
+                      std::initializer_list<std::string> needles) {
     try {
-        geometry::parseGltf(bytes(text), {}, "input.gltf");
+        parse();
         ADD_FAILURE() << "expected an InputError containing \"" << *needles.begin() << "\"";
     } catch (const geometry::InputError& e) {
         const std::string msg = e.what();
-        EXPECT_EQ(msg.rfind("input.gltf: ", 0), 0u) << msg;
+        EXPECT_EQ(msg.rfind(name + ": ", 0), 0u) << msg;
         for (const std::string& n : needles)
             EXPECT_NE(msg.find(n), std::string::npos) << "missing \"" << n << "\" in: " << msg;
     }
 }
 
+// parseGltf of `text` with no folder must throw an InputError containing every needle.
+void expectGltfError(const std::string& text, std::initializer_list<std::string> needles) {
+    expectInputError([&] { geometry::parseGltf(bytes(text), {}, "input.gltf"); }, "input.gltf",
+                     needles);
+}
+
 void expectSceneError(const std::string& text, std::initializer_list<std::string> needles) {
-    try {
-        geometry::parseScene(text, fs::temp_directory_path(), "input.json");
-        ADD_FAILURE() << "expected an InputError containing \"" << *needles.begin() << "\"";
-    } catch (const geometry::InputError& e) {
-        const std::string msg = e.what();
-        EXPECT_EQ(msg.rfind("input.json: ", 0), 0u) << msg;
-        for (const std::string& n : needles)
-            EXPECT_NE(msg.find(n), std::string::npos) << "missing \"" << n << "\" in: " << msg;
-    }
+    expectInputError([&] { geometry::parseScene(text, fs::temp_directory_path(), "input.json"); },
+                     "input.json", needles);
 }
 
 std::string repeat(const std::string& s, int n) {

@@ -6,18 +6,17 @@
 #include <geometry/reference/RayTracer.h>
 #include <geometry/scene/Scene.h>
 
+#include "TestFiles.h"
+
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
-#include <random>
 #include <string>
-#include <unistd.h>
 
 namespace {
 
@@ -59,19 +58,13 @@ const char* kCamera = R"("camera": {"eye": [0, 4, 8], "target": [0, 0, 0]})";
 const char* kLight = R"("light": {"center": [0, 6, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5]})";
 const char* kBox = R"({"type": "box", "center": [0, 1, 0], "size": [1, 0.2, 1]})";
 
-class SceneTest : public ::testing::Test {
+class SceneTest : public testutil::TempDirTest {
 protected:
+    SceneTest() : TempDirTest("scene") {}
     void SetUp() override {
-        static std::atomic<int> counter{0};
-        mDir = fs::temp_directory_path() /
-               ("penumbra-scene-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                "-" + std::to_string(std::random_device{}()));
+        TempDirTest::SetUp();
         fs::create_directories(mDir / "models");
         write("models/tri.gltf", triangleGltf());
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
     }
     fs::path write(const std::string& name, const std::string& text) const {
         fs::create_directories((mDir / name).parent_path());
@@ -97,8 +90,6 @@ protected:
                 EXPECT_NE(msg.find(n), std::string::npos) << msg;
         }
     }
-
-    fs::path mDir;
 };
 
 TEST_F(SceneTest, ValidSceneWithEveryObjectType) {

@@ -3,6 +3,7 @@
 // the volume along any ray from P equals the number of triangles between P and the light, for
 // closed, open and non-manifold meshes alike.
 #include "TestMeshes.h"
+#include "TestRandom.h"
 
 #include <geometry/scene/GltfLoader.h>
 #include <geometry/shadow/ShadowVolume.h>
@@ -210,14 +211,6 @@ Count trianglesBetween(const Topology& topo, const glm::dvec3& p, const glm::dve
     return count;
 }
 
-glm::dvec3 randomDirection(std::mt19937& rng) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    for (;;) {
-        const glm::dvec3 d(n(rng), n(rng), n(rng));
-        if (glm::length(d) > 1e-3) return glm::normalize(d);
-    }
-}
-
 // Whether the light is too close to some triangle's plane for the brute force to be trusted
 // (those frusta are slivers; the exact in-plane case has its own test).
 bool lightNearPlanes(const Topology& topo, const glm::dvec3& light) {
@@ -257,7 +250,7 @@ void checkPointInVolume(const Topology& topo, const glm::vec3& light, std::mt199
             p = l + behind(rng) * (x - l);
         }
         const Count expected = trianglesBetween(topo, p, l);
-        const Count actual = volumeCrossings(volume, p, randomDirection(rng));
+        const Count actual = volumeCrossings(volume, p, testutil::gaussianDirection(rng));
         if (expected.tie || actual.tie) {
             ++stats.ties;
             continue;

@@ -2,6 +2,7 @@
 // brute force on every kind of mesh: closed (sphere, cube, torus), open (box, quad), non-manifold
 // (edge fan) and a real OpenArena level.
 #include "TestMeshes.h"
+#include "TestRandom.h"
 
 #include <geometry/scene/GltfLoader.h>
 #include <geometry/scene/Primitives.h>
@@ -18,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -57,11 +59,7 @@ MeshData torusMesh(float major, float minor, int around, int tube) {
 }
 
 RectLight lightAt(const glm::vec3& center, float halfSize = 0.3f) {
-    RectLight light;
-    light.center = center;
-    light.u = {halfSize, 0.0f, 0.0f};
-    light.v = {0.0f, 0.0f, halfSize};
-    return light;
+    return testmeshes::squareLight(center, halfSize);
 }
 
 Aabb boxAround(const Topology& topo, float margin) {
@@ -390,14 +388,6 @@ bool segmentHitsAnyTriangle(const Topology& topo, const glm::dvec3& p, const glm
     return hit;
 }
 
-glm::dvec3 randomUnit(std::mt19937& rng) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    for (;;) {
-        const glm::dvec3 d(n(rng), n(rng), n(rng));
-        if (glm::length(d) > 1e-3) return glm::normalize(d);
-    }
-}
-
 // The union of the group volumes against appendHardShadowVolume (two-sided) or the classic
 // "is anything between P and the light" (one-sided closed), at random points of `box`.
 void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm::vec3& light,
@@ -416,7 +406,7 @@ void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm:
         const glm::dvec3 p = glm::dvec3(box.min) + glm::dvec3(unit(rng), unit(rng), unit(rng)) *
                                                        glm::dvec3(box.extent());
         bool ok = true;
-        const int fromGroups = winding(groups, p, randomUnit(rng), ok);
+        const int fromGroups = winding(groups, p, testutil::gaussianDirection(rng), ok);
         if (oneSided) {
             const bool hit = segmentHitsAnyTriangle(topo, p, glm::dvec3(light), ok);
             if (!ok) continue;
@@ -425,7 +415,7 @@ void checkVolumes(const Topology& topo, const SilhouetteFrame& frame, const glm:
             EXPECT_LE(fromGroups, 1);
             shadowed += hit;
         } else {
-            const int fromHard = winding(whole, p, randomUnit(rng), ok);
+            const int fromHard = winding(whole, p, testutil::gaussianDirection(rng), ok);
             if (!ok) continue;
             EXPECT_EQ(fromGroups, fromHard) << "P (" << p.x << ", " << p.y << ", " << p.z << ")";
             shadowed += fromHard != 0;
@@ -542,7 +532,7 @@ int checkBlocking(const Topology& topo, const SilhouetteFrame& frame, const glm:
         const glm::dvec3 p = glm::dvec3(box.min) + glm::dvec3(unit(rng), unit(rng), unit(rng)) *
                                                        glm::dvec3(box.extent());
         bool ok = true;
-        const int count = winding(volume, p, randomUnit(rng), ok);
+        const int count = winding(volume, p, testutil::gaussianDirection(rng), ok);
         const bool hit = segmentHitsAnyTriangle(topo, p, glm::dvec3(light), ok);
         if (!ok) continue;
         ++checked;
@@ -742,7 +732,7 @@ TEST(Silhouette, ClosedMeshAroundTheLightShadowsEverythingOutside) {
                 const glm::dvec3 p(-3.0 + 6.0 * (i + 0.5) / 15.0, -2.5,
                                    -3.0 + 6.0 * (j + 0.5) / 15.0);
                 bool ok = true;
-                const int count = winding(volume, p, randomUnit(rng), ok);
+                const int count = winding(volume, p, testutil::gaussianDirection(rng), ok);
                 if (!ok) continue;
                 ++checked;
                 lit += count == 0;
@@ -1055,13 +1045,22 @@ TEST(Silhouette, ConeBoundsAreConservativeUnderClipping) {
     EXPECT_GT(insideBuilt, 1000);
 }
 
-TEST(Silhouette, LeanModeOnGameLevel) {
+// oa_dm1 from ../shared and the box around it (boxAround, margin 0); a fatal failure when the
+// level is missing.
+void loadGameLevel(std::optional<Topology>& topo, Aabb& box) {
     const std::filesystem::path level =
         std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm1.glb";
     ASSERT_TRUE(std::filesystem::exists(level))
         << "missing " << level << " (../shared must be beside the repo)";
-    const Topology topo(loadGltf(level));
-    const Aabb box = boxAround(topo, 0.0f);
+    topo.emplace(loadGltf(level));
+    box = boxAround(*topo, 0.0f);
+}
+
+TEST(Silhouette, LeanModeOnGameLevel) {
+    std::optional<Topology> level;
+    Aabb box;
+    ASSERT_NO_FATAL_FAILURE(loadGameLevel(level, box));
+    const Topology& topo = *level;
     const RectLight light = lightAt(box.center() + glm::vec3(0.37f, 2.1f, -0.23f), 0.5f);
     SilhouetteExtractor fullExtractor(topo), leanExtractor(topo);
     const SilhouetteFrame& full = fullExtractor.update(light, box, {});
@@ -1141,12 +1140,10 @@ TEST(Silhouette, ReusesAnUnchangedLight) {
 }
 
 TEST(Silhouette, GameLevel) {
-    const std::filesystem::path level =
-        std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm1.glb";
-    ASSERT_TRUE(std::filesystem::exists(level))
-        << "missing " << level << " (../shared must be beside the repo)";
-    const Topology topo(loadGltf(level));
-    const Aabb box = boxAround(topo, 0.0f);
+    std::optional<Topology> level;
+    Aabb box;
+    ASSERT_NO_FATAL_FAILURE(loadGameLevel(level, box));
+    const Topology& topo = *level;
     SilhouetteExtractor extractor(topo);
     const glm::vec3 l = box.center() + glm::vec3(0.37f, 2.1f, -0.23f);
     const bool wedges = wedgesAvailable();

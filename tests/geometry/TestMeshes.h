@@ -1,5 +1,6 @@
 // Small hand-built meshes shared by the geometry tests (shadow volumes, silhouettes, topology),
-// and the large ones that geometry_bench times (the tests check what they assert on them).
+// and the large ones that geometry_bench times (the tests check what they assert on them); and
+// the square lights above them.
 // geometry/Primitives.h is used where it yields the very same mesh; the builders kept here differ
 // from it in vertex or triangle order, or in how coordinates are computed, which the tests rely on.
 #pragma once
@@ -136,6 +137,15 @@ inline geometry::MeshData splitGrid(int n) {
         }
     }
     return mesh;
+}
+
+// A square light of half size `halfSize` at `center`, in the xz plane (u along +x, v along +z).
+inline geometry::RectLight squareLight(const glm::vec3& center, float halfSize) {
+    geometry::RectLight light;
+    light.center = center;
+    light.u = {halfSize, 0.0f, 0.0f};
+    light.v = {0.0f, 0.0f, halfSize};
+    return light;
 }
 
 } // namespace testmeshes

@@ -97,6 +97,26 @@ void expectConsistent(const Topology& topo) {
     }
 }
 
+// The triangles of a topology's stats: read, dropped as degenerate and kept; and the vertices
+// kept after welding.
+void expectTriangleCounts(const TopologyStats& s, std::size_t input, std::size_t degenerate,
+                          std::size_t kept, std::size_t vertices) {
+    EXPECT_EQ(s.inputTriangles, input);
+    EXPECT_EQ(s.degenerateTriangles, degenerate);
+    EXPECT_EQ(s.triangles, kept);
+    EXPECT_EQ(s.vertices, vertices);
+}
+
+// The edges of a topology's stats: all of them, and among them the boundary (one use),
+// non-manifold (three or more uses) and inconsistent (two uses in one direction) ones.
+void expectEdgeCounts(const TopologyStats& s, std::size_t edges, std::size_t boundary,
+                      std::size_t nonManifold, std::size_t inconsistent) {
+    EXPECT_EQ(s.edges, edges);
+    EXPECT_EQ(s.boundaryEdges, boundary);
+    EXPECT_EQ(s.nonManifoldEdges, nonManifold);
+    EXPECT_EQ(s.inconsistentEdges, inconsistent);
+}
+
 TEST(Topology, ManifoldnessNames) {
     EXPECT_STREQ(toString(Manifoldness::Closed), "closed");
     EXPECT_STREQ(toString(Manifoldness::Open), "open");
@@ -110,14 +130,8 @@ TEST(Topology, SplitCubeWeldsToClosedManifold) {
     expectConsistent(topo);
     const TopologyStats& s = topo.stats();
     EXPECT_EQ(s.inputVertices, 24u);
-    EXPECT_EQ(s.inputTriangles, 12u);
-    EXPECT_EQ(s.vertices, 8u);
-    EXPECT_EQ(s.triangles, 12u);
-    EXPECT_EQ(s.degenerateTriangles, 0u);
-    EXPECT_EQ(s.edges, 18u); // 12 cube edges + 6 face diagonals
-    EXPECT_EQ(s.boundaryEdges, 0u);
-    EXPECT_EQ(s.nonManifoldEdges, 0u);
-    EXPECT_EQ(s.inconsistentEdges, 0u);
+    expectTriangleCounts(s, 12, 0, 12, 8);
+    expectEdgeCounts(s, 18, 0, 0, 0); // 12 cube edges + 6 face diagonals
     EXPECT_EQ(s.nonManifoldVertices, 0u);
     EXPECT_EQ(topo.manifoldness(), Manifoldness::Closed);
     for (std::size_t t = 0; t < 12; ++t)
@@ -152,10 +166,7 @@ TEST(Topology, OpenBoxHasFourBoundaryEdges) {
     const TopologyStats& s = topo.stats();
     EXPECT_EQ(s.triangles, 10u);
     EXPECT_EQ(s.vertices, 8u);
-    EXPECT_EQ(s.edges, 17u);
-    EXPECT_EQ(s.boundaryEdges, 4u);
-    EXPECT_EQ(s.nonManifoldEdges, 0u);
-    EXPECT_EQ(s.inconsistentEdges, 0u);
+    expectEdgeCounts(s, 17, 4, 0, 0);
     EXPECT_EQ(s.nonManifoldVertices, 0u);
     EXPECT_EQ(topo.manifoldness(), Manifoldness::Open);
 }
@@ -175,10 +186,7 @@ TEST(Topology, ThreeTrianglesOnOneEdgeAreNonManifold) {
     const Topology topo(mesh);
     expectConsistent(topo);
     const TopologyStats& s = topo.stats();
-    EXPECT_EQ(s.edges, 7u);
-    EXPECT_EQ(s.nonManifoldEdges, 1u);
-    EXPECT_EQ(s.boundaryEdges, 6u);
-    EXPECT_EQ(s.inconsistentEdges, 0u); // only counted on two-use edges
+    expectEdgeCounts(s, 7, 6, 1, 0); // inconsistent: only counted on two-use edges
     EXPECT_EQ(topo.manifoldness(), Manifoldness::NonManifold);
     // The shared edge lists all three triangles, in triangle order, with their orientations.
     const auto edges = topo.edges();
@@ -216,10 +224,7 @@ TEST(Topology, InconsistentlyOrientedTriangleIsNonManifold) {
     const Topology topo(mesh);
     expectConsistent(topo);
     const TopologyStats& s = topo.stats();
-    EXPECT_EQ(s.edges, 18u);
-    EXPECT_EQ(s.inconsistentEdges, 3u); // all three edges of the flipped triangle
-    EXPECT_EQ(s.nonManifoldEdges, 0u);
-    EXPECT_EQ(s.boundaryEdges, 0u);
+    expectEdgeCounts(s, 18, 0, 0, 3); // inconsistent: all three edges of the flipped triangle
     EXPECT_EQ(topo.manifoldness(), Manifoldness::NonManifold);
 }
 
@@ -245,10 +250,7 @@ TEST(Topology, BowtieVertexIsNonManifold) {
         const Topology topo(mesh);
         expectConsistent(topo);
         const TopologyStats& s = topo.stats();
-        EXPECT_EQ(s.edges, 12u);
-        EXPECT_EQ(s.boundaryEdges, 0u);
-        EXPECT_EQ(s.inconsistentEdges, 0u);
-        EXPECT_EQ(s.nonManifoldEdges, 0u);
+        expectEdgeCounts(s, 12, 0, 0, 0);
         EXPECT_EQ(s.nonManifoldVertices, 1u) << "order " << order;
         EXPECT_EQ(topo.manifoldness(), Manifoldness::NonManifold) << "order " << order;
     }
@@ -302,10 +304,7 @@ TEST(Topology, DegenerateTrianglesAreDroppedAndCounted) {
     const Topology topo(mesh);
     expectConsistent(topo);
     const TopologyStats& s = topo.stats();
-    EXPECT_EQ(s.inputTriangles, 6u);
-    EXPECT_EQ(s.degenerateTriangles, 3u);
-    EXPECT_EQ(s.triangles, 3u);
-    EXPECT_EQ(s.vertices, 5u); // 5 welded into 2
+    expectTriangleCounts(s, 6, 3, 3, 5); // vertices: 5 welded into 2
     ASSERT_EQ(topo.sourceTriangle().size(), 3u);
     EXPECT_EQ(topo.sourceTriangle()[0], 1u);
     EXPECT_EQ(topo.sourceTriangle()[1], 2u);

@@ -4,6 +4,7 @@
 #include <geometry/reference/Analytic.h>
 #include <geometry/shadow/Wedge.h>
 
+#include "BruteVisibility.h"
 #include "WedgeCases.h"
 
 #include <gtest/gtest.h>
@@ -91,23 +92,9 @@ bool sampledRayReaches(const dvec3& p, const vec3& e0f, const vec3& e1f, const R
     return false;
 }
 
-// Segment p -> q against triangle (a, b, c), double precision, open segment.
-bool segmentHitsTriangle(const dvec3& p, const dvec3& q, const dvec3& a, const dvec3& b,
-                         const dvec3& c) {
-    const dvec3 dir = q - p;
-    const dvec3 ab = b - a, ac = c - a;
-    const dvec3 pv = glm::cross(dir, ac);
-    const double det = glm::dot(ab, pv);
-    if (std::abs(det) < 1e-300) return false;
-    const dvec3 tv = p - a;
-    const double u = glm::dot(tv, pv) / det;
-    if (u < 0.0 || u > 1.0) return false;
-    const dvec3 qv = glm::cross(tv, ab);
-    const double v = glm::dot(dir, qv) / det;
-    if (v < 0.0 || u + v > 1.0) return false;
-    const double t = glm::dot(ac, qv) / det;
-    return t > 0.0 && t < 1.0;
-}
+// Exact segment-triangle tests and the midpoint grid of light points (BruteVisibility.h).
+using testutil::gridVisibility;
+using testutil::segmentHitsTriangle;
 
 using Triangle = std::array<vec3, 3>;
 struct DirectedEdge {
@@ -147,27 +134,6 @@ double formulaVisibility(const std::vector<DirectedEdge>& loop, const std::vecto
     double v = centreBlocked ? 0.0 : 1.0;
     for (const DirectedEdge& e : loop) v -= geometry::edgeCoverage(p, e.v0, e.v1, light);
     return v;
-}
-
-// Midpoint rule over an n x n grid of light points with exact segment-triangle tests.
-double gridVisibility(const std::vector<Triangle>& tris, const RectLight& light, const vec3& p,
-                      int n) {
-    int visible = 0;
-    for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-            const double s = -1.0 + (2.0 * i + 1.0) / n, t = -1.0 + (2.0 * j + 1.0) / n;
-            const dvec3 y = dvec3(light.center) + s * dvec3(light.u) + t * dvec3(light.v);
-            bool blocked = false;
-            for (const Triangle& tr : tris) {
-                if (segmentHitsTriangle(dvec3(p), y, dvec3(tr[0]), dvec3(tr[1]), dvec3(tr[2]))) {
-                    blocked = true;
-                    break;
-                }
-            }
-            visible += blocked ? 0 : 1;
-        }
-    }
-    return static_cast<double>(visible) / (static_cast<double>(n) * n);
 }
 
 std::vector<Triangle> quadTriangles(const vec3& c, const vec3& a, const vec3& b) {

@@ -3,32 +3,20 @@
 // scene's, and frames that do not wait for the GPU still report pass times from an earlier frame.
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
+#include "TestErrors.h"
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/Framing.h>
 
 #include <chrono>
 #include <cmath>
-#include <thread>
+#include <optional>
 #include <string>
+#include <thread>
 
 namespace {
 
 class CameraOverride : public GlTest {};
-
-geometry::FloatImage renderWith(const geometry::Scene& scene, const std::string& method,
-                                const std::optional<geometry::Camera>& camera) {
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
-    s.method = method;
-    s.width = s.height = 96;
-    s.samples = 64;
-    renderer.renderFrame(s); // with the scene's camera first: the override must not reuse it
-    s.camera = camera;
-    renderer.renderFrame(s);
-    return renderer.visibility();
-}
 
 TEST_F(CameraOverride, EqualsTheEditedScene) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
@@ -38,44 +26,37 @@ TEST_F(CameraOverride, EqualsTheEditedScene) {
     geometry::Scene edited = scene;
     edited.camera = moved;
     for (const char* method : {"hard", "wedges-blend", "occlusion", "pcss"}) {
-        const geometry::FloatImage a = renderWith(scene, method, moved);
-        const geometry::FloatImage b = renderWith(edited, method, std::nullopt);
+        const geometry::FloatImage a = testutil::renderOverridden(scene, method, {.camera = moved});
+        const geometry::FloatImage b = testutil::renderOverridden(edited, method, {});
         EXPECT_EQ(testutil::countDiffering(a, b, 0.0f), 0u) << method;
-        const geometry::FloatImage c = renderWith(scene, method, std::nullopt);
+        const geometry::FloatImage c = testutil::renderOverridden(scene, method, {});
         EXPECT_GT(testutil::countDiffering(a, c, 0.02f), 500u) << method << ": the camera override was ignored";
     }
 }
 
 TEST_F(CameraOverride, RefusesABadCamera) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
+    testutil::SceneRenderer sr(scene);
     gpu::RenderSettings s;
     s.width = s.height = 32;
     geometry::Camera c = scene.camera;
     c.target = c.eye;
     s.camera = c;
-    try {
-        renderer.renderFrame(s);
-        FAIL() << "a camera looking nowhere was accepted";
-    } catch (const geometry::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("RenderSettings::camera.target"), std::string::npos)
-            << e.what();
-    }
+    const std::optional<std::string> error =
+        testutil::errorOf<geometry::InputError>([&] { sr.renderer.renderFrame(s); });
+    ASSERT_TRUE(error) << "a camera looking nowhere was accepted";
+    EXPECT_NE(error->find("RenderSettings::camera.target"), std::string::npos) << *error;
     c = scene.camera;
     c.eye.x = std::nanf("");
     s.camera = c;
-    EXPECT_THROW(renderer.renderFrame(s), geometry::InputError);
+    EXPECT_THROW(sr.renderer.renderFrame(s), geometry::InputError);
 }
 
 TEST_F(CameraOverride, FramesThatDoNotWaitReportEarlierPassTimes) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
+    testutil::SceneRenderer sr(scene);
     // hard: no method counters read back, so nothing else waits for the GPU.
-    s.method = "hard";
-    s.width = s.height = 64;
+    gpu::RenderSettings s = testutil::frameSettings("hard", 64, 64);
     s.waitForGpu = false;
     int measured = 0;
     for (int f = 0; f < 12; ++f) {
@@ -83,7 +64,7 @@ TEST_F(CameraOverride, FramesThatDoNotWaitReportEarlierPassTimes) {
         // instrumented build still completes each frame's queries within the ring's depth; the
         // count of frames with times below depends on that, not on the renderer's speed.
         if (f > 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        const gpu::FrameStats stats = renderer.renderFrame(s);
+        const gpu::FrameStats stats = sr.renderer.renderFrame(s);
         // The ring holds at most a few frames in flight: times are never older than that.
         EXPECT_LE(stats.gpuTimesLag, 3) << "frame " << f;
         EXPECT_GE(stats.gpuTimesLag, -1) << "frame " << f;
@@ -103,7 +84,7 @@ TEST_F(CameraOverride, FramesThatDoNotWaitReportEarlierPassTimes) {
     EXPECT_GE(measured, 8);
     // A waiting frame afterwards measures itself.
     s.waitForGpu = true;
-    const gpu::FrameStats stats = renderer.renderFrame(s);
+    const gpu::FrameStats stats = sr.renderer.renderFrame(s);
     EXPECT_EQ(stats.gpuTimesLag, 0);
     EXPECT_FALSE(stats.gpu.empty());
 }

@@ -28,22 +28,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-GLint bufferVariableOffset(GLuint program, const char* name) {
+// A property (GL_OFFSET, GL_TOP_LEVEL_ARRAY_STRIDE) of a buffer variable of the linked program;
+// -1 when the program has no such variable.
+GLint bufferVariable(GLuint program, const char* name, GLenum prop) {
     const GLuint index = glGetProgramResourceIndex(program, GL_BUFFER_VARIABLE, name);
     if (index == GL_INVALID_INDEX) return -1;
-    const GLenum prop = GL_OFFSET;
-    GLint offset = -1;
-    glGetProgramResourceiv(program, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &offset);
-    return offset;
+    GLint value = -1;
+    glGetProgramResourceiv(program, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &value);
+    return value;
+}
+
+GLint bufferVariableOffset(GLuint program, const char* name) {
+    return bufferVariable(program, name, GL_OFFSET);
 }
 
 GLint arrayStride(GLuint program, const char* name) {
-    const GLuint index = glGetProgramResourceIndex(program, GL_BUFFER_VARIABLE, name);
-    if (index == GL_INVALID_INDEX) return -1;
-    const GLenum prop = GL_TOP_LEVEL_ARRAY_STRIDE;
-    GLint stride = -1;
-    glGetProgramResourceiv(program, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &stride);
-    return stride;
+    return bufferVariable(program, name, GL_TOP_LEVEL_ARRAY_STRIDE);
 }
 
 } // namespace

@@ -3,31 +3,18 @@
 // a replaced light is validated like the scene's.
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
+#include "TestErrors.h"
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/Framing.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace {
 
 class LightOverride : public GlTest {};
-
-geometry::FloatImage renderWith(const geometry::Scene& scene, const std::string& method,
-                                const std::optional<geometry::RectLight>& light) {
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
-    s.method = method;
-    s.width = s.height = 96;
-    s.samples = 64;
-    // A first frame with the scene's own light: the override must not reuse its state.
-    renderer.renderFrame(s);
-    s.light = light;
-    renderer.renderFrame(s);
-    return renderer.visibility();
-}
 
 TEST_F(LightOverride, EqualsTheEditedScene) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
@@ -37,42 +24,37 @@ TEST_F(LightOverride, EqualsTheEditedScene) {
     geometry::Scene edited = scene;
     edited.light = moved;
     for (const char* method : {"hard", "wedges-blend", "occlusion", "pcss", "reference"}) {
-        const geometry::FloatImage a = renderWith(scene, method, moved);
-        const geometry::FloatImage b = renderWith(edited, method, std::nullopt);
+        const geometry::FloatImage a = testutil::renderOverridden(scene, method, {.light = moved});
+        const geometry::FloatImage b = testutil::renderOverridden(edited, method, {});
         EXPECT_EQ(testutil::countDiffering(a, b, 0.0f), 0u) << method;
         // And the light did change the picture (the override is not ignored).
-        const geometry::FloatImage c = renderWith(scene, method, std::nullopt);
+        const geometry::FloatImage c = testutil::renderOverridden(scene, method, {});
         EXPECT_GT(testutil::countDiffering(a, c, 0.02f), 50u) << method;
     }
 }
 
 TEST_F(LightOverride, RefusesALightThatTouchesGeometry) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
+    testutil::SceneRenderer sr(scene);
     gpu::RenderSettings s;
     s.width = s.height = 32;
+    const auto renderError = [&] {
+        return testutil::errorOf<geometry::InputError>([&] { sr.renderer.renderFrame(s); });
+    };
     geometry::RectLight low = scene.light;
     low.center.y = 1.8f; // the plane of the highest plate, over it
     low.center.z = -0.45f;
     s.light = low;
-    try {
-        renderer.renderFrame(s);
-        FAIL() << "a light in the plane of a plate was accepted";
-    } catch (const geometry::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("RenderSettings::light intersects object 'high'"),
-                  std::string::npos)
-            << e.what();
-    }
+    const std::optional<std::string> touching = renderError();
+    ASSERT_TRUE(touching) << "a light in the plane of a plate was accepted";
+    EXPECT_NE(touching->find("RenderSettings::light intersects object 'high'"), std::string::npos)
+        << *touching;
     geometry::RectLight flat = scene.light;
     flat.v = flat.u;
     s.light = flat;
-    try {
-        renderer.renderFrame(s);
-        FAIL() << "a light with parallel axes was accepted";
-    } catch (const geometry::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("zero area"), std::string::npos) << e.what();
-    }
+    const std::optional<std::string> zeroArea = renderError();
+    ASSERT_TRUE(zeroArea) << "a light with parallel axes was accepted";
+    EXPECT_NE(zeroArea->find("zero area"), std::string::npos) << *zeroArea;
 }
 
 } // namespace

@@ -32,18 +32,9 @@ using testutil::Rendered;
 
 Rendered renderOcclusion(const geometry::Scene& scene, int size,
                          std::vector<gpu::ParameterValue> parameters = {}) {
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
-    s.method = "occlusion";
-    s.width = s.height = size;
+    gpu::RenderSettings s = testutil::frameSettings("occlusion", size, size);
     s.parameters = std::move(parameters);
-    Rendered r;
-    r.stats = renderer.renderFrame(s);
-    r.visibility = renderer.visibility();
-    r.position = renderer.position();
-    r.normal = renderer.normal();
-    return r;
+    return testutil::render(scene, s);
 }
 
 struct ClosedFormCheck {

@@ -10,6 +10,7 @@
 // - parameters change the result, bad values are refused naming the allowed ones.
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
+#include "TestErrors.h"
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/ErrorStats.h>
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -235,11 +237,8 @@ TEST_F(PcssMethod, ParametersChangeTheResult) {
 
 TEST_F(PcssMethod, BadValuesAreRefused) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("parallel-square.json"));
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
-    s.method = "pcss";
-    s.width = s.height = 32;
+    testutil::SceneRenderer sr(scene);
+    gpu::RenderSettings s = testutil::frameSettings("pcss", 32, 32);
     const std::pair<gpu::ParameterValue, const char*> bad[] = {
         {{"resolution", "256"}, "512, 1024, 2048"},
         {{"resolution", "1000"}, "512, 1024, 2048"},
@@ -251,11 +250,11 @@ TEST_F(PcssMethod, BadValuesAreRefused) {
     };
     for (const auto& [parameter, allowed] : bad) {
         s.parameters = {parameter};
-        try {
-            renderer.renderFrame(s);
-            ADD_FAILURE() << parameter.name << "=" << parameter.value << " was accepted";
-        } catch (const geometry::InputError& e) {
-            EXPECT_NE(std::string(e.what()).find(allowed), std::string::npos) << e.what();
+        const std::optional<std::string> error =
+            testutil::errorOf<geometry::InputError>([&] { sr.renderer.renderFrame(s); });
+        EXPECT_TRUE(error) << parameter.name << "=" << parameter.value << " was accepted";
+        if (error) {
+            EXPECT_NE(error->find(allowed), std::string::npos) << *error;
         }
     }
 }

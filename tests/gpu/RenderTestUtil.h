@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,28 +42,66 @@ struct Rendered {
     gpu::FrameStats stats;
 };
 
-inline Rendered render(const geometry::Scene& scene, const std::string& method, int width,
-                       int height, int samples,
-                       const std::vector<gpu::ParameterValue>& parameters = {}) {
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
+// The settings of a frame of `method` at width x height; the others keep their defaults.
+inline gpu::RenderSettings frameSettings(const std::string& method, int width, int height) {
     gpu::RenderSettings s;
     s.method = method;
     s.width = width;
     s.height = height;
+    return s;
+}
+
+// A renderer of `scene` with the shaders of defaultShaderDir() (kept alive with it).
+struct SceneRenderer {
+    gpu::ShaderLoader shaders{gpu::defaultShaderDir()};
+    gpu::Renderer renderer;
+    explicit SceneRenderer(const geometry::Scene& scene) : renderer(scene, shaders) {}
+};
+
+// One frame of `scene` with settings `s` by a fresh renderer, and what it read back.
+inline Rendered render(const geometry::Scene& scene, const gpu::RenderSettings& s) {
+    SceneRenderer sr(scene);
+    Rendered r;
+    r.stats = sr.renderer.renderFrame(s);
+    r.visibility = sr.renderer.visibility();
+    r.position = sr.renderer.position();
+    r.normal = sr.renderer.normal();
+    return r;
+}
+
+inline Rendered render(const geometry::Scene& scene, const std::string& method, int width,
+                       int height, int samples,
+                       const std::vector<gpu::ParameterValue>& parameters = {}) {
+    gpu::RenderSettings s = frameSettings(method, width, height);
     s.samples = samples;
     s.parameters = parameters;
-    Rendered r;
-    r.stats = renderer.renderFrame(s);
-    r.visibility = renderer.visibility();
-    r.position = renderer.position();
-    r.normal = renderer.normal();
-    return r;
+    return render(scene, s);
 }
 
 inline Rendered render(const geometry::Scene& scene, const std::string& method, int size,
                        int samples = 256) {
     return render(scene, method, size, size, samples);
+}
+
+// What a frame's settings replace of the scene (RenderSettings::camera, ::light); nullopt: keep.
+struct Override {
+    std::optional<geometry::Camera> camera;
+    std::optional<geometry::RectLight> light;
+};
+
+// V of a frame of `method` at 96² with 64 light samples and `o` applied to its settings, by a
+// renderer whose first frame had the scene's own camera and light: the override must not reuse
+// that frame's state.
+inline geometry::FloatImage renderOverridden(const geometry::Scene& scene,
+                                             const std::string& method, const Override& o) {
+    SceneRenderer sr(scene);
+    gpu::RenderSettings s = frameSettings(method, 96, 96);
+    s.samples = 64;
+    sr.renderer.renderFrame(s);
+    s.camera = o.camera;
+    s.light = o.light;
+    sr.renderer.renderFrame(s);
+    return sr.renderer.visibility();
 }
 
 // A player's first view of a shared level: the glTF camera of one spawn point (eye and yaw

@@ -1,6 +1,7 @@
 // ShaderLoader: preprocessing (version, defines, includes, #line), include errors, and compile/link
 // errors mapped back to file:line on the real driver.
 #include "GlTestEnv.h"
+#include "TestErrors.h"
 
 #include <gpu/gl/ShaderLoader.h>
 
@@ -9,6 +10,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -57,6 +60,17 @@ std::string name(const TempDir& dir, const std::string& file) {
 
 bool contains(const std::string& haystack, const std::string& needle) {
     return haystack.find(needle) != std::string::npos;
+}
+
+// Preprocessing `file` must throw a ShaderError (a fatal failure saying `failure` otherwise) whose
+// message contains every one of `needles`.
+void expectPreprocessError(const gpu::ShaderLoader& loader, const std::string& file,
+                           const char* failure, std::initializer_list<std::string> needles) {
+    const std::optional<std::string> what =
+        testutil::errorOf<gpu::ShaderError>([&] { loader.preprocess(file, {}); });
+    ASSERT_TRUE(what) << failure;
+    for (const std::string& needle : needles)
+        EXPECT_TRUE(contains(*what, needle)) << *what;
 }
 
 // Layout used by several tests:
@@ -119,16 +133,10 @@ TEST(ShaderLoaderTest, IncludeCycleThrows) {
     dir.write("y.glsl", "float y;\n#include \"x.glsl\"\n");
     dir.write("top.frag", "#include \"x.glsl\"\nvoid main() {}\n");
     gpu::ShaderLoader loader(dir.root());
-    try {
-        loader.preprocess("top.frag", {});
-        FAIL() << "cycle not detected";
-    } catch (const gpu::ShaderError& e) {
-        std::string what = e.what();
-        EXPECT_TRUE(contains(what, "cycle")) << what;
-        EXPECT_TRUE(contains(what, name(dir, "x.glsl") + " -> " + name(dir, "y.glsl") + " -> " +
-                                       name(dir, "x.glsl")))
-            << what;
-    }
+    ASSERT_NO_FATAL_FAILURE(
+        expectPreprocessError(loader, "top.frag", "cycle not detected",
+                              {"cycle", name(dir, "x.glsl") + " -> " + name(dir, "y.glsl") +
+                                            " -> " + name(dir, "x.glsl")}));
     // A file including itself is the shortest cycle.
     dir.write("self.glsl", "#include \"self.glsl\"\n");
     EXPECT_THROW(loader.preprocess("self.glsl", {}), gpu::ShaderError);
@@ -139,14 +147,9 @@ TEST(ShaderLoaderTest, MissingIncludeNamesFileAndLine) {
     dir.write("lib/user.glsl", "float a;\nfloat b;\n#include \"nowhere.glsl\"\n");
     dir.write("m.frag", "#include \"lib/user.glsl\"\nvoid main() {}\n");
     gpu::ShaderLoader loader(dir.root());
-    try {
-        loader.preprocess("m.frag", {});
-        FAIL() << "missing include accepted";
-    } catch (const gpu::ShaderError& e) {
-        std::string what = e.what();
-        EXPECT_TRUE(contains(what, "nowhere.glsl")) << what;
-        EXPECT_TRUE(contains(what, name(dir, "lib/user.glsl") + ":3:")) << what;
-    }
+    ASSERT_NO_FATAL_FAILURE(
+        expectPreprocessError(loader, "m.frag", "missing include accepted",
+                              {"nowhere.glsl", name(dir, "lib/user.glsl") + ":3:"}));
     EXPECT_THROW(loader.preprocess("absent.frag", {}), gpu::ShaderError);
     dir.write("angle.frag", "#include <x.glsl>\n");
     EXPECT_THROW(loader.preprocess("angle.frag", {}), gpu::ShaderError);
@@ -205,16 +208,14 @@ TEST_F(ShaderLoaderGlTest, CompileErrorInIncludedFileNamesThatFileAndLine) {
                         "out vec4 c;\n"
                         "void main() { c = vec4(fine() + broken()); }\n");
     gpu::ShaderLoader loader(dir.root());
-    try {
+    const std::optional<std::string> what = testutil::errorOf<gpu::ShaderError>([&] {
         loader.load({.stages = {{GL_VERTEX_SHADER, "e.vert"}, {GL_FRAGMENT_SHADER, "e.frag"}},
                      .label = "broken-include"});
-        FAIL() << "compile error not reported";
-    } catch (const gpu::ShaderError& e) {
-        std::string what = e.what();
-        EXPECT_TRUE(contains(what, "broken-include")) << what;
-        EXPECT_TRUE(contains(what, name(dir, "lib/helpers.glsl") + ":3: ")) << what;
-        EXPECT_TRUE(contains(what, "undefinedSymbol")) << what;
-    }
+    });
+    ASSERT_TRUE(what) << "compile error not reported";
+    EXPECT_TRUE(contains(*what, "broken-include")) << *what;
+    EXPECT_TRUE(contains(*what, name(dir, "lib/helpers.glsl") + ":3: ")) << *what;
+    EXPECT_TRUE(contains(*what, "undefinedSymbol")) << *what;
 }
 
 TEST_F(ShaderLoaderGlTest, CompileErrorAfterIncludeKeepsMainFileLines) {
@@ -228,44 +229,40 @@ TEST_F(ShaderLoaderGlTest, CompileErrorAfterIncludeKeepsMainFileLines) {
     dir.write("lib/one.glsl", "float one() {\n    return 1.0;\n}\n");
     dir.write("lib/two.glsl", "float two() { return 2.0; }\n");
     dir.write("m.frag", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
-    try {
+    const std::optional<std::string> what = testutil::errorOf<gpu::ShaderError>([&] {
         gpu::ShaderLoader(dir.root())
             .load({.stages = {{GL_VERTEX_SHADER, "m.vert"}, {GL_FRAGMENT_SHADER, "m.frag"}}});
-        FAIL() << "compile error not reported";
-    } catch (const gpu::ShaderError& e) {
-        std::string what = e.what();
-        // The missing ';' is diagnosed at the next token, on line 6 of m.vert.
-        EXPECT_TRUE(contains(what, name(dir, "m.vert") + ":6: ") ||
-                    contains(what, name(dir, "m.vert") + ":5: "))
-            << what;
-        EXPECT_FALSE(contains(what, "one.glsl:")) << what;
-    }
+    });
+    ASSERT_TRUE(what) << "compile error not reported";
+    // The missing ';' is diagnosed at the next token, on line 6 of m.vert.
+    EXPECT_TRUE(contains(*what, name(dir, "m.vert") + ":6: ") ||
+                contains(*what, name(dir, "m.vert") + ":5: "))
+        << *what;
+    EXPECT_FALSE(contains(*what, "one.glsl:")) << *what;
 }
 
 TEST_F(ShaderLoaderGlTest, ErrorFromADefineIsReportedWhereItIsExpanded) {
     TempDir dir;
     dir.write("d.frag", "out vec4 c;\nvoid main() { c = vec4(VALUE); }\n");
-    try {
+    const std::optional<std::string> what = testutil::errorOf<gpu::ShaderError>([&] {
         gpu::ShaderLoader(dir.root())
             .load({.stages = {{GL_FRAGMENT_SHADER, "d.frag"}}, .defines = {"VALUE ]"}});
-        FAIL() << "compile error not reported";
-    } catch (const gpu::ShaderError& e) {
-        // The bad token comes from a define but is diagnosed where it is expanded.
-        EXPECT_TRUE(contains(e.what(), name(dir, "d.frag") + ":2: ")) << e.what();
-    }
+    });
+    ASSERT_TRUE(what) << "compile error not reported";
+    // The bad token comes from a define but is diagnosed where it is expanded.
+    EXPECT_TRUE(contains(*what, name(dir, "d.frag") + ":2: ")) << *what;
 }
 
 TEST_F(ShaderLoaderGlTest, ErrorInsideTheGeneratedPreludeIsNamedSo) {
     TempDir dir;
     dir.write("ok.frag", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
-    try {
-        // Line 2 of the prelude is the first #define, which is malformed.
+    // Line 2 of the prelude is the first #define, which is malformed.
+    const std::optional<std::string> what = testutil::errorOf<gpu::ShaderError>([&] {
         gpu::ShaderLoader(dir.root())
             .load({.stages = {{GL_FRAGMENT_SHADER, "ok.frag"}}, .defines = {"1BAD x"}});
-        FAIL() << "bad define accepted";
-    } catch (const gpu::ShaderError& e) {
-        EXPECT_TRUE(contains(e.what(), "<prelude>:2: ")) << e.what();
-    }
+    });
+    ASSERT_TRUE(what) << "bad define accepted";
+    EXPECT_TRUE(contains(*what, "<prelude>:2: ")) << *what;
 }
 
 TEST_F(ShaderLoaderGlTest, LinkErrorIsReported) {
@@ -274,31 +271,28 @@ TEST_F(ShaderLoaderGlTest, LinkErrorIsReported) {
     dir.write("l.vert", "float missing();\n"
                         "void main() { gl_Position = vec4(missing()); }\n");
     dir.write("l.frag", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
-    try {
+    const std::optional<std::string> what = testutil::errorOf<gpu::ShaderError>([&] {
         gpu::ShaderLoader(dir.root())
             .load({.stages = {{GL_VERTEX_SHADER, "l.vert"}, {GL_FRAGMENT_SHADER, "l.frag"}},
                    .label = "unlinkable"});
-        FAIL() << "link error not reported";
-    } catch (const gpu::ShaderError& e) {
-        std::string what = e.what();
-        EXPECT_TRUE(contains(what, "unlinkable")) << what;
-        EXPECT_TRUE(contains(what, "link error")) << what;
-        EXPECT_TRUE(contains(what, "missing")) << what;
-    }
+    });
+    ASSERT_TRUE(what) << "link error not reported";
+    EXPECT_TRUE(contains(*what, "unlinkable")) << *what;
+    EXPECT_TRUE(contains(*what, "link error")) << *what;
+    EXPECT_TRUE(contains(*what, "missing")) << *what;
 }
 
 TEST_F(ShaderLoaderGlTest, MissingStageFileThrowsBeforeTouchingGl) {
     TempDir dir;
     dir.write("only.vert", kVert);
-    try {
+    const std::optional<std::string> what = testutil::errorOf<gpu::ShaderError>([&] {
         gpu::ShaderLoader(dir.root())
             .load({.stages = {{GL_VERTEX_SHADER, "only.vert"}, {GL_FRAGMENT_SHADER, "gone.frag"}},
                    .label = "incomplete"});
-        FAIL() << "missing stage file accepted";
-    } catch (const gpu::ShaderError& e) {
-        EXPECT_TRUE(contains(e.what(), "gone.frag")) << e.what();
-        EXPECT_TRUE(contains(e.what(), "incomplete")) << e.what();
-    }
+    });
+    ASSERT_TRUE(what) << "missing stage file accepted";
+    EXPECT_TRUE(contains(*what, "gone.frag")) << *what;
+    EXPECT_TRUE(contains(*what, "incomplete")) << *what;
 }
 
 } // namespace
