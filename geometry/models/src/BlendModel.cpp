@@ -346,19 +346,6 @@ bool validPartCount(int parts) {
     return parts == 1 || parts == 4 || parts == 8;
 }
 
-LightFrame lightFrame(const RectLight& light) {
-    LightFrame f;
-    f.c = dvec3(light.center);
-    f.u = dvec3(light.u);
-    f.v = dvec3(light.v);
-    const dvec3 n = glm::cross(f.u, f.v);
-    f.n = n / glm::length(n);
-    const dvec3 a = glm::cross(f.v, f.n), b = glm::cross(f.n, f.u);
-    f.uStar = a / glm::dot(f.u, a);
-    f.vStar = b / glm::dot(f.v, b);
-    return f;
-}
-
 Part radialPart(int parts, int index) {
     assert(validPartCount(parts) && index >= 0 && index < parts);
     Part part;

@@ -2,6 +2,7 @@
 #include <geometry/models/MaskModel.h>
 
 #include <geometry/core/Error.h>
+#include <geometry/core/LightFrame.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,23 +14,6 @@ namespace {
 
 using glm::dvec2;
 using glm::dvec3;
-
-// The light's frame in double: unit normal and the dual basis of (u, v) in its plane.
-struct MaskLight {
-    dvec3 c, n, uStar, vStar;
-};
-
-MaskLight maskLight(const RectLight& light) {
-    MaskLight l;
-    const dvec3 u(light.u), v(light.v);
-    l.c = dvec3(light.center);
-    l.n = glm::normalize(glm::cross(u, v));
-    const dvec3 a = glm::cross(v, l.n);
-    const dvec3 b = glm::cross(l.n, u);
-    l.uStar = a / glm::dot(u, a);
-    l.vStar = b / glm::dot(v, b);
-    return l;
-}
 
 // Signed distance of y from the half-plane dot(h, (y, 1)) >= 0, in light coordinates.
 double halfPlaneDistance(const dvec3& h, const dvec2& y) {
@@ -65,7 +49,7 @@ GroupMaskModel groupMaskModel(const dvec3& p, std::span<const MaskEdge> edges, i
     GroupMaskModel model;
     model.count.assign(n, centreCount);
     model.ambiguous.assign(words, 0u);
-    const MaskLight light = maskLight(rect);
+    const LightFrame light = lightFrame(rect);
     const dvec3 pc = p - light.c;
     const double hp = glm::dot(light.n, pc);
     if (hp != 0.0) {

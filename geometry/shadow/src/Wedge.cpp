@@ -53,20 +53,11 @@ constexpr double kMargin = 4e-6;
 constexpr double kPush = 4e-6;
 constexpr double kUnbounded = 2.0 * kMargin; // below this best margin: treated as touching
 
-using LightFrame = WedgeBuilder::Frame;
+using Frame = WedgeBuilder::Frame;
 
-LightFrame makeFrame(const RectLight& light) {
-    LightFrame f;
-    f.c = dvec3(light.center);
-    f.u = dvec3(light.u);
-    f.v = dvec3(light.v);
-    const dvec3 n = glm::cross(f.u, f.v);
-    f.n = n / glm::length(n);
-    // Dual basis so that s = dot(uStar, y - c), t = dot(vStar, y - c) also for parallelograms.
-    const dvec3 a = glm::cross(f.v, n);
-    const dvec3 b = glm::cross(n, f.u);
-    f.uStar = a / glm::dot(f.u, a);
-    f.vStar = b / glm::dot(f.v, b);
+Frame makeFrame(const RectLight& light) {
+    Frame f;
+    static_cast<LightFrame&>(f) = lightFrame(light);
     f.corners = {f.c - f.u - f.v, f.c + f.u - f.v, f.c + f.u + f.v, f.c - f.u + f.v};
     return f;
 }
@@ -107,7 +98,7 @@ void closestOnSegments(const dvec3& p0, const dvec3& p1, const dvec3& q0, const 
 // interior direction of the polar cone K° with the largest guaranteed margin. The closest pair
 // has y inside L with a an end point (the end projects into L), or y on a light edge, or E
 // meets L (q = 0).
-dvec3 closestOffset(const dvec3& e0, const dvec3& e1, const LightFrame& f) {
+dvec3 closestOffset(const dvec3& e0, const dvec3& e1, const Frame& f) {
     dvec3 best(0.0);
     double bestLen = std::numeric_limits<double>::infinity();
     auto offer = [&](const dvec3& q) {
@@ -227,7 +218,7 @@ struct Plane {
 };
 
 // The general exact construction (every configuration).
-std::uint32_t appendExact(const glm::vec3& e0f, const glm::vec3& e1f, const LightFrame& f,
+std::uint32_t appendExact(const glm::vec3& e0f, const glm::vec3& e1f, const Frame& f,
                           WedgeArrays& out) {
     Wedge wedge;
     for (glm::vec4& p : wedge.planes) p = glm::vec4(0.0f);
@@ -569,7 +560,7 @@ inline void invSqrt4(const double* v, double* out) {
 #endif
 }
 
-bool appendFast(const glm::vec3& e0f, const glm::vec3& e1f, const LightFrame& f,
+bool appendFast(const glm::vec3& e0f, const glm::vec3& e1f, const Frame& f,
                 WedgeArrays& out, WedgeRays* rays) {
     const dvec3 x0(e0f), x1(e1f);
     const dvec3 r0 = x0 - f.c, r1 = x1 - f.c;
@@ -869,7 +860,7 @@ bool wedgeContains(const Wedge& wedge, const glm::vec3& p, float eps) {
 // and summing over a loop, Σ = (1/|L|) ∫_L (occ(y) - occ(centre)) dy, i.e. V = V_hard - Σ.
 float edgeCoverage(const glm::vec3& pf, const glm::vec3& e0f, const glm::vec3& e1f,
                    const RectLight& light) {
-    const LightFrame f = makeFrame(light);
+    const Frame f = makeFrame(light);
     const dvec3 p(pf), e0(e0f), e1(e1f);
     const double hp = glm::dot(f.n, p - f.c);
     if (!(std::abs(hp) > 0.0)) return 0.0f; // on the light's plane (or NaN): nothing between

@@ -64,6 +64,7 @@
 //   rounding per edge; only resolved values should be stored at 8 bits.
 #pragma once
 
+#include <geometry/core/LightFrame.h>
 #include <geometry/core/Types.h>
 
 #include <array>
@@ -86,11 +87,9 @@ bool validPartCount(int parts); // 1, 4 or 8
 
 // --- Light frame and radial parts ----------------------------------------------------------------
 
-struct LightFrame {
-    dvec3 c, u, v, n;   // centre, half-axes, unit normal along cross(u, v)
-    dvec3 uStar, vStar; // dual basis: s = dot(uStar, y - c), t = dot(vStar, y - c)
-};
-LightFrame lightFrame(const RectLight& light);
+// The light's frame (geometry/core/LightFrame.h).
+using geometry::LightFrame;
+using geometry::lightFrame;
 
 enum class PartShape : std::uint8_t {
     Square,   // [0, 1]^2

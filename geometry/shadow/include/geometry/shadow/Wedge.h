@@ -15,6 +15,7 @@
 // vertices at infinity (like shadow volumes) for rasterisation.
 #pragma once
 
+#include <geometry/core/LightFrame.h>
 #include <geometry/core/Types.h>
 
 #include <array>
@@ -100,11 +101,8 @@ public:
     // Whether append(e0, e1, ...) takes the fast path (for tests and statistics; not cheap).
     bool takesFastPath(const glm::vec3& e0, const glm::vec3& e1) const;
 
-    // The light's frame in double precision.
-    struct Frame {
-        glm::dvec3 c, u, v, n;             // n: unit normal, cross(u, v) direction
-        glm::dvec3 uStar, vStar;           // dual basis: dot(uStar, u) = 1, dot(uStar, v) = 0,
-                                           // both ⟂ n
+    // The light's frame in double precision, with its corners.
+    struct Frame : LightFrame {
         std::array<glm::dvec3, 4> corners; // cyclic: neighbours share a light edge
     };
 
