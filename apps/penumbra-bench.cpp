@@ -11,7 +11,9 @@
 // Rows go to results.csv as they finish (a valid CSV at every moment: Ctrl-C keeps the runs done),
 // results.json gets the same plus the machine, and chart.png is drawn by apps/bench/chart.py with
 // Debian's matplotlib. Input is checked before any work: bad input exits 2, nothing written.
-#include "AppCommon.h"
+#include <apps/AppCommon.h>
+#include <apps/Flags.h>
+#include <apps/Report.h>
 #include <geometry/core/Error.h>
 #include <geometry/reference/ErrorImage.h>
 #include <geometry/reference/ErrorStats.h>
@@ -51,8 +53,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kExitInputError = 2;
-constexpr int kExitInternalError = 1;
 constexpr int kExitInterrupted = 130;
 
 std::atomic<bool> gInterrupted{false};
@@ -63,12 +63,7 @@ void checkInterrupt() {
     if (gInterrupted) throw Interrupted{};
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using apps::median; // NaN (an empty cell) when nothing was timed
 
 std::vector<std::string> splitList(const std::string& s, char sep = ',') {
     std::vector<std::string> out;
@@ -146,9 +141,12 @@ std::vector<RunSpec> expandRuns(const std::vector<std::string>& methodNames,
                 throw geometry::InputError("--sweep " + text + ": '" + m[1].str() +
                                            "' takes no light samples");
             for (const std::string& v : values)
-                if (!std::regex_match(v, std::regex(R"(\d{1,7})")) || std::stoi(v) < 1)
+                if (!std::regex_match(v, std::regex(R"(\d{1,7})")) ||
+                    std::stoi(v) < apps::kMinSamples || std::stoi(v) > apps::kMaxSamples)
                     throw geometry::InputError("--sweep " + text + ": '" + v +
-                                               "' is not a sample count");
+                                               "' is not a sample count (" +
+                                               std::to_string(apps::kMinSamples) + " to " +
+                                               std::to_string(apps::kMaxSamples) + ")");
         } else {
             for (const std::string& v : values) { // checked against the method table now
                 const std::vector<gpu::ParameterValue> one{{name, v}};
@@ -359,6 +357,17 @@ private:
         mCsv.flush();
         mRows.push_back(row);
     }
+    // A row for every run, `base` with `status`: none of them could be rendered or scored.
+    void writeRowForEveryRun(const Row& base, const std::string& status) {
+        for (const RunSpec& run : mRuns) {
+            Row row = base;
+            row.method = std::string(run.method->name);
+            row.params = paramsText(run);
+            row.status = status;
+            writeRow(row);
+            ++mRunIndex;
+        }
+    }
     void writeJson(bool complete) const;
     int drawChart() const;
 
@@ -407,7 +416,7 @@ void Bench::writeJson(bool complete) const {
     nlohmann::json rows = nlohmann::json::array();
     for (const Row& r : mRows) rows.push_back(rowJson(r));
     j["runs"] = std::move(rows);
-    std::ofstream(mOut / "results.json") << j.dump(2) << "\n";
+    apps::writeJsonFile(mOut / "results.json", j);
 }
 
 int Bench::drawChart() const {
@@ -449,14 +458,7 @@ void Bench::benchScene(const fs::path& path) {
             geometry::validateLight(scene, light, "light scaled by " + number(scale));
         } catch (const geometry::InputError& e) {
             std::fprintf(stderr, "  light x%g: %s; skipped\n", scale, e.what());
-            for (const RunSpec& run : mRuns) {
-                Row row = base;
-                row.method = std::string(run.method->name);
-                row.params = paramsText(run);
-                row.status = std::string("refused: ") + e.what();
-                writeRow(row);
-                ++mRunIndex;
-            }
+            writeRowForEveryRun(base, std::string("refused: ") + e.what());
             continue;
         }
 
@@ -488,14 +490,7 @@ void Bench::benchScene(const fs::path& path) {
         } catch (const geometry::InputError& e) {
             // No truth (alpha-tested casters under `reference`): no run can be scored.
             std::fprintf(stderr, "  light x%g: no truth: %s\n", scale, e.what());
-            for (const RunSpec& run : mRuns) {
-                Row row = base;
-                row.method = std::string(run.method->name);
-                row.params = paramsText(run);
-                row.status = "no truth (" + mOpt.truth + "): " + e.what();
-                writeRow(row);
-                ++mRunIndex;
-            }
+            writeRowForEveryRun(base, "no truth (" + mOpt.truth + "): " + e.what());
             continue;
         }
         std::fprintf(stderr, "  light x%g: truth done in %.1f s\n", scale,
@@ -635,7 +630,7 @@ int Bench::execute() {
                          "and results.json are written (Debian: apt install python3-matplotlib, "
                          "or --no-chart)\n",
                          rc);
-            return kExitInternalError;
+            return apps::kExitInternalError;
         }
     }
     std::size_t failed = 0;
@@ -661,10 +656,9 @@ int run(const Options& opt) {
         withHard.erase(std::find(withHard.begin(), withHard.end(), "hard"));
         withHard.insert(withHard.begin(), "hard");
     }
-    if (opt.truthSamples < 1 || opt.truthSamples > (1 << 16))
-        throw geometry::InputError("--truth-samples must be between 1 and 65536");
+    apps::checkSamples(opt.truthSamples, "--truth-samples");
     const std::vector<RunSpec> runs = expandRuns(withHard, opt.sweeps, opt.truthSamples);
-    const auto [width, height] = apps::parseSize(opt.size, 1, 8192, "256x256");
+    const auto [width, height] = apps::parseSize(opt.size, "256x256");
     if (opt.frames < 1 || opt.frames > 1000)
         throw geometry::InputError("--frames must be between 1 and 1000");
     if (opt.warmup < 0 || opt.warmup > 100)
@@ -717,7 +711,7 @@ int main(int argc, char** argv) {
     app.add_option("--light-scale", opt.lightScales,
                    "comma-separated factors on the light's size (u and v)")
         ->capture_default_str();
-    app.add_option("--size", opt.size, "image size WIDTHxHEIGHT")->capture_default_str();
+    apps::addSizeOption(app, opt.size);
     app.add_option("--truth", opt.truth, "what the error is measured against: reference (GPU) "
                                          "or raytrace (Embree; honours alpha masks)")
         ->capture_default_str();
@@ -739,27 +733,16 @@ int main(int argc, char** argv) {
                  "also write per run image.png, visibility.pfm and error.png (heat map) under "
                  "OUT/images/");
     app.add_flag("--no-chart", opt.noChart, "do not draw chart.png");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return app.exit(e);
-        return apps::reportParseError("penumbra-bench", e);
-    }
-    std::signal(SIGINT, onInterrupt);
-    std::signal(SIGTERM, onInterrupt);
-    try {
-        opt.seed = apps::checkSeed(seed);
-        return run(opt);
-    } catch (const geometry::InputError& e) {
-        std::fprintf(stderr, "penumbra-bench: error: %s\n", e.what());
-        return kExitInputError;
-    } catch (const Interrupted&) {
-        std::fprintf(stderr, "penumbra-bench: interrupted before the first run\n");
-        return kExitInterrupted;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "penumbra-bench: internal error: %s\n", e.what());
-        return kExitInternalError;
-    }
+    return apps::runCommandLine(app, argc, argv, "penumbra-bench",
+                                apps::ParseErrorStyle::Prefixed, [&] {
+        std::signal(SIGINT, onInterrupt);
+        std::signal(SIGTERM, onInterrupt);
+        try {
+            opt.seed = apps::checkSeed(seed);
+            return run(opt);
+        } catch (const Interrupted&) { // not a std::exception
+            std::fprintf(stderr, "penumbra-bench: interrupted before the first run\n");
+            return kExitInterrupted;
+        }
+    });
 }

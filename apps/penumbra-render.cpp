@@ -9,7 +9,9 @@
 //   map with its scale (geometry/ErrorImage.h);
 // - with --debug-view NAME image.png shows a debug view of the renderer (gpu/Renderer.h
 //   DebugView) instead of the shaded image.
-#include "AppCommon.h"
+#include <apps/AppCommon.h>
+#include <apps/Flags.h>
+#include <apps/Report.h>
 #include <geometry/core/Error.h>
 #include <geometry/reference/ErrorImage.h>
 #include <geometry/reference/ErrorStats.h>
@@ -40,15 +42,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kExitInputError = 2;
-constexpr int kExitInternalError = 1;
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using apps::median;
 
 nlohmann::json errorJson(const geometry::ErrorStats& e) {
     return {{"pixels", e.pixels},         {"mismatched_coverage", e.mismatchedCoverage},
@@ -85,12 +79,10 @@ int run(const Options& opt) {
     // Everything that can be wrong with the input is checked before anything is written.
     apps::checkOutputFolder("--out", opt.outDir);
     const gpu::MethodInfo& method = gpu::findMethod(opt.methodName);
-    std::vector<gpu::ParameterValue> given;
-    for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
+    const std::vector<gpu::ParameterValue> given = apps::parseParameters(opt.parameters);
     const std::vector<gpu::ParameterValue> parameters = gpu::resolveParameters(method, given);
-    const auto [width, height] = apps::parseSize(opt.size, 1, 16384, "512x512");
-    if (opt.samples < 1 || opt.samples > (1 << 20))
-        throw geometry::InputError("--samples must be between 1 and 1048576");
+    const auto [width, height] = apps::parseSize(opt.size, "512x512");
+    apps::checkSamples(opt.samples);
     if (opt.frames < 1 || opt.frames > 10000)
         throw geometry::InputError("--frames must be between 1 and 10000");
     if (!(opt.errorScale > 0.0f && opt.errorScale <= 1.0f))
@@ -181,17 +173,16 @@ int run(const Options& opt) {
     for (const gpu::ParameterValue& p : parameters) // every one the method has, as used
         report["parameters"][p.name] = parameterJson(p.value);
     report["size"] = {width, height};
-    auto vec = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
     // The view actually rendered (camera_source: the scene JSON, a glTF camera or the framing).
-    report["camera"] = {{"eye", vec(scene.camera.eye)},
-                        {"target", vec(scene.camera.target)},
-                        {"up", vec(scene.camera.up)},
+    report["camera"] = {{"eye", apps::vec3Json(scene.camera.eye)},
+                        {"target", apps::vec3Json(scene.camera.target)},
+                        {"up", apps::vec3Json(scene.camera.up)},
                         {"fov_y_deg", scene.camera.fovYDeg}};
     report["camera_source"] = scene.cameraSource;
     report["cameras"] = scene.cameras.size();
-    report["light"] = {{"center", vec(scene.light.center)},
-                       {"u", vec(scene.light.u)},
-                       {"v", vec(scene.light.v)}};
+    report["light"] = {{"center", apps::vec3Json(scene.light.center)},
+                       {"u", apps::vec3Json(scene.light.u)},
+                       {"v", apps::vec3Json(scene.light.v)}};
     if (debugView.view != gpu::DebugView::Shaded)
         report["debug_view"] = {{"name", debugView.name}, {"note", last.debugNote}};
     report["gl_renderer"] = info.renderer;
@@ -257,7 +248,7 @@ int run(const Options& opt) {
                                                                width, height, opt.errorScale);
         geometry::writePng(out / "error.png", heat.width, heat.height, 3, heat.rgb.data());
     }
-    std::ofstream(out / "report.json") << report.dump(2) << "\n";
+    apps::writeJsonFile(out / "report.json", report);
 
     if (!opt.quiet) {
         std::printf("%s: %s, %dx%d, %zu triangles, %zu silhouette edges\n", opt.scenePath.c_str(),
@@ -308,11 +299,10 @@ int main(int argc, char** argv) {
                    "scene JSON, or a .gltf/.glb: seen from its first perspective glTF camera, "
                    "else framed automatically")
         ->required();
-    app.add_option("--method", opt.methodName, "visibility method, one of:" + methods)->required();
-    app.add_option("--size", opt.size, "image size WIDTHxHEIGHT")->capture_default_str();
+    apps::addMethodOption(app, opt.methodName, "visibility method, one of:" + methods)->required();
+    apps::addSizeOption(app, opt.size);
     app.add_option("--out", opt.outDir, "output directory")->capture_default_str();
-    app.add_option("--samples", opt.samples, "light samples per pixel (reference, raytrace)")
-        ->capture_default_str();
+    apps::addSamplesOption(app, opt.samples, "light samples per pixel (reference, raytrace)");
     app.add_option("--frames", opt.frames, "frames to render; times are medians")
         ->capture_default_str();
     std::int64_t seed = opt.seed; // checked by apps::checkSeed
@@ -323,9 +313,8 @@ int main(int argc, char** argv) {
     app.add_option("--error-scale", opt.errorScale,
                    "with --compare: the |error| at the top of error.png's colour scale")
         ->capture_default_str();
-    app.add_option("--param", opt.parameters,
-                   "a parameter of the method, NAME=VALUE (repeatable; listed under --method)")
-        ->allow_extra_args(false);
+    apps::addParamOption(app, opt.parameters, "a parameter of the method, NAME=VALUE (repeatable; "
+                                              "listed under --method)");
     app.add_option("--camera", opt.camera,
                    "with a .gltf/.glb: view from its glTF camera N (0 = the first, the default; "
                    "report.json camera_source names it)");
@@ -341,22 +330,9 @@ int main(int argc, char** argv) {
                    "with --debug-view group-parts: the silhouette group shown (wrapped)")
         ->capture_default_str();
     app.add_flag("--quiet", opt.quiet, "print nothing on success");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return app.exit(e);
-        return apps::reportParseError("penumbra-render", e);
-    }
-    try {
+    return apps::runCommandLine(app, argc, argv, "penumbra-render",
+                                apps::ParseErrorStyle::Prefixed, [&] {
         opt.seed = apps::checkSeed(seed);
         return run(opt);
-    } catch (const geometry::InputError& e) {
-        std::fprintf(stderr, "penumbra-render: error: %s\n", e.what());
-        return kExitInputError;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "penumbra-render: internal error: %s\n", e.what());
-        return kExitInternalError;
-    }
+    });
 }

@@ -9,12 +9,14 @@
 //   second repeats it exactly, so its peak may exceed the first time's by at most
 //   --growth-limit MiB; a leak of L per frame shows as about L x frames / 2.
 // Exit 0 when every check holds, 1 when one fails (each failure is printed), 2 on bad input.
-#include "AppCommon.h"
+#include <apps/AppCommon.h>
+#include <apps/Flags.h>
+#include <apps/Report.h>
 
 #include <geometry/core/Error.h>
-#include <geometry/reference/Framing.h>
 #include <geometry/reference/RayTracer.h>
 #include <geometry/scene/Scene.h>
+#include <geometry/reference/Framing.h>
 #include <gpu/gl/Context.h>
 #include <gpu/Methods.h>
 #include <gpu/Renderer.h>
@@ -42,7 +44,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kExitFailed = 1;
-constexpr int kExitInputError = 2;
 
 struct Options {
     std::string scene = "../shared/levels/oa_dm4.glb";
@@ -79,13 +80,12 @@ struct MethodTally {
 };
 
 int run(const Options& opt) {
-    const auto [width, height] = apps::parseSize(opt.size, 8, 4096, "128x128");
+    const auto [width, height] = apps::parseSize(opt.size, "128x128");
     if (opt.frames < 1 || opt.frames > 10000000)
         throw geometry::InputError("--frames must be between 1 and 10000000");
     if (opt.methodFrames < 1) throw geometry::InputError("--method-frames must be at least 1");
     if (opt.legFrames < 1) throw geometry::InputError("--leg-frames must be at least 1");
-    if (opt.samples < 1 || opt.samples > 4096)
-        throw geometry::InputError("--samples must be between 1 and 4096");
+    apps::checkSamples(opt.samples);
     if (opt.checkEvery < 1) throw geometry::InputError("--check-every must be at least 1");
     if (!opt.report.empty() && fs::is_directory(opt.report))
         throw geometry::InputError("--report " + opt.report + ": is a directory");
@@ -107,15 +107,8 @@ int run(const Options& opt) {
     std::vector<geometry::RectLight> lamps;
     {
         const geometry::RayTracer tracer(scene);
-        for (const geometry::Camera& c : cameras) {
-            const glm::vec3 forward = glm::normalize(c.target - c.eye);
-            std::vector<glm::vec3> bases;
-            float t = 0.0f;
-            glm::vec3 n;
-            if (tracer.intersect(c.eye, forward, t, n)) bases.push_back(c.eye + 0.5f * t * forward);
-            bases.push_back(c.eye);
-            lamps.push_back(geometry::hangLight(scene, tracer, bases).value_or(scene.light));
-        }
+        for (const geometry::Camera& c : cameras)
+            lamps.push_back(viewer::lampAhead(scene, tracer, c).value_or(scene.light));
     }
 
     gpu::EglContext context;
@@ -163,10 +156,9 @@ int run(const Options& opt) {
         try {
             try {
                 renderer.renderFrame(s);
-            } catch (const geometry::InputError& e) {
+            } catch (const geometry::LightRefusedError&) {
                 // The moving lamp touched geometry (refused, as the viewer refuses it): the
                 // frame is rendered with the lamp where it hangs.
-                if (std::string(e.what()).find("RenderSettings::light") == std::string::npos) throw;
                 ++m.lightsRefused;
                 s.light = lamp;
                 renderer.renderFrame(s);
@@ -241,8 +233,7 @@ int run(const Options& opt) {
     nlohmann::json report;
     for (const std::string& name : methods) {
         MethodTally& m = tally[name];
-        std::sort(m.ms.begin(), m.ms.end());
-        const double median = m.ms.empty() ? 0.0 : m.ms[m.ms.size() / 2];
+        const double median = apps::median(m.ms, 0.0);
         std::printf("| %s | %d | %.1f | %d | %d (%d) | %d |\n", name.c_str(), m.frames, median,
                     m.errors, m.badV, m.checked, m.lightsRefused);
         report["methods"][name] = {{"frames", m.frames},   {"median_ms", median},
@@ -271,7 +262,7 @@ int run(const Options& opt) {
         report["gl_renderer"] = info.renderer;
         report["cpu"] = apps::cpuModel();
         report["failures"] = failures;
-        std::ofstream(opt.report) << report.dump(2) << "\n";
+        apps::writeJsonFile(opt.report, report);
     }
     return failures.empty() ? 0 : kExitFailed;
 }
@@ -285,7 +276,7 @@ int main(int argc, char** argv) {
     app.add_option("--scene", opt.scene, "a .glb/.gltf level (its glTF cameras are the path) or "
                                          "scene JSON")
         ->capture_default_str();
-    app.add_option("--size", opt.size, "image size WIDTHxHEIGHT")->capture_default_str();
+    apps::addSizeOption(app, opt.size);
     app.add_option("--frames", opt.frames, "frames in all: a sequence of half of them, played twice")
         ->capture_default_str();
     app.add_option("--method-frames", opt.methodFrames,
@@ -293,33 +284,17 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--leg-frames", opt.legFrames, "frames from one glTF camera to the next")
         ->capture_default_str();
-    app.add_option("--samples", opt.samples, "light samples of reference and raytrace")
-        ->capture_default_str();
+    apps::addSamplesOption(app, opt.samples);
     app.add_option("--check-every", opt.checkEvery, "read V back every N frames")
         ->capture_default_str();
     app.add_option("--growth-limit", opt.growthLimitMiB,
                    "MiB the memory may grow the second time through the frames (peak over peak)")
         ->capture_default_str();
-    app.add_option("--method", opt.methods, "a method to run (repeatable; default: every one)");
+    apps::addMethodOption(app, opt.methods, "a method to run (repeatable; default: every one)");
     app.add_option("--report", opt.report, "write the results as JSON");
     app.add_option("--inject-leak", opt.injectLeakKiB,
                    "testing the memory check: keep this many KiB more every frame")
         ->group("Testing");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        app.exit(e);
-        return kExitInputError;
-    }
-    try {
-        return run(opt);
-    } catch (const geometry::InputError& e) {
-        std::fprintf(stderr, "penumbra-soak: error: %s\n", e.what());
-        return kExitInputError;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "penumbra-soak: internal error: %s\n", e.what());
-        return kExitFailed;
-    }
+    return apps::runCommandLine(app, argc, argv, "penumbra-soak", apps::ParseErrorStyle::Cli11,
+                                [&] { return run(opt); });
 }

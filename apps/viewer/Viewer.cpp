@@ -1,7 +1,10 @@
 #include "Viewer.h"
 
-#include "../AppCommon.h"
 #include "ViewerCore.h"
+
+#include <apps/AppCommon.h>
+#include <apps/Flags.h>
+#include <apps/Report.h>
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/Framing.h>
@@ -41,13 +44,6 @@ namespace fs = std::filesystem;
 namespace viewer {
 
 namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // A named view of the scene: its glTF cameras (spawn points) in file order, or the scene's own.
 struct View {
@@ -135,12 +131,18 @@ public:
     explicit App(const Options& opt) : mOpt(opt) {
         // Everything about the input is checked before a window opens.
         const gpu::MethodInfo& method = gpu::findMethod(opt.method);
-        std::vector<gpu::ParameterValue> given;
-        for (const std::string& text : opt.parameters) given.push_back(gpu::parseParameter(text));
+        const std::vector<gpu::ParameterValue> given = apps::parseParameters(opt.parameters);
         gpu::resolveParameters(method, given);
-        std::tie(mWidth, mHeight) = apps::parseSize(opt.size, 64, 8192, "960x540");
-        if (opt.samples < 1 || opt.samples > 65536)
-            throw geometry::InputError("--samples must be between 1 and 65536");
+        std::tie(mWidth, mHeight) = apps::parseSize(opt.size, "960x540");
+        // The window's own bounds (the image rendered is --render-scale of it), narrower than
+        // the renderer's: room for the panel, and no display is larger.
+        constexpr int kMinWindowSide = 64, kMaxWindowSide = 8192;
+        if (mWidth < kMinWindowSide || mHeight < kMinWindowSide || mWidth > kMaxWindowSide ||
+            mHeight > kMaxWindowSide)
+            throw geometry::InputError("--size: each side of the viewer's window must be between " +
+                                       std::to_string(kMinWindowSide) + " and " +
+                                       std::to_string(kMaxWindowSide) + ", got '" + opt.size + "'");
+        apps::checkSamples(opt.samples);
         if (opt.frames < 0 || opt.frames > 1000000)
             throw geometry::InputError("--frames must be between 0 and 1000000");
         if (!(opt.renderScale >= 0.125f && opt.renderScale <= 1.0f))
@@ -325,14 +327,7 @@ void App::goToView(int index) {
 
 void App::hangLamp() {
     if (!mTracer) mTracer = std::make_unique<geometry::RayTracer>(*mScene);
-    const geometry::Camera c = currentCamera();
-    const glm::vec3 forward = glm::normalize(c.target - c.eye);
-    std::vector<glm::vec3> bases;
-    float t = 0.0f;
-    glm::vec3 n;
-    if (mTracer->intersect(c.eye, forward, t, n)) bases.push_back(c.eye + 0.5f * t * forward);
-    bases.push_back(c.eye);
-    const std::optional<geometry::RectLight> lamp = geometry::hangLight(*mScene, *mTracer, bases);
+    const std::optional<geometry::RectLight> lamp = lampAhead(*mScene, *mTracer, currentCamera());
     if (!lamp) {
         setStatus("no ceiling above this view to hang a lamp under; the light stays");
         return;
@@ -469,8 +464,8 @@ void App::renderScene() {
         if (light) mLastGoodLight = light;
         if (!mRefusedLight) mRenderError.clear();
     } catch (const geometry::InputError& e) {
-        const bool lightRefused = light && std::string(e.what()).find("RenderSettings::light") !=
-                                               std::string::npos;
+        const bool lightRefused =
+            light && dynamic_cast<const geometry::LightRefusedError*>(&e) != nullptr;
         if (mOpt.frames > 0 && !lightRefused) throw; // scripted: no silent fallback
         mRenderError = e.what();
         if (lightRefused) {
@@ -539,7 +534,7 @@ void App::drawOverlay() {
                                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                    ImGuiWindowFlags_NoInputs;
     if (ImGui::Begin("##overlay", nullptr, flags)) {
-        const double ms = median({mLoopMs.begin(), mLoopMs.end()});
+        const double ms = apps::median({mLoopMs.begin(), mLoopMs.end()}, 0.0);
         ImGui::Text("%s  %dx%d", mSettings.method.c_str(), mSettings.width, mSettings.height);
         ImGui::Text("%.1f fps  frame %.1f ms  GPU %.1f ms", ms > 0 ? 1000.0 / ms : 0.0, ms,
                     mShownGpuFrameMs);
@@ -681,7 +676,7 @@ void App::drawPanel() {
     }
 
     if (ImGui::CollapsingHeader("Frame", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const double ms = median({mLoopMs.begin(), mLoopMs.end()});
+        const double ms = apps::median({mLoopMs.begin(), mLoopMs.end()}, 0.0);
         ImGui::Text("%.1f fps, %.2f ms per frame (median of %zu)", ms > 0 ? 1000.0 / ms : 0.0, ms,
                     mLoopMs.size());
         ImGui::SliderFloat("render scale", &mRenderScale, 0.125f, 1.0f, "%.3f");
@@ -820,7 +815,8 @@ int App::run() {
         mContext->swapBuffers();
         char title[256];
         std::snprintf(title, sizeof title, "penumbra-viewer — %s — %.1f fps", mSettings.method.c_str(),
-                      mLoopMs.empty() ? 0.0 : 1000.0 / median({mLoopMs.begin(), mLoopMs.end()}));
+                      mLoopMs.empty() ? 0.0
+                                      : 1000.0 / apps::median({mLoopMs.begin(), mLoopMs.end()}));
         glfwSetWindowTitle(window, title);
         ++mFrame;
         if (lastFrame) break;
@@ -831,8 +827,8 @@ int App::run() {
                     mOpt.screenshot.empty() ? "" : ": no screenshot written");
     if (mOpt.frames > 0) {
         glFinish();
-        const double ms = median(mAllLoopMs);
-        const double gpuMs = median(mAllGpuMs);
+        const double ms = apps::median(mAllLoopMs, 0.0);
+        const double gpuMs = apps::median(mAllGpuMs, 0.0);
         std::printf("  %d frames: median frame %.2f ms (%.1f fps), GPU frame %.2f ms\n", mFrame, ms,
                     ms > 0 ? 1000.0 / ms : 0.0, gpuMs);
         if (!mOpt.screenshot.empty() && mFrame >= mOpt.frames)
@@ -863,7 +859,7 @@ int App::run() {
             r["last_frame"] = last;
             r["gl_renderer"] = mRendererName;
             r["cpu"] = apps::cpuModel();
-            std::ofstream(mOpt.report) << r.dump(2) << "\n";
+            apps::writeJsonFile(mOpt.report, r);
         }
     }
     return 0;

@@ -1,5 +1,9 @@
 #include "ViewerCore.h"
 
+#include <geometry/reference/Framing.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/scene/Scene.h>
+
 #define GLM_ENABLE_EXPERIMENTAL
 #include <glm/gtx/euler_angles.hpp>
 
@@ -124,6 +128,19 @@ geometry::Camera flyThrough(std::span<const geometry::Camera> cameras, int frame
     c.up = a.up;
     c.fovYDeg = glm::mix(a.fovYDeg, b.fovYDeg, s);
     return c;
+}
+
+std::optional<geometry::RectLight> lampAhead(const geometry::Scene& scene,
+                                             const geometry::RayTracer& tracer,
+                                             const geometry::Camera& camera) {
+    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+    std::vector<glm::vec3> bases;
+    float t = 0.0f;
+    glm::vec3 n;
+    if (tracer.intersect(camera.eye, forward, t, n))
+        bases.push_back(camera.eye + 0.5f * t * forward);
+    bases.push_back(camera.eye);
+    return geometry::hangLight(scene, tracer, bases);
 }
 
 } // namespace viewer

@@ -3,13 +3,20 @@
 // - OrbitCamera: yaw/pitch/distance around a pivot;
 // - LightRig: the rectangular light as centre, half-sizes and yaw/pitch/roll (what the panel
 //   edits), with an optional circular animation in the light's plane;
-// - flyThrough(): a path through the glTF cameras (spawn points) for scripted captures.
+// - flyThrough(): a path through the glTF cameras (spawn points) for scripted captures;
+// - lampAhead(): the lamp the viewer (and the soak) hangs at a view.
 #pragma once
 
 #include <geometry/core/Types.h>
 
+#include <optional>
 #include <span>
 #include <vector>
+
+namespace geometry {
+struct Scene;
+class RayTracer;
+} // namespace geometry
 
 namespace viewer {
 
@@ -59,5 +66,12 @@ struct LightRig {
 // The camera `t` frames along a path visiting `cameras` in order (eye lerped, view direction
 // slerped), `framesPerLeg` frames from one to the next; wraps around. Needs at least one camera.
 geometry::Camera flyThrough(std::span<const geometry::Camera> cameras, int frame, int framesPerLeg);
+
+// A lamp for the view of `camera` (geometry::hangLight): under the ceiling above the point halfway
+// to what the camera looks at, else above the camera. Nothing when neither has a ceiling over it
+// or no lamp fits. `tracer` is built on `scene`.
+std::optional<geometry::RectLight> lampAhead(const geometry::Scene& scene,
+                                             const geometry::RayTracer& tracer,
+                                             const geometry::Camera& camera);
 
 } // namespace viewer

@@ -2,6 +2,8 @@
 // Exit codes: 0 success, 2 bad input or no display/window (a clear message), 1 internal error.
 #include "Viewer.h"
 
+#include <apps/AppCommon.h>
+#include <apps/Flags.h>
 #include <geometry/core/Error.h>
 #include <gpu/gl/Context.h>
 #include <gpu/Methods.h>
@@ -17,17 +19,15 @@ int main(int argc, char** argv) {
     viewer::Options opt;
     app.add_option("file", opt.file, "a .glb/.gltf to open (at its first glTF camera)");
     app.add_option("--scene", opt.scenePath, "a scene JSON instead of a glTF file");
-    app.add_option("--size", opt.size, "window size WIDTHxHEIGHT")->capture_default_str();
+    apps::addSizeOption(app, opt.size, "window size WIDTHxHEIGHT");
     app.add_option("--render-scale", opt.renderScale,
                    "render at this fraction of the window (0.125..1), scaled up when shown")
         ->capture_default_str();
-    app.add_option("--method", opt.method,
-                   "visibility method at start (" + gpu::methodNameList(true) + ")")
+    apps::addMethodOption(app, opt.method,
+                          "visibility method at start (" + gpu::methodNameList(true) + ")")
         ->capture_default_str();
-    app.add_option("--param", opt.parameters, "a parameter of the method, NAME=VALUE (repeatable)")
-        ->allow_extra_args(false);
-    app.add_option("--samples", opt.samples, "light samples of reference and raytrace")
-        ->capture_default_str();
+    apps::addParamOption(app, opt.parameters);
+    apps::addSamplesOption(app, opt.samples);
     app.add_option("--camera", opt.camera, "start at this glTF camera (0 = the first)")
         ->capture_default_str();
     app.add_option("--frames", opt.frames,
@@ -52,24 +52,13 @@ int main(int argc, char** argv) {
     app.add_option("--debug-view", opt.debugView, "debug view at start (" + views + ")")
         ->capture_default_str();
     app.add_flag("--hide-ui", opt.hideUi, "start without the panel and overlay (Tab, F1)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        app.exit(e);
-        return 2;
-    }
-    try {
-        return viewer::run(opt);
-    } catch (const geometry::InputError& e) {
-        std::fprintf(stderr, "penumbra-viewer: error: %s\n", e.what());
-        return 2;
-    } catch (const gpu::ContextError& e) {
-        std::fprintf(stderr, "penumbra-viewer: error: cannot open a window: %s\n", e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "penumbra-viewer: internal error: %s\n", e.what());
-        return 1;
-    }
+    return apps::runCommandLine(app, argc, argv, "penumbra-viewer",
+                                apps::ParseErrorStyle::Cli11, [&] {
+        try {
+            return viewer::run(opt);
+        } catch (const gpu::ContextError& e) { // not an InputError: no display is no bad input
+            std::fprintf(stderr, "penumbra-viewer: error: cannot open a window: %s\n", e.what());
+            return apps::kExitInputError;
+        }
+    });
 }

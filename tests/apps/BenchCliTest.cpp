@@ -231,6 +231,12 @@ TEST_F(BenchCli, BadInputExitsTwoAndWritesNothing) {
         {scene + " --flicker-steps 3", "even"},
         {scene + " --light-scale 0", "--light-scale"},
         {scene + " --size 0x4", "--size"},
+        // The limits every app shares (apps/Flags.h): each side 1 to 16384 (the bench took 8192
+        // at most before), 1 to 65536 light samples (the sweep's had no bound).
+        {scene + " --size 16385x4", "--size: each side must be between 1 and 16384"},
+        {scene + " --truth-samples 65537", "--truth-samples must be between 1 and 65536"},
+        {scene + " --methods reference --sweep reference:samples=16,65537",
+         "'65537' is not a sample count (1 to 65536)"},
         {q(mDir / "missing.json"), "no such file"},
         {q(mDir), "no .json/.gltf/.glb"},
     };

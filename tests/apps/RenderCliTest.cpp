@@ -247,6 +247,20 @@ TEST_F(RenderCli, BadSize) {
     expectRejected(write("s.json", kValidScene), "--size", "--method hard --size big");
 }
 
+// --size and --samples have the limits every app shares (apps/Flags.h): each side 1 to 16384,
+// 1 to 65536 light samples (penumbra-render took 2^20 before). Out of range is bad input, exit 2.
+TEST_F(RenderCli, SizeAndSamplesHaveTheSharedLimits) {
+    const fs::path scene = write("s.json", kValidScene);
+    expectRejected(scene, "penumbra-render: error: --size: each side must be between 1 and 16384, "
+                          "got '16385x64'",
+                   "--method hard --size 16385x64");
+    expectRejected(scene, "penumbra-render: error: --samples must be between 1 and 65536",
+                   "--method reference --samples 65537");
+    expectRejected(scene, "--samples must be between 1 and 65536",
+                   "--method reference --samples 1048576");
+    expectRejected(scene, "--samples must be between 1 and 65536", "--method hard --samples 0");
+}
+
 // Sizes no GL implementation here can hold are refused with the limit, before anything is
 // allocated: 16384x16384 once failed after 5 GB with an incomplete framebuffer, 100000x100000
 // was blamed on its format.

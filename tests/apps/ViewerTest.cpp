@@ -338,6 +338,12 @@ TEST(ViewerNoDisplay, BadInputIsRefusedBeforeAWindowOpens) {
     } cases[] = {
         {"'" + kLevel + "' --method nope", "nope"},
         {"'" + kLevel + "' --size 10x10", "--size"},
+        // The window's own bounds, inside the limits every app shares (apps/Flags.h).
+        {"'" + kLevel + "' --size 10x10", "of the viewer's window must be between 64 and 8192"},
+        {"'" + kLevel + "' --size 9000x600", "of the viewer's window must be between 64 and 8192"},
+        {"'" + kLevel + "' --size 16385x600", "--size: each side must be between 1 and 16384"},
+        {"'" + kLevel + "' --samples 65537", "--samples must be between 1 and 65536"},
+        {"'" + kLevel + "' --samples 0", "--samples must be between 1 and 65536"},
         {"'" + kLevel + "' --render-scale 2", "--render-scale"},
         {"'" + kLevel + "' --keys 3:X --frames 5", "unknown key 'X'"},
         {"'" + kLevel + "' --debug-view nope", "nope"},

@@ -184,6 +184,47 @@ TEST(LightCheck, MessageNamesObjectTriangleAndPlace) {
     }
 }
 
+// A refused light is a LightRefusedError (penumbra-soak and the viewer catch that type to fall
+// back to another light), and still an InputError (bad input, exit 2, for everyone else):
+// touching geometry, and, through validateLight, a light with no area or a non-finite one. Other
+// bad input stays a plain InputError.
+TEST(LightCheck, RefusedLightIsALightRefusedError) {
+    const Scene s = scene(light({0, 1, 0}), {{"box", geometry::makeBox({0, 1, 0}, {1, 1, 1})}});
+    EXPECT_THROW(geometry::validateLightClear(s), geometry::LightRefusedError);
+    EXPECT_THROW(geometry::validateLightClear(s), geometry::InputError);
+    EXPECT_THROW(geometry::validateLight(s, s.light, "moved light"), geometry::LightRefusedError);
+
+    const Scene clear =
+        scene(light({0, 6, 0}), {{"box", geometry::makeBox({0, 0.5f, 0}, {1, 1, 1})}});
+    EXPECT_NO_THROW(geometry::validateLight(clear, clear.light, "moved light"));
+    geometry::RectLight flat = clear.light;
+    flat.v = flat.u; // zero area
+    EXPECT_THROW(geometry::validateLight(clear, flat, "moved light"), geometry::LightRefusedError);
+    geometry::RectLight point = clear.light;
+    point.u = glm::vec3(0.0f); // zero size
+    EXPECT_THROW(geometry::validateLight(clear, point, "moved light"), geometry::LightRefusedError);
+    geometry::RectLight lost = clear.light;
+    lost.center.x = std::numeric_limits<float>::quiet_NaN();
+    try {
+        geometry::validateLight(clear, lost, "moved light");
+        FAIL() << "a light at NaN was accepted";
+    } catch (const geometry::LightRefusedError& e) {
+        EXPECT_NE(std::string(e.what()).find("moved light.center: must be finite"),
+                  std::string::npos)
+            << e.what();
+    }
+
+    // Not a light: a camera looking nowhere is bad input of another kind.
+    geometry::Camera camera;
+    camera.eye = camera.target = glm::vec3(1.0f);
+    try {
+        geometry::validateCamera(camera, "camera");
+        FAIL() << "a camera with eye == target was accepted";
+    } catch (const geometry::InputError& e) {
+        EXPECT_EQ(dynamic_cast<const geometry::LightRefusedError*>(&e), nullptr) << e.what();
+    }
+}
+
 // The tolerance is the light's: a huge object far away (here 9e6 from the light, inside the
 // coordinate bound) once made it 1e-5 x a 2e7 diagonal, so the floor 4 below the light
 // "touched" it and was named.

@@ -57,4 +57,31 @@ TEST_F(LightOverride, RefusesALightThatTouchesGeometry) {
     EXPECT_NE(zeroArea->find("zero area"), std::string::npos) << *zeroArea;
 }
 
+// The renderer refuses a replaced light with geometry::LightRefusedError (what penumbra-soak and
+// the viewer catch to fall back to the light they had); other bad settings stay InputErrors.
+TEST_F(LightOverride, ARefusedLightIsALightRefusedError) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    gpu::RenderSettings s;
+    s.width = s.height = 32;
+    geometry::RectLight low = scene.light;
+    low.center.y = 1.8f; // the plane of the highest plate, over it
+    low.center.z = -0.45f;
+    s.light = low;
+    EXPECT_THROW(renderer.renderFrame(s), geometry::LightRefusedError);
+    geometry::RectLight flat = scene.light;
+    flat.v = flat.u;
+    s.light = flat;
+    EXPECT_THROW(renderer.renderFrame(s), geometry::LightRefusedError);
+    s.light = scene.light;
+    s.method = "nope";
+    try {
+        renderer.renderFrame(s);
+        FAIL() << "an unknown method was accepted";
+    } catch (const geometry::InputError& e) {
+        EXPECT_EQ(dynamic_cast<const geometry::LightRefusedError*>(&e), nullptr) << e.what();
+    }
+}
+
 } // namespace

@@ -159,7 +159,7 @@ void validateLightClear(const Scene& scene, const RectLight& light, std::string_
     const auto contact = findLightContact(scene, light, contactTolerance(light));
     if (!contact) return;
     const std::string origin = scene.source.empty() ? "scene" : scene.source.string();
-    throw InputError(origin + ": " + (what.empty() ? std::string("light") : std::string(what)) +
+    throw LightRefusedError(origin + ": " + (what.empty() ? std::string("light") : std::string(what)) +
                      " intersects object '" + scene.objects[contact->object].name +
                      "' (triangle " + std::to_string(contact->triangle) + ") near light (s " +
                      formatCoordinate(contact->st.x) + ", t " + formatCoordinate(contact->st.y) +

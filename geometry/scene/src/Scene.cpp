@@ -624,7 +624,7 @@ void selectCamera(Scene& scene, int index) {
 void validateLight(const Scene& scene, const RectLight& light, std::string_view what) {
     const std::string name = what.empty() ? std::string("light") : std::string(what);
     checkLight(light, [&](const std::string& k, const std::string& w) {
-        throw InputError(name + (k == "light" ? "" : k.substr(5)) + ": " + w);
+        throw LightRefusedError(name + (k == "light" ? "" : k.substr(5)) + ": " + w);
     });
     validateLightClear(scene, light, name);
 }

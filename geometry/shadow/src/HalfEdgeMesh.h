@@ -1,4 +1,4 @@
-// Private to geometry/src: the OpenMesh half-edge view of a Topology, for algorithms that walk
+// Private to geometry/shadow: the OpenMesh half-edge view of a Topology, for algorithms that walk
 // vertex fans and boundary loops (silhouette loops, issue 3).
 //
 // - Built from the welded triangles in the same order, so face handle idx() == topology triangle

@@ -1,4 +1,4 @@
-// Private to geometry/src: a 64-bit integer mixer shared by the welding grid (Topology.cpp) and
+// Internal to the geometry libraries (not part of their API): a 64-bit integer mixer shared by the welding grid (Topology.cpp) and
 // the deterministic per-vertex noise (Primitives.cpp).
 #pragma once
 

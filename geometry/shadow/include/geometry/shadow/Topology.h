@@ -76,7 +76,7 @@ public:
     const TopologyStats& stats() const { return mStats; }
 
     // OpenMesh connectivity for algorithms that walk fans/loops (issue 3). Opaque here so that
-    // OpenMesh types stay inside geometry/src.
+    // OpenMesh types stay inside geometry/shadow/src.
     struct HalfEdgeMesh;
     const HalfEdgeMesh& halfEdgeMesh() const { return *mHalfEdge; }
 

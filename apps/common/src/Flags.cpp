@@ -1,0 +1,63 @@
+#include <apps/Flags.h>
+
+#include <geometry/core/Error.h>
+
+#include <regex>
+
+namespace apps {
+
+CLI::Option* addSizeOption(CLI::App& app, std::string& size, const std::string& help) {
+    return app.add_option("--size", size, help)->capture_default_str();
+}
+
+std::pair<int, int> parseSize(const std::string& s, const char* example) {
+    static const std::regex re(R"((\d+)x(\d+))");
+    std::smatch m;
+    if (!std::regex_match(s, m, re))
+        throw geometry::InputError(std::string("--size: expected WIDTHxHEIGHT (e.g. ") + example +
+                                   "), got '" + s + "'");
+    // Any number of digits is the right format; more than 9 is only out of range.
+    auto side = [](const std::string& digits) {
+        return digits.size() > 9 ? 1'000'000'000 : std::stoi(digits);
+    };
+    const int w = side(m[1]), h = side(m[2]);
+    if (w < kMinImageSide || h < kMinImageSide || w > kMaxImageSide || h > kMaxImageSide)
+        throw geometry::InputError("--size: each side must be between " +
+                                   std::to_string(kMinImageSide) + " and " +
+                                   std::to_string(kMaxImageSide) + ", got '" + s + "'");
+    return {w, h};
+}
+
+CLI::Option* addMethodOption(CLI::App& app, std::string& method, const std::string& help) {
+    return app.add_option("--method", method, help);
+}
+
+CLI::Option* addMethodOption(CLI::App& app, std::vector<std::string>& methods,
+                             const std::string& help) {
+    return app.add_option("--method", methods, help);
+}
+
+CLI::Option* addParamOption(CLI::App& app, std::vector<std::string>& parameters,
+                            const std::string& help) {
+    return app.add_option("--param", parameters, help)->allow_extra_args(false);
+}
+
+std::vector<gpu::ParameterValue> parseParameters(const std::vector<std::string>& texts) {
+    std::vector<gpu::ParameterValue> given;
+    for (const std::string& text : texts)
+        given.push_back(gpu::parseParameter(text));
+    return given;
+}
+
+CLI::Option* addSamplesOption(CLI::App& app, int& samples, const std::string& help) {
+    return app.add_option("--samples", samples, help)->capture_default_str();
+}
+
+void checkSamples(int samples, const char* flag) {
+    if (samples < kMinSamples || samples > kMaxSamples)
+        throw geometry::InputError(std::string(flag) + " must be between " +
+                                   std::to_string(kMinSamples) + " and " +
+                                   std::to_string(kMaxSamples));
+}
+
+} // namespace apps
