@@ -1,6 +1,8 @@
 // The method table (gpu/Methods.h): the one list of method names.
 #include <gpu/Methods.h>
 
+#include "engine/MethodOptions.h"
+
 #include <geometry/core/Error.h>
 
 #include "engine/Method.h"
@@ -201,6 +203,60 @@ const MethodInfo& findMethod(std::string_view name) {
     }
     throw geometry::InputError("unknown method '" + std::string(name) +
                                "' (known: " + methodNameList() + ")");
+}
+
+// --- Typed options (engine/MethodOptions.h) ---
+
+namespace {
+
+int intValue(std::span<const ParameterValue> resolved, std::string_view name) {
+    return std::stoi(std::string(parameterValue(resolved, name)));
+}
+
+} // namespace
+
+BlendOptions blendOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("wedges-blend"), given);
+    return {.parts = intValue(r, "parts"),
+            .bits = intValue(r, "bits"),
+            .centroid = parameterValue(r, "overlap") == "centroid"};
+}
+
+BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("wedges-bitmask"), given);
+    return {.samples = intValue(r, "samples"),
+            .rotated = parameterValue(r, "pattern") == "rotated",
+            .counts = parameterValue(r, "combine") == "counts"};
+}
+
+OcclusionOptions occlusionOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("occlusion"), given);
+    const std::string_view prefilter = parameterValue(r, "prefilter");
+    const std::string_view leakFix = parameterValue(r, "leakfix");
+    return {.slices = intValue(r, "slices"),
+            .prefilter = prefilter == "sat"       ? OcclusionPrefilter::Sat
+                         : prefilter == "mipmaps" ? OcclusionPrefilter::Mipmaps
+                                                  : OcclusionPrefilter::NBuffers,
+            .leakFix = leakFix == "on"      ? OcclusionLeakFix::On
+                       : leakFix == "off"   ? OcclusionLeakFix::Off
+                       : leakFix == "paper" ? OcclusionLeakFix::Paper
+                                            : OcclusionLeakFix::Auto,
+            .resolution = intValue(r, "resolution"),
+            .horizon = parameterValue(r, "horizon") == "on"};
+}
+
+PcssOptions pcssOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("pcss"), given);
+    return {.resolution = intValue(r, "resolution"),
+            .blockerSamples = intValue(r, "blocker_samples"),
+            .pcfSamples = intValue(r, "pcf_samples"),
+            .bias = std::string(parameterValue(r, "bias")),
+            .horizon = parameterValue(r, "horizon") == "on"};
+}
+
+AutoOptions autoOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("auto"), given);
+    return {.wedgeMethod = "wedges-" + std::string(parameterValue(r, "wedges"))};
 }
 
 } // namespace gpu

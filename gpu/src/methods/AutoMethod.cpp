@@ -5,6 +5,7 @@
 // is decided the first frame it is seen and then kept, so that a moving light never flips it.
 #include "engine/DebugViews.h"
 #include "engine/Method.h"
+#include "engine/MethodOptions.h"
 #include "passes/FullscreenPass.h"
 #include "engine/ShaderBindings.h"
 
@@ -33,8 +34,7 @@ std::unique_ptr<VisibilityMethod> createByName(const MethodResources& r, std::st
 class AutoMethod final : public VisibilityMethod {
 public:
     explicit AutoMethod(const MethodResources& r)
-        : mResources{r.shaders, r.scene, {}}, mWedgeMethodName("wedges-" + std::string(parameterValue(r.parameters,
-                                                                                  "wedges"))),
+        : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(autoOptions(r.parameters).wedgeMethod),
           mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState) {
         mWedges = createByName(r, mWedgeMethodName);
     }

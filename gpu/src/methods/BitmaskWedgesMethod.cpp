@@ -23,6 +23,7 @@
 #include "passes/StencilVolumePass.h"
 #include "passes/WedgePass.h"
 #include "engine/ShaderBindings.h"
+#include "engine/MethodOptions.h"
 #include "methods/SilhouetteBatchMethod.h"
 #include "methods/MethodUtil.h"
 
@@ -37,10 +38,8 @@ namespace gpu {
 
 namespace {
 
-struct MaskLayout {
-    int samples = 64;
-    bool rotated = false;
-    bool counts = false; // combine=counts
+// The method's options (engine/MethodOptions.h) and what follows from them.
+struct MaskLayout : BitmaskOptions {
 
     int targets() const { return samples > 128 ? 2 : 1; }
     GLenum format() const {
@@ -62,12 +61,7 @@ struct MaskLayout {
 };
 
 MaskLayout maskLayout(std::span<const ParameterValue> parameters) {
-    MaskLayout l;
-    if (const std::string_view n = parameterValue(parameters, "samples"); !n.empty())
-        l.samples = std::stoi(std::string(n));
-    l.rotated = parameterValue(parameters, "pattern") == "rotated";
-    l.counts = parameterValue(parameters, "combine") == "counts";
-    return l;
+    return {bitmaskOptions(parameters)};
 }
 
 // Logic ops on the integer targets (blending does not apply to them).

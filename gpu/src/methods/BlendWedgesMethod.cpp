@@ -42,6 +42,7 @@
 #include "passes/WedgePass.h"
 #include "engine/ShaderBindings.h"
 #include "passes/VolumeStates.h"
+#include "engine/MethodOptions.h"
 #include "methods/SilhouetteBatchMethod.h"
 #include "methods/MethodUtil.h"
 
@@ -62,10 +63,8 @@ constexpr int kMaxFinalTargets = 4;
 constexpr int kMaxSets = 2;
 
 // The method's parameters and the layout they give (the comment at the top of this file).
-struct BlendLayout {
-    int parts = 4;
-    int bits = 8;
-    bool centroid = false;
+// The method's options (engine/MethodOptions.h) and what follows from them.
+struct BlendLayout : BlendOptions {
 
     int sets() const { return parts == 8 ? 2 : 1; }
     int finalTargets() const { return bits == 16 ? 4 : 2; }
@@ -83,16 +82,8 @@ struct BlendLayout {
     }
 };
 
-// From the resolved parameters (gpu/Methods.h checked their values); a missing one keeps the
-// paper's value.
 BlendLayout blendLayout(std::span<const ParameterValue> parameters) {
-    BlendLayout l;
-    if (const std::string_view parts = parameterValue(parameters, "parts"); !parts.empty())
-        l.parts = std::stoi(std::string(parts));
-    if (const std::string_view bits = parameterValue(parameters, "bits"); !bits.empty())
-        l.bits = std::stoi(std::string(bits));
-    l.centroid = parameterValue(parameters, "overlap") == "centroid";
-    return l;
+    return {blendOptions(parameters)};
 }
 
 // The "empty" values the targets are cleared to: per-part accumulation target i (sums 0, bounds

@@ -13,6 +13,7 @@
 //   of the light in front of the surface (horizon=on; not in the paper).
 // V is written (not multiplied) at every pixel; casters outside the subset are not sliced.
 #include "engine/Method.h"
+#include "engine/MethodOptions.h"
 #include "engine/ShaderBindings.h"
 #include "passes/FullscreenPass.h"
 #include "passes/OcclusionPrefilter.h"
@@ -28,8 +29,8 @@ namespace gpu {
 
 namespace {
 
-enum class Prefilter { NBuffers, Sat, Mipmaps };
-enum class LeakFix { Auto, On, Off, Paper };
+using Prefilter = OcclusionPrefilter;
+using LeakFix = OcclusionLeakFix;
 
 int log2Int(int x) {
     int l = 0;
@@ -40,14 +41,15 @@ int log2Int(int x) {
 class OcclusionMethod final : public VisibilityMethod {
 public:
     explicit OcclusionMethod(const MethodResources& r)
-        : mSlices(std::stoi(std::string(parameterValue(r.parameters, "slices")))),
-          mResolution(std::stoi(std::string(parameterValue(r.parameters, "resolution")))),
-          mPrefilter(prefilterOf(parameterValue(r.parameters, "prefilter"))),
-          mLeakFix(leakFixOf(parameterValue(r.parameters, "leakfix"))),
+        : OcclusionMethod(r, occlusionOptions(r.parameters)) {}
+
+    OcclusionMethod(const MethodResources& r, const OcclusionOptions& o)
+        : mSlices(o.slices), mResolution(o.resolution), mPrefilter(o.prefilter),
+          mLeakFix(o.leakFix), mHorizon(o.horizon),
           mTargets((mSlices + 3) / 4), mTopLevel(log2Int(mResolution)),
           mSlicePass(r.shaders, mSlices),
           mLookup(r.shaders, "occlusion-lookup.frag", "occlusion-lookup", PipelineState{},
-                  lookupDefines(r)) {
+                  lookupDefines()) {
         const int R = mResolution;
         switch (mPrefilter) {
         case Prefilter::NBuffers:
@@ -145,18 +147,9 @@ public:
     }
 
 private:
-    static Prefilter prefilterOf(std::string_view v) {
-        return v == "sat" ? Prefilter::Sat : v == "mipmaps" ? Prefilter::Mipmaps : Prefilter::NBuffers;
-    }
-    static LeakFix leakFixOf(std::string_view v) {
-        return v == "on"      ? LeakFix::On
-               : v == "off"   ? LeakFix::Off
-               : v == "paper" ? LeakFix::Paper
-                              : LeakFix::Auto;
-    }
-    std::vector<std::string> lookupDefines(const MethodResources& r) const {
+    std::vector<std::string> lookupDefines() const {
         std::vector<std::string> d = {"SLICES " + std::to_string(mSlices), prefilterDefine()};
-        if (parameterValue(r.parameters, "horizon") == "on") d.push_back("HORIZON");
+        if (mHorizon) d.push_back("HORIZON");
         return d;
     }
     std::string prefilterDefine() const {
@@ -205,6 +198,7 @@ private:
     int mSlices, mResolution;
     Prefilter mPrefilter;
     LeakFix mLeakFix;
+    bool mHorizon;
     int mTargets, mTopLevel;
     OcclusionSlicePass mSlicePass;
     FullscreenPass mLookup;

@@ -11,6 +11,7 @@
 // Receivers beyond the maps' cap (walls reaching the light's plane) get V = 1 and are counted
 // (`pcss_pixels_outside`).
 #include "engine/Method.h"
+#include "engine/MethodOptions.h"
 #include "engine/ShaderBindings.h"
 #include "passes/FullscreenPass.h"
 #include "passes/PcssShadowPass.h"
@@ -29,24 +30,20 @@ namespace {
 constexpr std::uint32_t kFilterPatternSeed = 0x5CC5u;
 constexpr std::uint32_t kSearchPatternSeed = 0xB10Cu;
 
-int intParameter(const MethodResources& r, std::string_view name) {
-    return std::stoi(std::string(parameterValue(r.parameters, name)));
-}
-
-std::vector<std::string> lookupDefines(const MethodResources& r) {
-    std::vector<std::string> d = {"NORMAL_OFFSET " +
-                                  std::string(parameterValue(r.parameters, "bias"))};
-    if (parameterValue(r.parameters, "horizon") == "on") d.push_back("HORIZON");
+std::vector<std::string> lookupDefines(const PcssOptions& o) {
+    std::vector<std::string> d = {"NORMAL_OFFSET " + o.bias};
+    if (o.horizon) d.push_back("HORIZON");
     return d;
 }
 
 class PcssMethod final : public VisibilityMethod {
 public:
-    explicit PcssMethod(const MethodResources& r)
-        : mResolution(intParameter(r, "resolution")),
-          mSearchSamples(intParameter(r, "blocker_samples")),
-          mFilterSamples(intParameter(r, "pcf_samples")), mShadowPass(r.shaders),
-          mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(r)) {
+    explicit PcssMethod(const MethodResources& r) : PcssMethod(r, pcssOptions(r.parameters)) {}
+
+    PcssMethod(const MethodResources& r, const PcssOptions& o)
+        : mResolution(o.resolution), mSearchSamples(o.blockerSamples),
+          mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
+          mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o)) {
         // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
         // kernels reaching past the map find no blockers there.
         mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,

@@ -1,0 +1,60 @@
+// Typed options of the methods that take parameters (gpu/Methods.h). The method table in
+// Methods.cpp is the one place a parameter is declared: its name, allowed values, default and
+// help, which --help, the viewer's panel and report.json list. Each function below resolves the
+// given values against that table (filling in the table's defaults; an unknown name or value
+// is the table's InputError) and reads them once into the method's struct, so that no method
+// parses strings or restates a default.
+#pragma once
+
+#include <gpu/Methods.h>
+
+#include <span>
+#include <string>
+
+namespace gpu {
+
+// wedges-blend (Forest et al. 2006).
+struct BlendOptions {
+    int parts = 0;         // radial parts of the light: 1, 4 (the paper) or 8
+    int bits = 0;          // bits per packed value of the stored states: 8 (the paper) or 16
+    bool centroid = false; // overlap estimate from the parts' centroids instead of the paper's
+};
+BlendOptions blendOptions(std::span<const ParameterValue> given);
+
+// wedges-bitmask.
+struct BitmaskOptions {
+    int samples = 0;       // light samples per mask: 32, 64, 128 or 256
+    bool rotated = false;  // per-pixel Cranley-Patterson shift of the pattern
+    bool counts = false;   // combine=counts (signed 4-bit counts); false: parity
+};
+BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given);
+
+// occlusion (Eisemann & Decoret 2006).
+enum class OcclusionPrefilter { NBuffers, Sat, Mipmaps };
+enum class OcclusionLeakFix { Auto, On, Off, Paper };
+struct OcclusionOptions {
+    int slices = 0;
+    OcclusionPrefilter prefilter = OcclusionPrefilter::NBuffers;
+    OcclusionLeakFix leakFix = OcclusionLeakFix::Auto;
+    int resolution = 0; // side of the occlusion textures in texels
+    bool horizon = false;
+};
+OcclusionOptions occlusionOptions(std::span<const ParameterValue> given);
+
+// pcss (Fernando 2005).
+struct PcssOptions {
+    int resolution = 0; // side of each shadow map in texels
+    int blockerSamples = 0;
+    int pcfSamples = 0;
+    std::string bias; // the depth bias in map texels, as the table writes it (the shader's define)
+    bool horizon = false;
+};
+PcssOptions pcssOptions(std::span<const ParameterValue> given);
+
+// auto.
+struct AutoOptions {
+    std::string wedgeMethod; // the method's name: "wedges-blend", "wedges-bitmask", ...
+};
+AutoOptions autoOptions(std::span<const ParameterValue> given);
+
+} // namespace gpu
