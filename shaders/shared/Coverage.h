@@ -78,15 +78,17 @@ SHARED_FN float coverageSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec
     return coverageCross2(a + lo * (b - a), a + hi * (b - a));
 }
 
-// The piece of R's boundary along the light square's edge a -> b (counter-clockwise), where fa,
-// fb are the line's h2 at a and b (R: h2 >= 0). Where the edge crosses the line, the crossing is
-// kept as the start (leave) or end (enter) of the boundary's piece along the line: computed once
-// for both pieces, so that they meet exactly however obliquely the line crosses the edge.
-SHARED_FN float coverageSquareEdge(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1,
-                                   SHARED_INOUT(vec2) leave, SHARED_INOUT(vec2) enter) {
-    if (fa < 0.0f && fb < 0.0f) return 0.0f;
-    float lo = 0.0f;
-    float hi = 1.0f;
+// The part [lo, hi] of a side a -> b of the light square (or of a part of it; counter-clockwise)
+// on R's side of the line, where fa, fb are the line's h2 at a and b (R: h2 >= 0); false when
+// the whole side is off it. Where the side crosses the line, the crossing is kept as the start
+// (leave) or end (enter) of the boundary's piece along the line: computed once for both pieces,
+// so that they meet exactly however obliquely the line crosses the side.
+SHARED_FN bool coverageSideRange(vec2 a, vec2 b, float fa, float fb, SHARED_INOUT(vec2) leave,
+                                 SHARED_INOUT(vec2) enter, SHARED_OUT(float) lo,
+                                 SHARED_OUT(float) hi) {
+    lo = 0.0f;
+    hi = 1.0f;
+    if (fa < 0.0f && fb < 0.0f) return false;
     if (fa < 0.0f || fb < 0.0f) {
         float l = fa / (fa - fb);
         vec2 x = a + l * (b - a);
@@ -98,6 +100,15 @@ SHARED_FN float coverageSquareEdge(vec2 a, vec2 b, float fa, float fb, vec3 h0, 
             lo = l;
         }
     }
+    return true;
+}
+
+// The piece of R's boundary along the light square's edge a -> b: twice its area term.
+SHARED_FN float coverageSquareEdge(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1,
+                                   SHARED_INOUT(vec2) leave, SHARED_INOUT(vec2) enter) {
+    float lo;
+    float hi;
+    if (!coverageSideRange(a, b, fa, fb, leave, enter, lo, hi)) return 0.0f;
     return coverageSegment(a, b, lo, hi, h0, h1);
 }
 
@@ -124,6 +135,18 @@ SHARED_FN vec3 coverageProject(float l, vec3 k0, vec3 k1, vec3 d0, vec3 d1, floa
 // interpolation at l = 1, so that two edges meeting at a vertex agree bit for bit on the ray
 // through it (the light-sample masks need that; coverage and parts integrate areas, where it
 // does not matter, and keep the interpolated form).
+// The end of the clipped edge at parameter l (its lo or hi), projected (coverageProject); with
+// exactEnds an end of the edge kept whole (l = 0 or 1) from its own vector (edgeProjection).
+SHARED_FN vec3 coverageProjectEnd(float l, bool exactEnds, vec3 k0, vec3 k1, vec3 d0, vec3 d1,
+                                  float z0, float z1, float w0, float w1, vec3 pc,
+                                  CoverageLight light) {
+    if (exactEnds && l == 0.0f)
+        return coverageProject(0.0f, k0, k0, d0, d0, z0, z0, w0, w0, pc, light);
+    if (exactEnds && l == 1.0f)
+        return coverageProject(0.0f, k1, k1, d1, d1, z1, z1, w1, w1, pc, light);
+    return coverageProject(l, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+}
+
 SHARED_FN bool edgeProjection(vec3 p, vec3 e0, vec3 e1, CoverageLight light, bool exactEnds,
                               SHARED_OUT(vec3) q0, SHARED_OUT(vec3) q1, SHARED_OUT(float) hp) {
     q0 = vec3(0.0f);
@@ -145,18 +168,8 @@ SHARED_FN bool edgeProjection(vec3 p, vec3 e0, vec3 e1, CoverageLight light, boo
     float hi = 1.0f;
     if (!coverageClipLe0(-z0, -z1, lo, hi)) return false;
     if (!coverageClipLe0(-w0, -w1, lo, hi)) return false;
-    if (exactEnds && lo == 0.0f)
-        q0 = coverageProject(0.0f, k0, k0, d0, d0, z0, z0, w0, w0, pc, light);
-    else if (exactEnds && lo == 1.0f)
-        q0 = coverageProject(0.0f, k1, k1, d1, d1, z1, z1, w1, w1, pc, light);
-    else
-        q0 = coverageProject(lo, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
-    if (exactEnds && hi == 0.0f)
-        q1 = coverageProject(0.0f, k0, k0, d0, d0, z0, z0, w0, w0, pc, light);
-    else if (exactEnds && hi == 1.0f)
-        q1 = coverageProject(0.0f, k1, k1, d1, d1, z1, z1, w1, w1, pc, light);
-    else
-        q1 = coverageProject(hi, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    q0 = coverageProjectEnd(lo, exactEnds, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
+    q1 = coverageProjectEnd(hi, exactEnds, k0, k1, d0, d1, z0, z1, w0, w1, pc, light);
     return true;
 }
 

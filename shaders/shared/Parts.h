@@ -205,22 +205,11 @@ SHARED_FN vec3 partsSegment(vec2 a, vec2 b, float lo, float hi, vec3 h0, vec3 h1
 
 // coverageSquareEdge with the moments: the piece of R's boundary along the part's side a -> b
 // (counter-clockwise; fa, fb: the line's h2 at a and b), placing the line's piece as it goes.
-SHARED_FN vec3 partsSide(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1, SHARED_INOUT(vec2) leave,
-               SHARED_INOUT(vec2) enter) {
-    if (fa < 0.0f && fb < 0.0f) return vec3(0.0f, 0.0f, 0.0f);
-    float lo = 0.0f;
-    float hi = 1.0f;
-    if (fa < 0.0f || fb < 0.0f) {
-        float l = fa / (fa - fb);
-        vec2 x = a + l * (b - a);
-        if (fa >= 0.0f) {
-            leave = x;
-            hi = l;
-        } else {
-            enter = x;
-            lo = l;
-        }
-    }
+SHARED_FN vec3 partsSide(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1,
+                         SHARED_INOUT(vec2) leave, SHARED_INOUT(vec2) enter) {
+    float lo;
+    float hi;
+    if (!coverageSideRange(a, b, fa, fb, leave, enter, lo, hi)) return vec3(0.0f, 0.0f, 0.0f);
     return partsSegment(a, b, lo, hi, h0, h1);
 }
 

@@ -5,6 +5,7 @@
 // is decided the first frame it is seen and then kept, so that a moving light never flips it.
 #include "engine/DebugViews.h"
 #include "engine/Method.h"
+#include "methods/MethodUtil.h"
 #include "engine/MethodOptions.h"
 #include "passes/FullscreenPass.h"
 #include "engine/ShaderBindings.h"
@@ -18,12 +19,6 @@
 namespace gpu {
 
 namespace {
-
-constexpr PipelineState kMultiplyState{
-    .blend = true,
-    .blendSrc = GL_DST_COLOR, // V_occlusion * V_wedges
-    .blendDst = GL_ZERO,
-};
 
 std::unique_ptr<VisibilityMethod> createByName(const MethodResources& r, std::string_view name) {
     const MethodInfo& info = findMethod(name);

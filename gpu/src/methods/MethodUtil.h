@@ -5,11 +5,21 @@
 #include "engine/Method.h"
 #include "engine/Targets.h"
 
+#include <gpu/gl/State.h>
+
 #include <cstdint>
 #include <span>
 #include <vector>
 
 namespace gpu {
+
+// Blending that multiplies the target by the pass's output (V = V_target * V_pass): the
+// per-silhouette products of wedges-multiply and auto's composition of its parts.
+constexpr PipelineState kMultiplyState{
+    .blend = true,
+    .blendSrc = GL_DST_COLOR,
+    .blendDst = GL_ZERO,
+};
 
 // Zeroes the stencil counts (with the write mask a volume pass would leave on).
 void clearStencil(const Targets& t);

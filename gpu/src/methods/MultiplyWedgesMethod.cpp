@@ -21,12 +21,6 @@ namespace gpu {
 
 namespace {
 
-constexpr PipelineState kMultiplyState{
-    .blend = true,
-    .blendSrc = GL_DST_COLOR, // final * V_s
-    .blendDst = GL_ZERO,
-};
-
 class MultiplyWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit MultiplyWedgesMethod(const MethodResources& r)
