@@ -3,6 +3,7 @@
 // (geometry/BlendModel.h: projectEdge, partCoverage, partEdgeBounds, cornerWinding, R = 4) on
 // random lights, edges and points, and against the float edgeCoverage (Σ over the quadrants / 4).
 // Max errors are printed.
+#include "TestRandom.h"
 #include <geometry/models/BlendModel.h>
 #include <geometry/shadow/Coverage.h>
 #include <geometry/shadow/Parts.h>
@@ -22,20 +23,7 @@ using namespace geometry::blend;
 using geometry::RectLight;
 using glm::vec3;
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(std::uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return std::uniform_real_distribution<double>(lo, hi)(engine);
-    }
-    dvec3 direction() {
-        for (;;) {
-            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-            const double l = glm::length(v);
-            if (l > 0.1 && l <= 1.0) return v / l;
-        }
-    }
-};
+using testutil::Rng;
 
 struct Case {
     RectLight light;
@@ -81,7 +69,7 @@ double cornerMargin(const ProjectedEdge& edge, const Part& part, int k) {
 
 } // namespace
 
-TEST(PartsTest, FloatTwinMatchesTheDoubleModel) {
+TEST(PartsTest, FloatPartsMatchTheDoubleModel) {
     // Float keeps ~7 digits; the projected coordinates are of the light's size for ends at least
     // p's height from p's level (measured: coverage 1.1e-5, bounds 1.6e-5 with ends within 0.9
     // of the way to p; printed below as error / magnification).
@@ -183,16 +171,22 @@ TEST(PartsTest, FloatTwinMatchesTheDoubleModel) {
     EXPECT_LE(windingFlips, kItems / 1000);
 }
 
+// The light the unit square at the origin (u along x, v along y).
+RectLight unitSquareLight() {
+    RectLight light;
+    light.center = vec3(0.0f);
+    light.u = vec3(1.0f, 0.0f, 0.0f);
+    light.v = vec3(0.0f, 1.0f, 0.0f);
+    return light;
+}
+
 // Exact configurations (the light the unit square at the origin, p one unit below, edges half-way:
 // the projection is 2 x, exact in float): edges of a closed loop around a quadrant's corner and
 // loops whose projected vertices lie exactly on part corners and on the light's axes. The twin's
 // windings are the model's (its tie rule), and over a closed loop every corner's sum is within
 // [-1, 1].
 TEST(PartsTest, TiesOnCornersAndAxesAsTheModel) {
-    RectLight light;
-    light.center = vec3(0.0f);
-    light.u = vec3(1.0f, 0.0f, 0.0f);
-    light.v = vec3(0.0f, 1.0f, 0.0f);
+    const RectLight light = unitSquareLight();
     const geometry::CoverageLight cl = geometry::coverageLight(light.center, light.u, light.v);
     const LightFrame f = lightFrame(light);
     const vec3 p(0.0f, 0.0f, -1.0f);
@@ -255,7 +249,7 @@ std::array<int, 4> decodeWindings(float packed, int corners) {
 // edgePartSet (every R, with the moments, a set of four parts at a time) against the double model
 // on the random cases above: coverage, first moments, bounds and every corner's winding of every
 // part of R = 1, 4 and 8 (both sets). R = 4 also against edgeParts4 (the paper's path).
-TEST(PartsTest, PartSetTwinMatchesTheDoubleModelForEveryR) {
+TEST(PartsTest, FloatPartSetMatchesTheDoubleModelForEveryR) {
     constexpr double kTolerance = 1e-4;    // part area / part coordinates, times magnification
     constexpr double kCornerMargin = 1e-4; // as above
     constexpr double kMaxMagnification = 1e3;
@@ -351,10 +345,7 @@ TEST(PartsTest, PartSetTwinMatchesTheDoubleModelForEveryR) {
 // and diagonals) for edgePartSet and every R: each edge's windings are the model's, and over a
 // closed loop every corner's sum is within [-1, 1] (what the mixed-radix packing relies on).
 TEST(PartsTest, PartSetTiesAsTheModelForEveryR) {
-    RectLight light;
-    light.center = vec3(0.0f);
-    light.u = vec3(1.0f, 0.0f, 0.0f);
-    light.v = vec3(0.0f, 1.0f, 0.0f);
+    const RectLight light = unitSquareLight();
     const geometry::CoverageLight cl = geometry::coverageLight(light.center, light.u, light.v);
     const LightFrame f = lightFrame(light);
     const vec3 p(0.0f, 0.0f, -1.0f);

@@ -1,6 +1,7 @@
 // shaders/shared/Parts.h on the driver: a compute shader runs edgeParts4 (and edgePartSet for
 // every R) over random lights, edges and points and the results match the same source
 // compiled as C++ (geometry/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
+#include "TestRandom.h"
 #include "GlTestEnv.h"
 
 #include <geometry/shadow/Coverage.h>
@@ -85,20 +86,7 @@ struct PartsInput {
 };
 static_assert(sizeof(PartsInput) == 6 * 16, "PartsInput must match std430");
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(std::uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return std::uniform_real_distribution<double>(lo, hi)(engine);
-    }
-    dvec3 direction() {
-        for (;;) {
-            const dvec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
-            const double l = glm::length(v);
-            if (l > 0.1 && l <= 1.0) return v / l;
-        }
-    }
-};
+using testutil::Rng;
 
 // A random light; p and the edge on the same side of it, the edge mostly between them.
 // `magnification`: 1 / the nearest end's distance to p's level (relative to p's height).
@@ -126,7 +114,7 @@ PartsInput randomInput(Rng& rng, double& magnification) {
 
 class PartsShaderTest : public GlTest {};
 
-TEST_F(PartsShaderTest, ComputeMatchesTheCppTwin) {
+TEST_F(PartsShaderTest, ComputeMatchesTheCppBuild) {
     ScratchFile file("parts.comp", kPartsComp);
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
@@ -256,7 +244,7 @@ void main() {
 }
 )";
 
-TEST_F(PartsShaderTest, PartSetComputeMatchesTheCppTwinForEveryR) {
+TEST_F(PartsShaderTest, PartSetComputeMatchesTheCppBuildForEveryR) {
     ScratchFile file("part-set.comp", kPartSetComp);
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =

@@ -197,7 +197,7 @@ TEST_F(WedgeHullShaderTest, VertexPullingAndCoverageShadersCompileAndLink) {
     EXPECT_GE(program.uniformLocation("receiver"), 0);
 }
 
-TEST_F(WedgeHullShaderTest, ComputeMatchesTheCppTwins) {
+TEST_F(WedgeHullShaderTest, ComputeMatchesTheCppBuild) {
     ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
