@@ -1,7 +1,7 @@
 #include <geometry/reference/Analytic.h>
 #include <geometry/reference/RayTracer.h>
 
-#include "RayTracerScenes.h"
+#include "geometry/RayTracerScenes.h"
 
 #include <gtest/gtest.h>
 

@@ -12,7 +12,7 @@
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
 
-#include "../TestRandom.h"
+#include "TestRandom.h"
 
 #include <gtest/gtest.h>
 

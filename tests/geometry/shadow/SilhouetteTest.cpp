@@ -1,7 +1,7 @@
 // Silhouette groups, loops, volumes, wedges and bounds (geometry/Silhouette.h), checked against
 // brute force on every kind of mesh: closed (sphere, cube, torus), open (box, quad), non-manifold
 // (edge fan) and a real OpenArena level.
-#include "TestMeshes.h"
+#include "geometry/TestMeshes.h"
 #include "TestRandom.h"
 
 #include <geometry/scene/GltfLoader.h>

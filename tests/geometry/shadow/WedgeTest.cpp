@@ -4,8 +4,8 @@
 #include <geometry/reference/Analytic.h>
 #include <geometry/shadow/Wedge.h>
 
-#include "BruteVisibility.h"
-#include "WedgeCases.h"
+#include "geometry/BruteVisibility.h"
+#include "geometry/WedgeCases.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // orientation of the volumes, and the property everything rests on: the signed crossing count of
 // the volume along any ray from P equals the number of triangles between P and the light, for
 // closed, open and non-manifold meshes alike.
-#include "TestMeshes.h"
+#include "geometry/TestMeshes.h"
 #include "TestRandom.h"
 
 #include <geometry/scene/GltfLoader.h>

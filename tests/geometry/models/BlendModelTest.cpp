@@ -9,8 +9,8 @@
 #include <geometry/shadow/Topology.h>
 #include <geometry/shadow/Wedge.h>
 
-#include "BruteVisibility.h"
-#include "TestMeshes.h"
+#include "geometry/BruteVisibility.h"
+#include "geometry/TestMeshes.h"
 #include "TestRandom.h"
 
 #include <gtest/gtest.h>

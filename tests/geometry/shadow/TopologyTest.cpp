@@ -1,6 +1,6 @@
 // Welding, degenerate-triangle removal, edge/use arrays and manifold classification
 // (geometry/Topology.h), on hand-built meshes and on a real game level.
-#include "TestMeshes.h"
+#include "geometry/TestMeshes.h"
 
 #include <geometry/core/Error.h>
 #include <geometry/scene/GltfLoader.h>
