@@ -9,7 +9,16 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+// AddressSanitizer: GCC defines __SANITIZE_ADDRESS__, clang answers __has_feature.
 #if defined(__SANITIZE_ADDRESS__)
+#define PENUMBRA_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PENUMBRA_ASAN 1
+#endif
+#endif
+
+#if defined(PENUMBRA_ASAN)
 #include <dlfcn.h>
 #include <link.h>
 #endif
@@ -30,7 +39,7 @@ namespace {
 // LeakSanitizer, which no longer sees those globals nor knows the unloaded code's name, reports
 // those blocks as leaks that no suppression can name. Loaded, its globals keep them reachable.
 void keepGlDriversLoaded() {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(PENUMBRA_ASAN)
     std::vector<std::string> drivers; // dlopen is not called inside the walk of the loader's list
     dl_iterate_phdr(
         [](dl_phdr_info* info, std::size_t, void* out) {
