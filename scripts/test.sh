@@ -8,5 +8,7 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 cd build
 ctest --output-on-failure -j"$(nproc)" --timeout 300
+# One instrumented build (clang-14, ASan + UBSan, build-asan) serves both of these: fuzz.sh builds
+# the geometry library, tinygltf and the fuzz targets in it, sanitize.sh the rest.
 bash ../scripts/fuzz.sh # libFuzzer on the loaders, bounded (docs/hardening.md, Fuzzing)
-bash ../scripts/sanitize.sh  # the same suite under ASan + UBSan + LSan (docs/hardening.md)
+bash ../scripts/sanitize.sh  # the same suite under ASan + UBSan (docs/hardening.md, Sanitizers)

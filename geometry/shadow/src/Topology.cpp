@@ -36,7 +36,7 @@ const char* toString(Manifoldness m) {
 
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t kNoId = std::numeric_limits<std::uint32_t>::max();
 
 // Triangles with |cross(b-a, c-a)| <= kDegenerateArea * diagonal^2 have no area worth keeping.
 // Relative to the bounds (not to the triangle) because float rounding of the positions is
@@ -54,24 +54,24 @@ public:
         std::size_t capacity = 16;
         while (capacity < expected + expected / 2)
             capacity *= 2;
-        mSlots.assign(capacity, Slot{kEmpty, kNone});
+        mSlots.assign(capacity, Slot{kEmpty, kNoId});
         mMask = capacity - 1;
     }
 
     std::uint32_t find(std::uint64_t key) const {
         for (std::size_t i = mix64(key) & mMask;; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) return mSlots[i].head;
-            if (mSlots[i].key == kEmpty) return kNone;
+            if (mSlots[i].key == kEmpty) return kNoId;
         }
     }
 
-    // Returns the previous head of the cell (kNone if new) and makes `vertex` the head.
+    // Returns the previous head of the cell (kNoId if new) and makes `vertex` the head.
     std::uint32_t push(std::uint64_t key, std::uint32_t vertex) {
         for (std::size_t i = mix64(key) & mMask;; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) return std::exchange(mSlots[i].head, vertex);
             if (mSlots[i].key == kEmpty) {
                 mSlots[i] = Slot{key, vertex};
-                return kNone;
+                return kNoId;
             }
         }
     }
@@ -143,10 +143,10 @@ std::vector<std::uint32_t> weldPositions(std::span<const glm::vec3> positions, c
                             std::clamp<std::int64_t>(static_cast<std::int64_t>(c.y), 0, kMaxCell),
                             std::clamp<std::int64_t>(static_cast<std::int64_t>(c.z), 0, kMaxCell));
     };
-    // Smallest welded id within the tolerance in one cell, or kNone.
+    // Smallest welded id within the tolerance in one cell, or kNoId.
     auto searchCell = [&](std::uint64_t key, const glm::dvec3& p) {
-        std::uint32_t best = kNone;
-        for (std::uint32_t w = table.find(key); w != kNone; w = next[w]) {
+        std::uint32_t best = kNoId;
+        for (std::uint32_t w = table.find(key); w != kNoId; w = next[w]) {
             const glm::dvec3 d = glm::dvec3(welded[w]) - p;
             if (glm::dot(d, d) <= tol2) best = std::min(best, w);
         }
@@ -159,7 +159,7 @@ std::vector<std::uint32_t> weldPositions(std::span<const glm::vec3> positions, c
         const std::uint64_t key = packCell(c.x, c.y, c.z);
         // The own cell first: split glTF vertices are exact duplicates, found here at once.
         std::uint32_t match = searchCell(key, p);
-        if (match == kNone && tolerance > 0.0) {
+        if (match == kNoId && tolerance > 0.0) {
             for (std::int64_t dz = -1; dz <= 1; ++dz) {
                 for (std::int64_t dy = -1; dy <= 1; ++dy) {
                     for (std::int64_t dx = -1; dx <= 1; ++dx) {
@@ -173,7 +173,7 @@ std::vector<std::uint32_t> weldPositions(std::span<const glm::vec3> positions, c
                 }
             }
         }
-        if (match == kNone) {
+        if (match == kNoId) {
             match = static_cast<std::uint32_t>(welded.size());
             welded.push_back(positions[i]);
             next.push_back(table.push(key, match));
@@ -313,8 +313,8 @@ std::unique_ptr<Topology::HalfEdgeMesh> buildHalfEdgeMesh(std::span<const glm::v
     }
     hem.primaryVertices = positions.size();
 
-    std::vector<std::uint32_t> firstDuplicate(positions.size(), kNone); // chain heads
-    std::vector<std::uint32_t> lastDuplicate(positions.size(), kNone);  // chain tails
+    std::vector<std::uint32_t> firstDuplicate(positions.size(), kNoId); // chain heads
+    std::vector<std::uint32_t> lastDuplicate(positions.size(), kNoId);  // chain tails
     std::vector<std::uint32_t> nextDuplicate;                           // per duplicate
     std::vector<bool> nonManifold(positions.size(), false);
     std::vector<std::uint32_t> corners(positions.size(), 0); // faces per OpenMesh vertex
@@ -326,8 +326,8 @@ std::unique_ptr<Topology::HalfEdgeMesh> buildHalfEdgeMesh(std::span<const glm::v
         corners.push_back(0);
         // Append at the end of the chain so that older duplicates are tried first.
         const auto d = static_cast<std::uint32_t>(v.idx());
-        nextDuplicate.push_back(kNone);
-        if (firstDuplicate[w] == kNone) {
+        nextDuplicate.push_back(kNoId);
+        if (firstDuplicate[w] == kNoId) {
             firstDuplicate[w] = d;
         } else {
             nextDuplicate[lastDuplicate[w] - hem.primaryVertices] = d;
@@ -347,14 +347,14 @@ std::unique_ptr<Topology::HalfEdgeMesh> buildHalfEdgeMesh(std::span<const glm::v
                 if (!(bad & (1u << k))) continue;
                 nonManifold[tri[k]] = true;
                 // Next existing duplicate of this welded vertex, else a fresh one.
-                std::uint32_t d = kNone;
+                std::uint32_t d = kNoId;
                 if (candidate[k] < kDuplicatesTried) {
                     d = candidate[k] == 0 ? firstDuplicate[tri[k]]
                                           : nextDuplicate[static_cast<std::size_t>(v[k].idx()) -
                                                           hem.primaryVertices];
                 }
                 ++candidate[k];
-                if (d == kNone || fresh[k]) {
+                if (d == kNoId || fresh[k]) {
                     v[k] = makeDuplicate(tri[k]);
                     fresh[k] = true;
                 } else {
@@ -440,7 +440,7 @@ Topology::Topology(const MeshData& mesh, float weldTolerance) {
     const double minCross = kDegenerateArea * diagonal * diagonal;
     mTriangles.reserve(mesh.triangles.size());
     mSourceTriangle.reserve(mesh.triangles.size());
-    std::vector<std::uint32_t> used(weldedPositions.size(), kNone);
+    std::vector<std::uint32_t> used(weldedPositions.size(), kNoId);
     struct KeyHash {
         std::size_t operator()(const std::array<std::uint32_t, 3>& k) const {
             std::uint64_t h = k[0];
@@ -483,7 +483,7 @@ Topology::Topology(const MeshData& mesh, float weldTolerance) {
     }
     mPositions.reserve(weldedPositions.size());
     for (std::size_t w = 0; w < weldedPositions.size(); ++w) {
-        if (used[w] == kNone) continue;
+        if (used[w] == kNoId) continue;
         used[w] = static_cast<std::uint32_t>(mPositions.size());
         mPositions.push_back(weldedPositions[w]);
     }

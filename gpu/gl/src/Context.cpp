@@ -9,7 +9,16 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+// AddressSanitizer: GCC defines __SANITIZE_ADDRESS__, clang answers __has_feature.
 #if defined(__SANITIZE_ADDRESS__)
+#define PENUMBRA_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PENUMBRA_ASAN 1
+#endif
+#endif
+
+#if defined(PENUMBRA_ASAN)
 #include <dlfcn.h>
 #include <link.h>
 #endif
@@ -24,13 +33,13 @@ namespace gpu {
 
 namespace {
 
-// Under AddressSanitizer only (the sanitizer build, README § Sanitizers): once a context is made,
+// Under AddressSanitizer only (the sanitizer build, docs/hardening.md, Sanitizers): once a context is made,
 // the Mesa driver it loaded (*_dri.so) is marked never to be unloaded. eglTerminate and GLX's
 // display teardown dlclose it while its own globals still point at what it allocated, and at exit
 // LeakSanitizer, which no longer sees those globals nor knows the unloaded code's name, reports
 // those blocks as leaks that no suppression can name. Loaded, its globals keep them reachable.
 void keepGlDriversLoaded() {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(PENUMBRA_ASAN)
     std::vector<std::string> drivers; // dlopen is not called inside the walk of the loader's list
     dl_iterate_phdr(
         [](dl_phdr_info* info, std::size_t, void* out) {

@@ -9,7 +9,7 @@ namespace gpu {
 
 namespace {
 
-Program load(const ShaderLoader& shaders, bool alphaTested) {
+Program loadShadowProgram(const ShaderLoader& shaders, bool alphaTested) {
     return shaders.load({.stages = {{GL_VERTEX_SHADER, "pcss-shadow.vert"},
                                     {GL_FRAGMENT_SHADER, "pcss-shadow.frag"}},
                          .defines = alphaTested ? std::vector<std::string>{"ALPHA_TEST"}
@@ -20,7 +20,7 @@ Program load(const ShaderLoader& shaders, bool alphaTested) {
 } // namespace
 
 PcssShadowPass::PcssShadowPass(const ShaderLoader& shaders)
-    : mOpaque(load(shaders, false)), mAlphaTested(load(shaders, true)) {}
+    : mOpaque(loadShadowProgram(shaders, false)), mAlphaTested(loadShadowProgram(shaders, true)) {}
 
 void PcssShadowPass::execute(const Framebuffer& target, int side, int resolution,
                              const SceneGeometry& geometry,

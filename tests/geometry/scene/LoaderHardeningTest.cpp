@@ -1,5 +1,5 @@
 // Regression tests for the loaders' answers to hostile input, each an exact input found by or
-// fed to the fuzzers of fuzz/ (README § Hardening, Fuzzing): every one must end in an
+// fed to the fuzzers of fuzz/ (docs/hardening.md, Fuzzing): every one must end in an
 // InputError with a message that says what is wrong, quickly, without touching memory it
 // should not (the fuzz build runs the same inputs under ASan/UBSan).
 #include <geometry/core/Error.h>
