@@ -6,7 +6,7 @@
 // - writes image.png, visibility.pfm, position.pfm and report.json into --out;
 // - with --compare FILE (a visibility.pfm of the same view, e.g. from --method reference) also
 //   reports the error statistics of DESIGN.md §5 and writes error.png, a false-colour |ΔV| heat
-//   map with its scale (geometry/ErrorImage.h);
+//   map with its scale (geometry/reference/ErrorImage.h);
 // - with --debug-view NAME image.png shows a debug view of the renderer (gpu/Renderer.h
 //   DebugView) instead of the shaded image.
 #include <apps/AppCommon.h>

@@ -1,6 +1,6 @@
 // wedges-blend, per batch and set of parts: resolve each part's state of the batch's silhouette
 // at P and blend it into the final state (Forest, Barthe & Paulin 2006, slides "Penumbra blending
-// [4/6]-[6/6]"; the arithmetic of geometry/BlendModel.h resolvePart, blendPart and its packing).
+// [4/6]-[6/6]"; the arithmetic of geometry/models/BlendModel.h resolvePart, blendPart and its packing).
 // Drawn twice per batch and set, with the stencil selecting where the group's light centre is
 // occluded (uCentre = 1) or not (0). The final state is read from the textures this pass writes:
 // each pixel is written once per draw, after a texture barrier.

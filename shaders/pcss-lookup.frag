@@ -1,5 +1,5 @@
 // Percentage-closer soft shadows (Fernando 2005), per G-buffer point P, in the shadow map of
-// P's side of the light (geometry/PcssFrame.h: map coordinates m = lateral / depth z):
+// P's side of the light (geometry/shadow/PcssFrame.h: map coordinates m = lateral / depth z):
 // 1. blocker search over the light seen from P through the casters' near plane: half extent
 //    halfSize (1/zSearch - 1/zP) in m per light axis (the paper's searchWidth =
 //    lightSize (zP - near) / zP, a rectangle for a rectangular light); texels in front of P

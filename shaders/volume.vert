@@ -1,5 +1,5 @@
 // Shadow-volume geometry: w = 1 points (caps), w = 0 points at infinity (extruded away from the
-// light on the CPU, geometry/ShadowVolume.h). The infinite projection maps w = 0 to depth 0.
+// light on the CPU, geometry/shadow/ShadowVolume.h). The infinite projection maps w = 0 to depth 0.
 #include "lib/Bindings.h"
 
 layout(location = 0) in vec4 aPosition;

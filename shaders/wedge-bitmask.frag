@@ -14,7 +14,7 @@ layout(early_fragment_tests) in;
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
-    vec4 lightSamples[]; // (s, t, angle about the centre, 0), by angle (geometry/LightMask.h)
+    vec4 lightSamples[]; // (s, t, angle about the centre, 0), by angle (geometry/shadow/LightMask.h)
 };
 
 // The first sample whose angle is >= a (BITMASK_SAMPLES when none).

@@ -1,5 +1,5 @@
 // Wedge pass of wedges-blend, per fragment: what one directed silhouette edge adds to its group's
-// per-part state at the G-buffer point P (geometry/BlendModel.h, shaders/shared/Parts.h), for one
+// per-part state at the G-buffer point P (geometry/models/BlendModel.h, shaders/shared/Parts.h), for one
 // set of at most four radial parts (gpu/src/methods/BlendWedgesMethod.cpp explains the layout).
 // Every output is a sum or a minimum, so fixed-function blending accumulates them in any fragment
 // order with no read-modify-write: locations 0-3 by ADD, 4-7 by MIN (WedgePass's state).

@@ -1,6 +1,6 @@
 // Wedge set-up: one invocation per directed silhouette edge of a range of the frame's edges.
 // - The wedge is built here, on the GPU, from the edge and the light (no CPU wedges): the
-//   conservative hull of geometry/WedgeHull.h (shaders/shared/WedgeHull.h);
+//   conservative hull of geometry/shadow/WedgeHull.h (shaders/shared/WedgeHull.h);
 // - a wedge whose group's influence bounds miss the view frustum is culled (draws nothing);
 // - kinds are counted for the report.
 #include "lib/Bindings.h"

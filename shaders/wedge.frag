@@ -21,7 +21,7 @@ void main() {
     vec4 position = texelFetch(tPosition, ivec2(gl_FragCoord.xy), 0);
     if (position.w == 0.0) discard; // no surface
     vec3 p = position.xyz;
-    // The hull's planes carry their own float margins (geometry/WedgeHull.h); the coverage
+    // The hull's planes carry their own float margins (geometry/shadow/WedgeHull.h); the coverage
     // below is zero outside the exact wedge anyway.
     if (vBounded != 0u && !wedgeHullContains(vPlanes, p)) discard;
     CoverageLight light;

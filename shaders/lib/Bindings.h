@@ -95,7 +95,7 @@ PENUMBRA_UBO_BEGIN(FrameUniforms, BINDING_FRAME_UBO)
     vec4 lightVStar;
 PENUMBRA_UBO_END(FrameUniforms, frame)
 
-// The occlusion method's frame (geometry/OcclusionSlices.h): the slicing frustum and slabs.
+// The occlusion method's frame (geometry/shadow/OcclusionSlices.h): the slicing frustum and slabs.
 PENUMBRA_UBO_BEGIN(OcclusionUniforms, BINDING_OCCLUSION_UBO)
     mat4 sliceProj; // world -> clip of the slicing pass (OcclusionFrame::sliceProjection)
     vec4 axis;      // xyz: unit light normal towards the slices, w: COP distance d
@@ -103,7 +103,7 @@ PENUMBRA_UBO_BEGIN(OcclusionUniforms, BINDING_OCCLUSION_UBO)
     vec4 texels;    // x: resolution R, y: 1 / R, z: top prefilter level built, w: unused
 PENUMBRA_UBO_END(OcclusionUniforms, occlusion)
 
-// The pcss method's frame (geometry/PcssFrame.h) and sample pattern.
+// The pcss method's frame (geometry/shadow/PcssFrame.h) and sample pattern.
 PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
     mat4 shadowProj[2]; // world -> clip of each side's shadow pass (PcssFrame::projection)
     vec4 basisU;        // xyz: lateral axis eu, w: the light's half extent along it
@@ -116,7 +116,7 @@ PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
 PENUMBRA_UBO_END(PcssUniforms, pcss)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
-// triangles lie to the left of v0 -> v1 seen from the light (geometry/Silhouette.h).
+// triangles lie to the left of v0 -> v1 seen from the light (geometry/shadow/Silhouette.h).
 struct GpuEdge {
     uint v0;    // global welded vertex ids
     uint v1;
@@ -135,7 +135,7 @@ struct GpuGroup {
 };
 
 // One penumbra wedge as the GPU draws it: the edge and its conservative hull
-// E + cone(rays) (geometry/WedgeHull.h, shaders/shared/WedgeHull.h).
+// E + cone(rays) (geometry/shadow/WedgeHull.h, shaders/shared/WedgeHull.h).
 struct GpuWedge {
     vec4 e0;        // xyz: edge start (light-oriented triangles to the left of e0 -> e1)
     vec4 e1;        // xyz: edge end

@@ -1,5 +1,5 @@
 // The casters' welded geometry (static) and the light centre's silhouettes (per frame), as
-// uploaded by gpu/src/CasterSet.cpp. Include after lib/Bindings.h.
+// uploaded by gpu/src/engine/CasterSet.cpp. Include after lib/Bindings.h.
 layout(std430, binding = BINDING_WELDED_POSITIONS) readonly buffer WeldedPositions {
     vec4 weldedPositions[];
 };

@@ -1,10 +1,10 @@
-// Shared by the debug views (gpu/src/DebugViews.h): colours and the error heat ramp.
+// Shared by the debug views (gpu/src/engine/DebugViews.h): colours and the error heat ramp.
 
 // Pixels without a surface in the views that replace the picture (visibility, stencil, parts,
 // error keeps geometry::errorHeatMap's grey): a dark blue no value of theirs takes.
 const vec3 kDebugNoSurface = vec3(0.10, 0.14, 0.35);
 
-// geometry::heatColour (geometry/src/ErrorImage.cpp), the same control points and arithmetic:
+// geometry::heatColour (geometry/reference/src/ErrorImage.cpp), the same control points and arithmetic:
 // t in [0, 1] (clamped; NaN saturates) → black, violet, red, orange, pale yellow. The caller
 // writes it to an 8-bit target, which rounds as heatColour's lround(255 x) does.
 vec3 debugHeatColour(float t) {

@@ -1,4 +1,4 @@
-// The drawn material (gpu/src/SceneGeometry.cpp sets these per draw range): base-colour texture
+// The drawn material (gpu/src/engine/SceneGeometry.cpp sets these per draw range): base-colour texture
 // and the glTF alpha test (MASK; BLEND tested as MASK at 0.5).
 #ifndef PENUMBRA_MATERIAL_GLSL
 #define PENUMBRA_MATERIAL_GLSL

@@ -1,5 +1,5 @@
 // Occlusion textures (Eisemann & Décoret 2006): the frame of the slices, the float twin of
-// geometry/OcclusionSlices.h (depth, lateral, the lookup of slice k).
+// geometry/shadow/OcclusionSlices.h (depth, lateral, the lookup of slice k).
 #ifndef PENUMBRA_OCCLUSION_GLSL
 #define PENUMBRA_OCCLUSION_GLSL
 

@@ -3,7 +3,7 @@
 // and the light centre, zero outside the edge's exact wedge; V(p) = V_hard(p) - the sum over a
 // silhouette loop. Pure functions, no bindings; GLSL and C++ alike (Prelude.h), so the GPU and
 // its CPU tests run the same statements. The arithmetic of the double geometry::edgeCoverage
-// (geometry/src/Wedge.cpp explains it, and the tests compare the two), arranged for float:
+// (geometry/shadow/src/Wedge.cpp explains it, and the tests compare the two), arranged for float:
 // differences of positions are taken before anything else (the scene may be far from the
 // origin), an edge point is projected from the light centre or from p, whichever is nearer (so
 // that p close to the edge does not cancel), the depths below p's level come from e - p rather

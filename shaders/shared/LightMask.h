@@ -6,7 +6,7 @@
 // centre's count plus each sample's signed crossings is the sample's count (hidden where
 // non-zero: combine=counts); their parity alone (combine=parity) is exact while the group's
 // projection covers no sample twice.
-// The CPU model is geometry/LightMask.h (double, exact polygons); the arithmetic up to the
+// The CPU model is geometry/shadow/LightMask.h (double, exact polygons); the arithmetic up to the
 // half-planes is edgeCoverage's (edgeProjection with exact ends: the two edges meeting at a
 // vertex agree bit for bit on the ray through it, and edgeHalfPlanes). GLSL and C++ alike
 // (Prelude.h). GLSL: BITMASK_SAMPLES is 32, 64, 128 or 256 (a multiple of 32).

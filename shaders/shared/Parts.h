@@ -1,6 +1,6 @@
 // Per radial part of the light (R = 4: quadrants) the quantities one wedge fragment adds for one
 // directed silhouette edge (DESIGN.md §4 "Per-silhouette blending"; the double CPU model is
-// geometry/BlendModel.h, whose top comment explains them): the signed fraction of each quadrant
+// geometry/models/BlendModel.h, whose top comment explains them): the signed fraction of each quadrant
 // in R_e (partCoverage), the bounds of the projected edge clipped to each quadrant
 // (partEdgeBounds) and which of each quadrant's corners lie in R_e (cornerWinding). Pure
 // functions, no bindings, GLSL and C++ alike (Prelude.h); the prologue (projection, half-planes)

@@ -1,10 +1,10 @@
 // Conservative hull of a penumbra wedge with a fixed topology (8 triangles, 24 vertices), built
 // per vertex on the GPU for vertex pulling (no CPU wedge building). Pure functions, no bindings;
-// GLSL and C++ alike (Prelude.h): the CPU tests (tests/geometry/WedgeHullTest.cpp) run these
+// GLSL and C++ alike (Prelude.h): the CPU tests (tests/geometry/shadow/WedgeHullTest.cpp) run these
 // very statements, and a GL test compares the driver's result with them.
 //
 // The exact wedge of edge E = [e0, e1] for the light c + s u + t v (s, t in [-1, 1]) is
-// W = E + cone{e_i - c_j} (geometry/Wedge.h). With a = unit(e1 - e0), every ray e_i - c_j is
+// W = E + cone{e_i - c_j} (geometry/shadow/Wedge.h). With a = unit(e1 - e0), every ray e_i - c_j is
 // P_j + A_j a (P_j ⟂ a; e1's rays have the same P_j and A_j + |e1 - e0|). When the P_j lie in a
 // sector narrower than 180° (the edge's line misses the light's projection along a), its two
 // boundary directions F and B give W's exact front and back planes span(a, F), span(a, B)
@@ -22,7 +22,7 @@
 //
 // Float safety: the sector is widened and h0, h1 moved outward by amounts derived from a bound
 // on the rounding of every ray coordinate, and the planes are pushed outward, so that every
-// exact point of W lies inside the float planes (tested in tests/geometry/WedgeHullTest.cpp,
+// exact point of W lies inside the float planes (tested in tests/geometry/shadow/WedgeHullTest.cpp,
 // which also shows the margins are needed: a 16th of them fails). The hull is Fullscreen
 // instead where that bound is too weak (the edge's line passes within 3e-4 (|e0 - c| + |u| + |v|)
 // + 1.5e-4 |e1 - e0| of a light corner, seen along the edge), where the sector is wider than 178°,
@@ -68,7 +68,7 @@ const int kWedgeHullIndex[kWedgeHullVertexCount] = {
 };
 
 // "Front" is the plane with the sector on its counter-clockwise side about a = e1 - e0: with the
-// loop orientation of geometry/Silhouette.h (occluder to the left of e0 -> e1 seen from the
+// loop orientation of geometry/shadow/Silhouette.h (occluder to the left of e0 -> e1 seen from the
 // light centre) it borders the lit side and "back" the umbra side.
 struct WedgeHull {
     int kind;

@@ -1,7 +1,7 @@
 // Small hand-built meshes shared by the geometry tests (shadow volumes, silhouettes, topology),
 // and the large ones that geometry_bench times (the tests check what they assert on them); and
 // the square lights above them.
-// geometry/Primitives.h is used where it yields the very same mesh; the builders kept here differ
+// geometry/scene/Primitives.h is used where it yields the very same mesh; the builders kept here differ
 // from it in vertex or triangle order, or in how coordinates are computed, which the tests rely on.
 #pragma once
 

@@ -1,4 +1,4 @@
-// `auto`: the per-object path (geometry/AutoChoice.h) and the composition of the paths' V.
+// `auto`: the per-object path (geometry/shadow/AutoChoice.h) and the composition of the paths' V.
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 

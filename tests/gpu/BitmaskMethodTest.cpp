@@ -1,5 +1,5 @@
 // wedges-bitmask: the GPU's light-sample masks against the double CPU model
-// (geometry/LightMask.h), bit for bit; its accuracy against the reference on the overlap
+// (geometry/shadow/LightMask.h), bit for bit; its accuracy against the reference on the overlap
 // scenes (the same samples: the reference with the same N and seed), beside wedges-blend; and
 // the hard cases (camera inside a volume and a wedge, a level).
 #include "GlTestEnv.h"

@@ -207,7 +207,7 @@ void PrintTo(const LevelView& v, std::ostream* os) { *os << v.name; }
 class HardShadowLevel : public HardShadow, public ::testing::WithParamInterface<LevelView> {};
 
 // Pixels differing from Embree, before -> after the volume depth clamp (shaders/volume.geom)
-// and the ray tracer's smaller offset and near limit (geometry/RayTracer.h): kaos2 16 -> 1,
+// and the ray tracer's smaller offset and near limit (geometry/reference/RayTracer.h): kaos2 16 -> 1,
 // oa_dm4 22 -> 2, oa_dm5 29 -> 2; at oa_dm4's spawn 2, pixel row 76 lands on the corner line
 // under a door lintel: with the light 3 m ahead, Embree made it black (24 -> 0), with the light
 // 6 m ahead the stencil did, which Embree's own error there hid (24 -> 0 once Embree is right).

@@ -1,6 +1,6 @@
 // shaders/shared/Parts.h on the driver: a compute shader runs edgeParts4 (and edgePartSet for
 // every R) over random lights, edges and points and the results match the same source
-// compiled as C++ (geometry/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
+// compiled as C++ (geometry/shadow/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
 #include "TestRandom.h"
 #include "GlTestEnv.h"
 
@@ -145,7 +145,7 @@ TEST_F(PartsShaderTest, ComputeMatchesTheCppBuild) {
     ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 
     // The driver's rounding against the twin's: a few ulps of the inputs of the projection and
-    // the clip, below the float-vs-double tolerances of tests/geometry/PartsTest.cpp (1e-4),
+    // the clip, below the float-vs-double tolerances of tests/geometry/shadow/PartsTest.cpp (1e-4),
     // times the magnification of an end near p's level; ends within 1e-3 of it only counted.
     constexpr double kTolerance = 1e-5;
     constexpr double kMaxMagnification = 1e3;

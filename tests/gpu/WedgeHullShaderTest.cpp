@@ -3,7 +3,7 @@
 // - drawn by vertex pulling (back faces only, no depth test, depth clamp), the hull covers every
 //   pixel whose view ray meets it exactly once, from outside it and from inside it;
 // - a compute shader runs them over random edges, lights and points, and the results match the same
-//   source compiled as C++ (geometry/WedgeHull.h, geometry/Coverage.h): same kinds, same hulls and
+//   source compiled as C++ (geometry/shadow/WedgeHull.h, geometry/shadow/Coverage.h): same kinds, same hulls and
 //   coverage up to the driver's rounding, the same vertex table, and GPU hulls that contain every
 //   shadow ray through their edge.
 #include "TestRandom.h"

@@ -1,4 +1,4 @@
-// CPU model of per-silhouette blending (geometry/BlendModel.h; Forest, Barthe & Paulin 2006).
+// CPU model of per-silhouette blending (geometry/models/BlendModel.h; Forest, Barthe & Paulin 2006).
 #include <geometry/models/BlendModel.h>
 
 #include <geometry/shadow/Silhouette.h>

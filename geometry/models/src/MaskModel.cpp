@@ -92,7 +92,7 @@ GroupMaskModel groupMaskModel(const dvec3& p, std::span<const MaskEdge> edges, i
                 const double a = halfPlaneDistance(h0, y);
                 const double b = halfPlaneDistance(h1, y);
                 const double c = halfPlaneDistance(h2, y);
-                // On a ray: the edge on its counter-clockwise side (shaders/lib/LightMask.glsl).
+                // On a ray: the edge on its counter-clockwise side (shaders/shared/LightMask.h).
                 const bool in0 = sg > 0.0 ? a >= 0.0 : a > 0.0;
                 const bool in1 = sg > 0.0 ? b > 0.0 : b >= 0.0;
                 if (in0 && in1 && c >= 0.0) model.count[i] += sign;

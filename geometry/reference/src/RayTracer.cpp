@@ -79,7 +79,7 @@ struct RayTracer::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     float diagonal = 1.0f; // scene bounds diagonal, scales the origin offset
-    // Alpha-masked objects' meshes (geometry/AlphaMask.h), the user data of their filters.
+    // Alpha-masked objects' meshes (geometry/scene/AlphaMask.h), the user data of their filters.
     std::vector<std::unique_ptr<MeshData>> alphaMeshes;
 
     // The error callback may run on any thread (workers inside visibility()); rtcGetDeviceError

@@ -52,7 +52,7 @@ constexpr int kMaxNodeDepth = 1000;
 constexpr std::size_t kMaxJsonDepth = 256;
 
 // Elements one accessor may have: the vertices (three per triangle) or indices of a scene at its
-// triangle budget (geometry/Limits.h). Checked before anything is allocated.
+// triangle budget (geometry/core/Limits.h). Checked before anything is allocated.
 constexpr std::size_t kMaxAccessorCount = 3 * kMaxSceneTriangles;
 
 // Every accessor element as doubles (exact for all glTF component types), row per element.
@@ -525,7 +525,7 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
             fail(where + ": POSITION must be float VEC3 (quantized positions are not supported)");
         }
     }
-    // Budgets before anything is read (geometry/Limits.h): the triangles the index stream will
+    // Budgets before anything is read (geometry/core/Limits.h): the triangles the index stream will
     // give, and vertices, of which a mesh within the triangle budget uses at most three per
     // triangle.
     {

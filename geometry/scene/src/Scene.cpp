@@ -14,7 +14,7 @@
 //     torus  required: center, major_radius, minor_radius (major > minor > 0)
 //            optional: major_segments = 48, minor_segments = 24 (integers in [3, 4096]),
 //                      rotate_deg = [0,0,0] (about center; unrotated, the axis is +y)
-// Budgets (geometry/Limits.h), checked before an object is built: a sphere or torus has at most
+// Budgets (geometry/core/Limits.h), checked before an object is built: a sphere or torus has at most
 // kMaxObjectTriangles triangles (segments <= 1449; major x minor <= 1,048,576), the scene at most
 // kMaxSceneTriangles; every coordinate is within +-kMaxCoordinate.
 // rotate_deg is always Euler angles in degrees about fixed X, then Y, then Z (world = Rz Ry Rx).
@@ -70,7 +70,7 @@ std::string fmtNumber(double x) {
     return s.str();
 }
 
-// "" when every component is within +-kMaxCoordinate (geometry/Limits.h), else what is wrong.
+// "" when every component is within +-kMaxCoordinate (geometry/core/Limits.h), else what is wrong.
 std::string outOfRange(const glm::vec3& v) {
     for (int axis = 0; axis < 3; ++axis) {
         if (std::abs(v[axis]) > kMaxCoordinate)

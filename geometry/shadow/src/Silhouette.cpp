@@ -1,4 +1,4 @@
-// Per-frame silhouette groups, loops, volumes and wedges (geometry/Silhouette.h).
+// Per-frame silhouette groups, loops, volumes and wedges (geometry/shadow/Silhouette.h).
 //
 // Why the work is organised around static clusters:
 // - Groups are connected components of participating triangles across edges with multiplicity
@@ -928,7 +928,7 @@ int extendWedgeRaysInBox(Aabb& bounds, const glm::vec3& e0, const glm::vec3& e1,
 
 // Where the group can change visibility, clamped to the scene: the AABB of
 // (volume ∪ wedges) ∩ box, for the wedges as built (their float planes, which are looser than
-// the exact E + cone{e_i - c_j}: see wedgeRecessionRays in geometry/Wedge.h).
+// the exact E + cone{e_i - c_j}: see wedgeRecessionRays in geometry/shadow/Wedge.h).
 //
 // The extreme points of a convex piece P ∩ box are vertices: vertices of P inside the box,
 // crossings of P's edges with box faces, crossings of P's facets with box edges, and box

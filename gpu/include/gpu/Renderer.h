@@ -148,7 +148,7 @@ struct FrameStats {
     int gpuTimesLag = 0;
     std::size_t triangles = 0;
     std::size_t silhouetteEdges = 0;  // directed silhouette edges from the light centre
-    std::size_t silhouetteGroups = 0; // groups (geometry/Silhouette.h) from the light centre
+    std::size_t silhouetteGroups = 0; // groups (geometry/shadow/Silhouette.h) from the light centre
     std::size_t volumeTriangles = 0; // shadow-volume triangles for the light centre
     std::size_t silhouetteUploadBytes = 0; // per-frame upload of the centre's silhouettes
     std::vector<Counter> counters;         // method-specific counts

@@ -1,4 +1,4 @@
-// auto (the contract's default): per casting object the path geometry/AutoChoice.h decides —
+// auto (the contract's default): per casting object the path geometry/shadow/AutoChoice.h decides —
 // penumbra wedges (`wedges-blend` unless the `wedges` parameter picks another wedge method) or
 // occlusion textures — run each on its own casters and composed in one frame as
 // V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path

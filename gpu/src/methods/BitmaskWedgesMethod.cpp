@@ -1,5 +1,5 @@
 // wedges-bitmask: per silhouette group, the set of the light's N samples it hides, as a bit
-// mask; groups combine exactly, V = 1 - popcount(OR over groups) / N (geometry/LightMask.h).
+// mask; groups combine exactly, V = 1 - popcount(OR over groups) / N (geometry/shadow/LightMask.h).
 // Per batch of groups that cannot interact on screen (GroupBatches.h), scissored to the batch:
 // - the groups' own z-fail volumes into the stencil (the centre's count of each group);
 // - their wedges find, per fragment, the samples their edge's region holds

@@ -1,6 +1,6 @@
 // wedges-blend (Forest, Barthe & Paulin 2006): a visibility buffer per silhouette group with the
 // light split into R radial parts, blended into the final buffer with an overlap correction per
-// part. The arithmetic is the CPU model's (geometry/BlendModel.h), and so are the parameters
+// part. The arithmetic is the CPU model's (geometry/models/BlendModel.h), and so are the parameters
 // (gpu/Methods.h; defaults: the paper's): parts R = 1 | 4 | 8, bits = 8 | 16 (the packing of the
 // stored states), overlap = paper (E = (A_f / B_f) (A_s / B_s) b) | centroid (linear densities
 // through stored centroids). Per batch of groups that cannot interact on screen

@@ -8,7 +8,7 @@
 // - Depth-aware tiles: a group changes a pixel only where the pixel's visible surface point lies
 //   in its influence region. Per 16x16 tile the world bounds of the visible surface are measured
 //   on the GPU (SurfaceTilePass); of the tiles in a group's rectangle it keeps those whose
-//   surface box meets both its influence bounds and its shadow cone (geometry/ShadowCone.h: the
+//   surface box meets both its influence bounds and its shadow cone (geometry/shadow/ShadowCone.h: the
 //   region its occluder can shade from the light). A group with no tile left is hidden (behind
 //   walls, in another room) and draws nothing; the others' rectangles shrink to their tiles.
 //   Inside a level this is what keeps the passes few: the influence boxes alone span rooms.

@@ -9,7 +9,7 @@
 //   sheet comes near it (paper: everywhere);
 // - prefilter (passes/OcclusionPrefilter): N-buffers (default), summed-area tables or mipmaps;
 // - lookup (occlusion-lookup.frag): per G-buffer point, V = Π (1 - w_k I_k) over the slices in
-//   front of it (geometry/OcclusionSlices.h explains the kernel and the fade), times the share
+//   front of it (geometry/shadow/OcclusionSlices.h explains the kernel and the fade), times the share
 //   of the light in front of the surface (horizon=on; not in the paper).
 // V is written (not multiplied) at every pixel; casters outside the subset are not sliced.
 #include "engine/Method.h"

@@ -1,5 +1,5 @@
 // raytrace: the G-buffer positions read back and traced on the CPU with Embree (N stratified
-// rays per pixel to the light; geometry/RayTracer.h), written into V.
+// rays per pixel to the light; geometry/reference/RayTracer.h), written into V.
 #include "engine/Method.h"
 
 #include <geometry/reference/RayTracer.h>

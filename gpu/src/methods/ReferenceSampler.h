@@ -1,7 +1,7 @@
 // One exact hard-shadow pass from one point of the light, added where lit: the step of the
 // `reference` method (N of them, stratified over the light), and of the renderer's progressive
 // reference behind the error heat-map debug view (a few per frame). Volumes by the two-sided
-// multiplicity rule, built on the CPU per point (geometry/ShadowVolume.h): exact for any mesh,
+// multiplicity rule, built on the CPU per point (geometry/shadow/ShadowVolume.h): exact for any mesh,
 // no silhouette reuse to trust.
 #pragma once
 

@@ -3,7 +3,7 @@
 // - drawCentre(): the light centre's volumes by vertex pulling (caps from the frame's cap
 //   triangles, sides from its directed silhouette edges; shaders/volume-pulled.vert), for a
 //   range of casters;
-// - drawVertices(): CPU-built vertices of any light point (geometry/ShadowVolume.h), front caps
+// - drawVertices(): CPU-built vertices of any light point (geometry/shadow/ShadowVolume.h), front caps
 //   first (the reference's per-sample volumes).
 #pragma once
 

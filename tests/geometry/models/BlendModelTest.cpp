@@ -1,4 +1,4 @@
-// The per-silhouette blending model (geometry/BlendModel.h): its per-part pieces against
+// The per-silhouette blending model (geometry/models/BlendModel.h): its per-part pieces against
 // edgeCoverage, dense sampling and closed forms; the fragment-derived state against the exact
 // projected polygons; the blend on stacked plates parallel to the light (exact for two) and on
 // rotated, tilted and curved occluders against additive and multiply; packing and its bounds.

@@ -1,4 +1,4 @@
-// Alpha-masked materials (geometry/AlphaMask.h) and the ray tracer's alpha filter.
+// Alpha-masked materials (geometry/scene/AlphaMask.h) and the ray tracer's alpha filter.
 #include <geometry/scene/AlphaMask.h>
 #include <geometry/reference/RayTracer.h>
 

@@ -287,7 +287,7 @@ TEST_F(SceneTest, CoordinatesBeyondTheRenderableRange) {
         {"light.u", "[1e+38, 0, 0] is outside [-1e+07, 1e+07]"});
 }
 
-// Procedural objects are bounded before they are built (geometry/Limits.h): "segments": 4096
+// Procedural objects are bounded before they are built (geometry/core/Limits.h): "segments": 4096
 // once took a minute and 8 GB of memory. The refusal must come at once.
 TEST_F(SceneTest, TriangleBudgets) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -1,4 +1,4 @@
-// The `auto` method's per-object rule (geometry/AutoChoice.h), one case per clause.
+// The `auto` method's per-object rule (geometry/shadow/AutoChoice.h), one case per clause.
 #include <geometry/shadow/AutoChoice.h>
 
 #include <gtest/gtest.h>

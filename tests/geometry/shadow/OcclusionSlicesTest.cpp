@@ -1,4 +1,4 @@
-// The occlusion-texture frame and lookup (geometry/OcclusionSlices.h):
+// The occlusion-texture frame and lookup (geometry/shadow/OcclusionSlices.h):
 // - eq. (4) through the fitted frustum: a square occluder parallel to the light, lying on a
 //   slice's lookup plane, gives the closed-form visibility exactly when its texture footprint is
 //   box-filtered with the kernel sliceLookup returns;

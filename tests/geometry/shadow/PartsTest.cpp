@@ -1,6 +1,6 @@
 // The float per-quadrant sums (shaders/shared/Parts.h, the shaders' source compiled as C++ through
-// geometry/Parts.h) against the double model
-// (geometry/BlendModel.h: projectEdge, partCoverage, partEdgeBounds, cornerWinding, R = 4) on
+// geometry/shadow/Parts.h) against the double model
+// (geometry/models/BlendModel.h: projectEdge, partCoverage, partEdgeBounds, cornerWinding, R = 4) on
 // random lights, edges and points, and against the float edgeCoverage (Σ over the quadrants / 4).
 // Max errors are printed.
 #include "TestRandom.h"

@@ -1,4 +1,4 @@
-// The PCSS shadow maps' frame (geometry/PcssFrame.h):
+// The PCSS shadow maps' frame (geometry/shadow/PcssFrame.h):
 // - every receiver vertex deeper than zNear lands inside its side's map, and the shadow pass's
 //   projection puts it where textureCoord says, at depth zNear / z;
 // - casterNear is the least caster depth inside the frustum (the occluder's, not the floor's);

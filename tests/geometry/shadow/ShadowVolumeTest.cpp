@@ -1,4 +1,4 @@
-// Hard shadow-volume geometry (geometry/ShadowVolume.h): facing, edge multiplicities, closure and
+// Hard shadow-volume geometry (geometry/shadow/ShadowVolume.h): facing, edge multiplicities, closure and
 // orientation of the volumes, and the property everything rests on: the signed crossing count of
 // the volume along any ray from P equals the number of triangles between P and the light, for
 // closed, open and non-manifold meshes alike.

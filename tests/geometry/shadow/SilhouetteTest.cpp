@@ -1,4 +1,4 @@
-// Silhouette groups, loops, volumes, wedges and bounds (geometry/Silhouette.h), checked against
+// Silhouette groups, loops, volumes, wedges and bounds (geometry/shadow/Silhouette.h), checked against
 // brute force on every kind of mesh: closed (sphere, cube, torus), open (box, quad), non-manifold
 // (edge fan) and a real OpenArena level.
 #include "geometry/TestMeshes.h"
@@ -930,7 +930,7 @@ TEST(Silhouette, GroupVolumesMatchHardVolume) {
 }
 
 TEST(Silhouette, WedgesFollowEdgesAndBoundsAreConservative) {
-    ASSERT_TRUE(wedgesAvailable()) << "geometry/src/Wedge.cpp has not landed yet";
+    ASSERT_TRUE(wedgesAvailable()) << "geometry/shadow/src/Wedge.cpp has not landed yet";
     std::mt19937 rng(99);
     for (const Case& c : smallCases()) {
         runFullCheck(c, {}, rng, 100);

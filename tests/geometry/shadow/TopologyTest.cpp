@@ -1,5 +1,5 @@
 // Welding, degenerate-triangle removal, edge/use arrays and manifold classification
-// (geometry/Topology.h), on hand-built meshes and on a real game level.
+// (geometry/shadow/Topology.h), on hand-built meshes and on a real game level.
 #include "geometry/TestMeshes.h"
 
 #include <geometry/core/Error.h>

@@ -1,5 +1,5 @@
 // Fixed-topology wedge hulls and the float coverage, the shaders' own source (shaders/shared/)
-// compiled as C++ (geometry/WedgeHull.h, geometry/Coverage.h):
+// compiled as C++ (geometry/shadow/WedgeHull.h, geometry/shadow/Coverage.h):
 // - every shadow ray through the edge, and every point with non-zero coverage, is inside the
 //   float hull (its planes and its 8 triangles), for random edges and lights including the
 //   awkward ones (nearly in the light's plane, crossing it, pointing at the light or a corner,

@@ -1,4 +1,4 @@
-// Penumbra wedges (geometry/Wedge.h): containment of every shadow ray through the edge, tightness
+// Penumbra wedges (geometry/shadow/Wedge.h): containment of every shadow ray through the edge, tightness
 // against an independent brute force, the closed boundary mesh, the flags, and the per-edge
 // coverage formula V = V_hard - Σ edgeCoverage against closed forms and dense light sampling.
 #include <geometry/reference/Analytic.h>

@@ -1,6 +1,6 @@
 // Outside the union of the penumbra wedges, brute-force visibility equals the hard-shadow value
 // exactly (issue 3). A wedge must contain every point whose visibility its edge can change
-// (geometry/Wedge.h), so a point in no wedge of any silhouette group of any object sees either
+// (geometry/shadow/Wedge.h), so a point in no wedge of any silhouette group of any object sees either
 // the whole light or none of it, and which one is decided by the light centre.
 //
 // - Receivers: surface points seen by the camera, from a grid of jittered rays (fixed seed)

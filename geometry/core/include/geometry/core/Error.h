@@ -13,8 +13,8 @@ public:
 };
 
 // A light refused because it cannot be rendered: it intersects or touches scene geometry
-// (validateLightClear, geometry/LightCheck.h), or it is not finite or has no area (validateLight,
-// geometry/Scene.h). An InputError, so every handler of bad input still takes it; code that falls
+// (validateLightClear, geometry/scene/LightCheck.h), or it is not finite or has no area (validateLight,
+// geometry/scene/Scene.h). An InputError, so every handler of bad input still takes it; code that falls
 // back to another light when one is refused (penumbra-soak, the viewer) catches this type.
 class LightRefusedError : public InputError {
 public:

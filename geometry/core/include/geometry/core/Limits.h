@@ -1,5 +1,5 @@
-// Bounds on what a scene may hold, checked when it is loaded (geometry/GltfLoader.h,
-// geometry/Scene.h) so that hostile or mistaken input gets a clear InputError up front instead of
+// Bounds on what a scene may hold, checked when it is loaded (geometry/scene/GltfLoader.h,
+// geometry/scene/Scene.h) so that hostile or mistaken input gets a clear InputError up front instead of
 // an abort inside a library, an allocation failure or minutes of work.
 #pragma once
 

@@ -85,7 +85,7 @@ struct Material {
 };
 
 // A triangle mesh in world space. Vertices are *not* welded: glTF splits them by UV/normal.
-// Welding by position happens in Topology (geometry/Topology.h).
+// Welding by position happens in Topology (geometry/shadow/Topology.h).
 struct MeshData {
     std::string name;
     std::vector<glm::vec3> positions;

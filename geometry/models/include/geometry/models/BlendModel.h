@@ -6,7 +6,7 @@
 // shaders name them (projectEdge, partCoverage, partRectangle, blendPart, packRect8, ...).
 //
 // Frames. Light coordinates (s, t) in [-1, 1]^2 with the light centre at the origin
-// (geometry/Wedge.h). The light is split into R radial parts around its centre (R = 1, 4, 8),
+// (geometry/shadow/Wedge.h). The light is split into R radial parts around its centre (R = 1, 4, 8),
 // each measured in its own frame (radialPart):
 // - R = 4 (the paper): quadrant (σx, σy) has x = σx s, y = σy t, the part is [0, 1]^2 and the
 //   light centre is its origin corner (DESIGN.md's "useful frame"): the hard (stencil) state of
@@ -16,7 +16,7 @@
 // - R = 1: the whole light, x = (s + 1) / 2, y = (t + 1) / 2 (the centre at (1/2, 1/2)).
 // Parts have equal areas, so V = 1 - mean over parts of the occluded fractions.
 //
-// Per group (geometry/Silhouette.h: connected light-facing triangles with their own closed
+// Per group (geometry/shadow/Silhouette.h: connected light-facing triangles with their own closed
 // volume and directed silhouette edges) and part, the state is PartState: the occluded fraction
 // of the part (vCoef), the bounding rectangle of the occluded region (part coordinates) and the
 // region's centroid. Two ways to get it:

@@ -1,6 +1,6 @@
 // CPU ray-traced visibility with Embree 3: the `raytrace` reference and the hard-shadow check.
 // All triangles are two-sided occluders (Embree culls nothing here); alpha-masked materials
-// occlude only where their alpha reaches the cutoff (geometry/AlphaMask.h).
+// occlude only where their alpha reaches the cutoff (geometry/scene/AlphaMask.h).
 #pragma once
 
 #include <geometry/scene/Scene.h>

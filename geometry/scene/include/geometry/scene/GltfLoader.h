@@ -22,7 +22,7 @@ namespace geometry {
 // All primitives merged into one MeshData (world space = glTF scene space * `transform`).
 // Throws InputError: missing/unreadable file, parse error, a .glb without the GLB magic, no
 // meshes, no triangles, NaN/Inf positions or world coordinates beyond +-kMaxCoordinate
-// (geometry/Limits.h), more than kMaxSceneTriangles triangles, out-of-range indices or indices
+// (geometry/core/Limits.h), more than kMaxSceneTriangles triangles, out-of-range indices or indices
 // of a wrong type, accessor counts beyond the triangle budget's vertices, a node hierarchy
 // deeper than 1000 levels or a node reached twice (listed by two parents, or twice by one), JSON
 // nested deeper than 256 levels, GLB chunk lengths that do not fit the file, and a buffer or

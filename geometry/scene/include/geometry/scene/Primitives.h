@@ -19,7 +19,7 @@ MeshData makeQuad(const glm::vec3& center, const glm::vec3& u, const glm::vec3& 
 MeshData makeSphere(const glm::vec3& center, float radius, int segments);
 
 // Triangles makeSphere / makeTorus build for these segment counts (known before building, to
-// refuse a request over a budget up front: geometry/Limits.h). Segments must be >= 3.
+// refuse a request over a budget up front: geometry/core/Limits.h). Segments must be >= 3.
 std::size_t sphereTriangleCount(int segments);
 std::size_t torusTriangleCount(int majorSegments, int minorSegments);
 

@@ -51,7 +51,7 @@ Scene parseScene(const std::string& jsonText, const std::filesystem::path& baseD
                  const std::string& origin = "<scene>");
 
 // Checks that the light has finite values and non-zero area and touches no geometry
-// (geometry/LightCheck.h), and that the camera is usable. Throws InputError. Called by
+// (geometry/scene/LightCheck.h), and that the camera is usable. Throws InputError. Called by
 // parseScene and loadScene (geometry/reference/Framing.h); public for code that edits a scene.
 void validateScene(const Scene& scene);
 

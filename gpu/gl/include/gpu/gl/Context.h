@@ -30,7 +30,7 @@ public:
 };
 
 struct EglContextDesc {
-    bool debug = true; // create a debug context and route KHR_debug errors (gpu/Debug.h)
+    bool debug = true; // create a debug context and route KHR_debug errors (gpu/gl/Debug.h)
 };
 
 // Surfaceless EGL (EGL_MESA_platform_surfaceless, else EGL_EXT_platform_device), no config,
