@@ -21,7 +21,7 @@ std::vector<glm::vec2> lightMaskPattern(int n, std::uint32_t seed) {
                          std::to_string(n) + ")");
     std::vector<glm::vec2> points = stratifiedSquare(n, seed);
     // By angle about the centre, so that the samples between two rays from the centre are a
-    // run of consecutive indices (shaders/lib/LightMask.glsl's fixed-pattern path).
+    // run of consecutive indices (shaders/shared/LightMask.h's fixed-pattern path).
     std::stable_sort(points.begin(), points.end(), [](glm::vec2 a, glm::vec2 b) {
         return std::atan2(a.y, a.x) < std::atan2(b.y, b.x);
     });

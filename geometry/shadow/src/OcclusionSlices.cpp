@@ -1,4 +1,4 @@
-// The occlusion-texture frame and lookup (geometry/OcclusionSlices.h).
+// The occlusion-texture frame and lookup (geometry/shadow/OcclusionSlices.h).
 #include <geometry/shadow/OcclusionSlices.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// The PCSS shadow maps' frame (geometry/PcssFrame.h).
+// The PCSS shadow maps' frame (geometry/shadow/PcssFrame.h).
 #include <geometry/shadow/PcssFrame.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Hard shadow-volume geometry by the two-sided multiplicity rule (geometry/ShadowVolume.h).
+// Hard shadow-volume geometry by the two-sided multiplicity rule (geometry/shadow/ShadowVolume.h).
 //
 // Why the sides are (q, p, p∞), (q, p∞, q∞): for a light-oriented triangle (counter-clockwise
 // seen from the light) with directed edge p -> q, the triangle's interior lies to the left of

@@ -1,4 +1,4 @@
-// Welded edge topology (geometry/Topology.h):
+// Welded edge topology (geometry/shadow/Topology.h):
 // - weld by position on a uniform grid hashed into a flat open-addressing table (O(n), input order
 //   decides every tie, so the result is deterministic);
 // - drop degenerate and exactly duplicated triangles, compact the welded vertices to the referenced ones;

@@ -1,7 +1,7 @@
 // Penumbra wedges (Assarsson & Akenine-Möller 2003) built as the exact influence region of an
 // edge, and the CPU model of the per-fragment edge coverage (DESIGN.md §4).
 //
-// Construction (see geometry/Wedge.h): W(E) = E + K with K = cone{e_i - c_j}. K is the cone over
+// Construction (see geometry/shadow/Wedge.h): W(E) = E + K with K = cone{e_i - c_j}. K is the cone over
 // the parallelepiped P = E - L (half-generators d/2, u, v around the mid point), so
 // - K is pointed exactly when 0 is not in P, i.e. when E does not touch L (else: unbounded);
 // - every facet of K is the cone over an edge of P seen from 0, and P's edges join generators

@@ -6,7 +6,7 @@
 //
 // Rule, in order (the first that applies):
 //  1. the scene JSON names the path ("wedges" or "occlusion"): as named;
-//  2. alpha-masked materials (glTF MASK or BLEND; geometry/AlphaMask.h): occlusion textures —
+//  2. alpha-masked materials (glTF MASK or BLEND; geometry/scene/AlphaMask.h): occlusion textures —
 //     shadow volumes and wedges occlude with whole triangles;
 //  3. non-manifold beyond repair: more than kMaxNonManifoldEdgeShare of the edges have three or
 //     more triangles (triangle soups, crossed cards): occlusion. Boundary edges and the few

@@ -1,6 +1,6 @@
 // Float edge coverage: the shaders' own source (shaders/shared/Coverage.h, compiled here as C++),
 // so the CPU tests run the statements the GPU runs. The double geometry::edgeCoverage of
-// Wedge.h is the exact reference it is tested against (tests/geometry/WedgeHullTest.cpp).
+// Wedge.h is the exact reference it is tested against (tests/geometry/shadow/WedgeHullTest.cpp).
 //
 // CoverageLight: the light with its unit normal and dual basis; coverageLight builds it.
 // edgeCoverage(p, e0, e1, light): signed fraction of the light hidden by the directed edge

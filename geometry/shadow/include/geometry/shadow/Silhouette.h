@@ -6,7 +6,7 @@
 //   with its front) while that is correct, i.e. while the light centre is outside the mesh;
 //   open and non-manifold meshes, and closed ones that contain the light centre (or are
 //   oriented inside out), use the two-sided rule of DESIGN.md §4 (back-facing triangles are
-//   flipped and take part), as in geometry/ShadowVolume.h. SilhouetteFrame reports the rule.
+//   flipped and take part), as in geometry/shadow/ShadowVolume.h. SilhouetteFrame reports the rule.
 // - Groups: connected components of participating triangles joined across edges where their
 //   orientations cancel (multiplicity 0). The edges with non-zero multiplicity *within the group*
 //   are its silhouette edges; chained, they form closed, oriented loops. Each group carries its
@@ -18,7 +18,7 @@
 //   grouped directed edges (unchained) and per group its ranges and bounds, the influence bounds
 //   from the occluder box and the light's box alone. About 4x cheaper on game levels; the full
 //   mode stays the reference for it (same groups, triangles and edge copies).
-// - Topology is built once per mesh (geometry/Topology.h); SilhouetteExtractor redoes only the
+// - Topology is built once per mesh (geometry/shadow/Topology.h); SilhouetteExtractor redoes only the
 //   classification, loops, volumes and wedges when the light moves, and returns the previous
 //   result untouched when it has not.
 #pragma once

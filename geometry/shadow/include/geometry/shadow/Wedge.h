@@ -121,7 +121,7 @@ bool wedgeContains(const Wedge& wedge, const glm::vec3& p, float eps = 0.0f);
 // whose segment from the centre crosses the projected edge). Summed over a silhouette loop,
 //     V(P) = V_hard(P) - sum over edges of edgeCoverage(P, edge)
 // where V_hard is the visibility of the light centre. Zero for P outside the wedge.
-// The sign convention follows the loop orientation of geometry/Silhouette.h.
+// The sign convention follows the loop orientation of geometry/shadow/Silhouette.h.
 float edgeCoverage(const glm::vec3& p, const glm::vec3& e0, const glm::vec3& e1,
                    const RectLight& light);
 
