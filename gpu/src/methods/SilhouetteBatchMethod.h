@@ -32,13 +32,13 @@ inline PipelineState withStencil(PipelineState base, const PipelineState& stenci
 }
 
 // The frame of the per-silhouette methods (multiply, blend, bitmask), which derive from this
-// class and supply its three steps: the visible surface's tiles
-// (SurfaceTilePass: a wait for the G-buffer; skipped as visibleSets skips it); batches; every
-// wedge set up once; the stencil cleared once; then per batch, scissored to it:
+// class and supply its three steps: the visible surface's tiles (SurfaceTilePass: a wait for
+// the G-buffer; skipped as visibleSets skips it); batches; every wedge set up once; the stencil
+// cleared once; then per batch, scissored to it:
 // 1. the batch's groups' z-fail volumes: the count in the stencil's low bits (VolumeStates.h);
-// 2. their wedges (GroupBatch::wedgeSet) into runBatches' `target` (the method's per-silhouette targets,
-//    holding their empty values everywhere), marking the touched pixels in the stencil
-//    (kStencilWedgeMark);
+// 2. their wedges (GroupBatch::wedgeSet) into runBatches' `target` (the method's per-silhouette
+//    targets, holding their empty values everywhere), marking the touched pixels in the
+//    stencil (kStencilWedgeMark);
 // 3. combine() where a wedge touched: the method draws its combine pass under `lit` (the
 //    group leaves the light centre visible there) and `occluded` (it hides it); `touched`
 //    selects both without changing the stencil (for a method that needs several rounds, e.g.
