@@ -72,8 +72,10 @@ enum CombineMode : GLuint { kGroupMask = 0, kComplement = 1, kEverySample = 2 };
 class BitmaskWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit BitmaskWedgesMethod(const MethodResources& r)
-        : SilhouetteBatchMethod(r.shaders, wedgePass(r.shaders, maskLayout(r.parameters))),
-          mLayout(maskLayout(r.parameters)),
+        : BitmaskWedgesMethod(r, maskLayout(r.parameters)) {}
+
+    BitmaskWedgesMethod(const MethodResources& r, const MaskLayout& layout)
+        : SilhouetteBatchMethod(r.shaders, wedgePass(r.shaders, layout)), mLayout(layout),
           mCombine(r.shaders, "bitmask-combine.frag", "bitmask-combine", kCombineState,
                    mLayout.defines()),
           mUmbra(r.shaders, "bitmask-combine.frag", "bitmask-umbra", kCombineState,

@@ -102,9 +102,12 @@ std::array<GLuint, 4> emptyFinalValue(const BlendLayout& layout, int target) {
 class BlendWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit BlendWedgesMethod(const MethodResources& r)
-        : SilhouetteBatchMethod(r.shaders, WedgePass(r.shaders, WedgePass::Output::Parts4,
-                                                     blendLayout(r.parameters).defines())),
-          mLayout(blendLayout(r.parameters)),
+        : BlendWedgesMethod(r, blendLayout(r.parameters)) {}
+
+    BlendWedgesMethod(const MethodResources& r, const BlendLayout& layout)
+        : SilhouetteBatchMethod(r.shaders,
+                                WedgePass(r.shaders, WedgePass::Output::Parts4, layout.defines())),
+          mLayout(layout),
           mBlend(r.shaders, "blend-parts.frag", "blend-parts", PipelineState{}, mLayout.defines()),
           mReset(r.shaders, "silhouette-reset.frag", "silhouette-reset", PipelineState{}),
           mResolve(r.shaders, "blend-resolve.frag", "blend-resolve", PipelineState{},
