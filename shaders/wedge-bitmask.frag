@@ -35,7 +35,15 @@ flat in vec4 vE0;
 flat in vec4 vE1;
 flat in vec4 vPlanes[4];
 flat in uint vBounded;
-#ifdef BITMASK_COUNTS
+#ifdef BITMASK_POTENTIAL
+flat in vec4 vTri0[3];
+flat in vec4 vTri1[3];
+// Summed over the wedges by additive blending: x, the edge's share of A = (1/|L|) integral of D
+// over the light, m_P(e) times the area of R (edgeCoverage's); y, the edge's share of the
+// control variate of estimate=edges, sign(m_P(e)) times (area of R - share of samples in R).
+layout(location = 0) out vec2 oArea;
+#endif
+#if defined(BITMASK_COUNTS) || defined(BITMASK_POTENTIAL)
 // combine=counts: per sample a 4-bit count biased by 8, eight to a layer; the edge adds its sign
 // (edgeCoverage's) to the samples R holds by atomic adds, which never carry between counts
 // while each stays in [-8, 7] relative to the bias.
@@ -45,6 +53,30 @@ layout(location = 0) out uvec4 oMask0;
 #if BITMASK_WORDS > 4
 layout(location = 1) out uvec4 oMask1;
 #endif
+#endif
+
+#ifdef BITMASK_POTENTIAL
+// One triangle's share of m_P(e): +1 when its third vertex lies on the far side of the plane
+// through P and the edge from the light centre (crossing the edge's projection, a segment from P
+// starts crossing the triangle), -1 on the centre's side (it stops), 0 without a triangle.
+// sc: the centre's side, as sign(orient(P, e0, e1, c)). orient(P, a, b, c) = dot(a - P,
+// (b - a) x (c - a)): the plane's normal from the triangle alone, so that far small triangles
+// keep their sign. P in the triangle's plane (within float noise: P's own triangle, a coplanar
+// neighbour) is taken a little towards the camera, as the stencil's polygon offset takes it
+// (the visible side of a two-sided surface): the orientation of the eye instead.
+int triangleShare(vec4 t[3], vec3 p, float sc) {
+    if (t[0].w == 0.0) return 0;
+    vec3 a = t[0].xyz;
+    vec3 n = cross(t[1].xyz - a, t[2].xyz - a);
+    float d = t[0].w * dot(a - p, n);
+    float tol = 4e-6 * length(n) * (length(a - p) + length(p));
+    if (!(abs(d) > tol)) {
+        vec3 eye = frame.eye.xyz;
+        d = t[0].w * dot(a - eye, n);
+        if (!(abs(d) > 4e-6 * length(n) * (length(a - eye) + length(eye)))) return 0;
+    }
+    return (d > 0.0) == (sc < 0.0) ? 1 : -1;
+}
 #endif
 
 void main() {
@@ -63,6 +95,14 @@ void main() {
     vec3 h0, h1, h2;
     float sg;
     if (!edgeRegion(p, vE0.xyz, vE1.xyz, light, h0, h1, h2, sg)) discard;
+#ifdef BITMASK_POTENTIAL
+    // The centre's side of the plane through P and the edge: -sign(cr) sign(hp) from the same
+    // projection that bounds R (R lies on the far side), so the two cannot disagree.
+    float hp = dot(light.n, p - light.c);
+    float sc = hp > 0.0 ? -sg : sg;
+    int m = triangleShare(vTri0, p, sc) + triangleShare(vTri1, p, sc);
+    if (m == 0) discard; // no silhouette seen from P: D does not change across it
+#endif
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     uint any = 0u;
 #ifdef BITMASK_ROTATED
@@ -104,6 +144,41 @@ void main() {
     }
     for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
 #endif
+#ifdef BITMASK_POTENTIAL
+    float coverage = abs(edgeCoverage(p, vE0.xyz, vE1.xyz, light));
+    int inRegion = 0;
+    for (int w = 0; w < BITMASK_WORDS; ++w) inRegion += bitCount(words[w]);
+    oArea = vec2(float(m) * coverage,
+                 (m > 0 ? 1.0 : -1.0) * (coverage - float(inRegion) / float(BITMASK_SAMPLES)));
+    if (any != 0u) {
+        // Checksums of the adds (wedges-bitmask.md): the sum over samples of the added counts,
+        // and the same weighted by 1 + the count's place in its 32-bit word, which the resolve
+        // compares with the decoded counts: a count past [-8, 7] carries into its neighbour (or
+        // out of the word) and changes them.
+        int added = 0, weighted = 0;
+        for (int w = 0; w < BITMASK_WORDS; ++w) {
+            uint x = words[w];
+            for (int k = 0; k < 4; ++k) {
+                uint b = (x >> uint(8 * k)) & 0xFFu;
+                int c = bitCount(b);
+                added += c;
+                weighted += c + bitCount(b & 0xAAu) + 2 * bitCount(b & 0xCCu) + 4 * bitCount(b & 0xF0u);
+            }
+        }
+        imageAtomicAdd(iCounts, ivec3(px, BITMASK_SAMPLES / 8), uint(m * added));
+        imageAtomicAdd(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1), uint(m * weighted));
+    }
+    for (int w = 0; w < BITMASK_WORDS; ++w) {
+        for (int k = 0; k < 4; ++k) {
+            uint lanes = (words[w] >> uint(8 * k)) & 0xFFu;
+            if (lanes == 0u) continue;
+            lanes = (lanes | (lanes << 12u)) & 0x000F000Fu;
+            lanes = (lanes | (lanes << 6u)) & 0x03030303u;
+            lanes = (lanes | (lanes << 3u)) & 0x11111111u;
+            imageAtomicAdd(iCounts, ivec3(px, 4 * w + k), uint(m) * lanes);
+        }
+    }
+#else
     if (any == 0u) discard; // XOR with nothing
 #ifdef BITMASK_COUNTS
     bool positive = (dot(light.n, p - light.c) > 0.0) == (sg > 0.0);
@@ -122,6 +197,7 @@ void main() {
     oMask0 = uvec4(words[0], words[1], words[2], words[3]);
 #if BITMASK_WORDS > 4
     oMask1 = uvec4(words[4], words[5], words[6], words[7]);
+#endif
 #endif
 #endif
 }

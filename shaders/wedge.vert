@@ -25,6 +25,40 @@ flat out vec4 vE0;
 flat out vec4 vE1;
 flat out vec4 vPlanes[4];
 flat out uint vBounded;
+#ifdef WEDGE_APEXES
+// wedges-bitmask silhouettes=potential (engine/PotentialSet.h): the edge's (at most two)
+// triangles, each as its three corners in ascending vertex-id order, w: the sign that turns
+// orient(P, corners) into orient(P, e0, e1, apex) (0: no triangle). The same triangle reaches
+// the fragment shader in the same order from each of its edges, so its orientation about P is
+// computed bit for bit alike on all three (the counts of its edges cancel exactly).
+layout(std430, binding = BINDING_WELDED_POSITIONS) readonly buffer WeldedPositions {
+    vec4 weldedPositions[];
+};
+layout(std430, binding = BINDING_EDGES) readonly buffer Edges {
+    GpuEdge edges[];
+};
+layout(std430, binding = BINDING_EDGE_APEXES) readonly buffer EdgeApexes {
+    uvec2 edgeApexes[];
+};
+flat out vec4 vTri0[3];
+flat out vec4 vTri1[3];
+
+void triangleCorners(uint a, uint b, uint c, out vec4 t[3]) {
+    if (c == 0xFFFFFFFFu) {
+        for (int i = 0; i < 3; ++i) t[i] = vec4(0.0);
+        return;
+    }
+    // Sort (a, b, c) ascending, counting the swaps (the permutation's parity).
+    float parity = 1.0;
+    uint x;
+    if (a > b) { x = a; a = b; b = x; parity = -parity; }
+    if (b > c) { x = b; b = c; c = x; parity = -parity; }
+    if (a > b) { x = a; a = b; b = x; parity = -parity; }
+    t[0] = vec4(weldedPositions[a].xyz, parity);
+    t[1] = vec4(weldedPositions[b].xyz, parity);
+    t[2] = vec4(weldedPositions[c].xyz, parity);
+}
+#endif
 
 #define WEDGE_PASS_ENTRY 0u
 #define WEDGE_PASS_EXIT 1u
@@ -61,6 +95,12 @@ void main() {
         vE1 = vec4(0.0);
         for (int i = 0; i < 4; ++i) vPlanes[i] = vec4(0.0);
         vBounded = 0u;
+#ifdef WEDGE_APEXES
+        for (int i = 0; i < 3; ++i) {
+            vTri0[i] = vec4(0.0);
+            vTri1[i] = vec4(0.0);
+        }
+#endif
         return;
     }
     GpuWedge wedge = wedges[w];
@@ -68,6 +108,12 @@ void main() {
     vE1 = wedge.e1;
     for (int i = 0; i < 4; ++i) vPlanes[i] = wedge.planes[i];
     vBounded = wedge.kind == WEDGE_BOUNDED ? 1u : 0u;
+#ifdef WEDGE_APEXES
+    GpuEdge edge = edges[w];
+    uvec2 apex = edgeApexes[w];
+    triangleCorners(edge.v0, edge.v1, apex.x, vTri0);
+    triangleCorners(edge.v0, edge.v1, apex.y, vTri1);
+#endif
     bool entry = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside == 0u;
     bool exit = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside != 0u;
     if ((uPass == WEDGE_PASS_ENTRY && entry) || (uPass == WEDGE_PASS_EXIT && exit)) {

@@ -23,11 +23,21 @@
 #define BINDING_DEBUG_SUMS 8  // error debug view: vec2 per work group (sum |dV|, pixels)
 #define BINDING_SURFACE_TILES 9 // per-silhouette methods: surface bounds per 16x16 tile (2 vec4)
 #define BINDING_LIGHT_SAMPLES 10 // wedges-bitmask: vec4 per light sample (s, t, angle, 0)
+// wedges-bitmask silhouettes=potential (gpu/src/engine/PotentialSet.cpp): per entry of the
+// edges array, the third vertices of its (at most two) triangles (global welded ids, or
+// 0xFFFFFFFF), as uvec2.
+#define BINDING_EDGE_APEXES 11
+// wedges-bitmask silhouettes=potential: uint counters of the resolve (MASK_STAT_*).
+#define BINDING_MASK_STATS 12
+#define MASK_STAT_OVERFLOW 0 // pixels whose 4-bit counts did not hold the final count
+#define MASK_STAT_NEGATIVE 1 // pixels with a sample whose count came out negative
+#define MASK_STAT_COUNT 4
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
 #define IMAGE_OCCLUSION_DST 2 // occlusion: the prefilter's output (N-buffer levels or SAT)
 #define IMAGE_GROUP_COUNTS 3 // wedges-bitmask combine=counts: r32ui array, 8 biased 4-bit counts a layer
+                             // (silhouettes=potential: then two checksum layers)
 
 // Explicit uniform locations (plain uniforms set per draw).
 #define UNIFORM_MATERIAL 0      // lib/Material.glsl: vec4 alpha cutoff, base alpha, textured

@@ -75,6 +75,7 @@ void CasterSet::update(const geometry::RectLight& light, const geometry::Aabb& s
     // triangle ids: the CPU builds no volumes, wedges or loops, and bounds groups cheaply.
     static const geometry::SilhouetteSettings settings = geometry::SilhouetteSettings::lean();
     bool changed = false;
+    mSceneBounds = sceneBounds;
     mTotal = {};
     for (std::size_t i = 0; i < mExtractors.size(); ++i) {
         const geometry::SilhouetteFrame& f = mExtractors[i].update(light, sceneBounds, settings);

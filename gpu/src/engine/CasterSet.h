@@ -73,12 +73,17 @@ public:
     void update(const geometry::RectLight& light, const geometry::Aabb& sceneBounds);
 
     const geometry::SilhouetteFrame& frame(std::size_t i) const;
+    // Caster i's first welded vertex and triangle in the static buffers' global numbering.
+    std::uint32_t vertexBase(std::size_t i) const { return mVertexBase[i]; }
+    std::uint32_t triangleBase(std::size_t i) const { return mTriangleBase[i]; }
     const CasterRange& range(std::size_t i) const { return mRanges[i]; }
     // Totals over all casters (the frame upload).
     std::uint32_t triangleCount() const { return mTotal.triangleCount; }
     std::uint32_t edgeCount() const { return mTotal.edgeCount; }
     std::uint32_t groupCount() const { return mTotal.groupCount; }
     std::size_t uploadBytes() const { return mUploadBytes; }
+    // The scene bounds of the last update().
+    const geometry::Aabb& sceneBounds() const { return mSceneBounds; }
 
     // Binds the static and per-frame arrays to their storage-buffer slots (Bindings.h).
     void bind() const;
@@ -94,6 +99,7 @@ private:
     std::size_t mEdgeOffset = 0, mGroupOffset = 0, mUploadBytes = 0; // bytes into mFrameData
     std::vector<CasterRange> mRanges;
     CasterRange mTotal;
+    geometry::Aabb mSceneBounds;
 };
 
 } // namespace gpu

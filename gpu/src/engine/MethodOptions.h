@@ -26,6 +26,13 @@ struct BitmaskOptions {
     int samples = 0;       // light samples per mask: 32, 64, 128 or 256
     bool rotated = false;  // per-pixel Cranley-Patterson shift of the pattern
     bool counts = false;   // combine=counts (signed 4-bit counts); false: parity
+    // silhouettes=potential: one two-sided count per sample over every caster, from the
+    // potential silhouettes seen per receiver (engine/PotentialSet.h); false: centre.
+    bool potential = false;
+    // With potential: how V is estimated from the counts (bitmask-potential-resolve.frag's
+    // uEstimate).
+    enum class Estimate { Ratio = 0, Samples = 1, Edges = 2 };
+    Estimate estimate = Estimate::Ratio;
 };
 BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given);
 

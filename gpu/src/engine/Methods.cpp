@@ -31,6 +31,8 @@ constexpr MethodParameter kBlendParameters[] = {
 constexpr std::string_view kBitmaskSamples[] = {"32", "64", "128", "256"};
 constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
 constexpr std::string_view kBitmaskCombine[] = {"parity", "counts"};
+constexpr std::string_view kBitmaskSilhouettes[] = {"potential", "centre"};
+constexpr std::string_view kBitmaskEstimate[] = {"ratio", "edges", "samples"};
 constexpr MethodParameter kBitmaskParameters[] = {
     {"samples", kBitmaskSamples, "64",
      "light samples per pixel and silhouette group, one bit each (the reference's stratified "
@@ -39,9 +41,17 @@ constexpr MethodParameter kBitmaskParameters[] = {
      "fixed: the same samples at every pixel and frame (stable, bands in wide penumbrae); "
      "rotated: shifted per pixel (noise instead of bands)"},
     {"combine", kBitmaskCombine, "counts",
-     "within a group: counts (signed 4-bit counts per sample by image atomics; exact while each "
-     "stays in [-8, 7]) or parity (XOR by the logic op, no atomics; a sample the group covers "
-     "twice reads as lit: open level geometry folding behind itself)"},
+     "with silhouettes=centre, within a group: counts (signed 4-bit counts per sample by image "
+     "atomics; exact while each stays in [-8, 7]) or parity (XOR by the logic op, no atomics; a "
+     "sample the group covers twice reads as lit: open level geometry folding behind itself)"},
+    {"silhouettes", kBitmaskSilhouettes, "potential",
+     "potential: per receiver, every edge that is a silhouette from some light point, one count "
+     "per sample over all casters (exact to the samples for any caster and light); centre: the "
+     "light centre's silhouette per group (the wedge papers' approximation)"},
+    {"estimate", kBitmaskEstimate, "ratio",
+     "with silhouettes=potential: ratio (the exact integral of the counts times the sampled share "
+     "of hidden samples over their mean count: exact at any N where one layer hides the light) "
+     "or samples (the share of hidden samples)"},
 };
 
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
@@ -224,9 +234,19 @@ BlendOptions blendOptions(std::span<const ParameterValue> given) {
 
 BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
     const std::vector<ParameterValue> r = resolveParameters(findMethod("wedges-bitmask"), given);
-    return {.samples = intValue(r, "samples"),
-            .rotated = parameterValue(r, "pattern") == "rotated",
-            .counts = parameterValue(r, "combine") == "counts"};
+    BitmaskOptions o{.samples = intValue(r, "samples"),
+                     .rotated = parameterValue(r, "pattern") == "rotated",
+                     .counts = parameterValue(r, "combine") == "counts",
+                     .potential = parameterValue(r, "silhouettes") == "potential",
+                     .estimate = parameterValue(r, "estimate") == "samples"
+                                     ? BitmaskOptions::Estimate::Samples
+                                 : parameterValue(r, "estimate") == "edges"
+                                     ? BitmaskOptions::Estimate::Edges
+                                     : BitmaskOptions::Estimate::Ratio};
+    if (o.potential && !o.counts)
+        throw geometry::InputError("wedges-bitmask: combine=parity needs silhouettes=centre "
+                                   "(silhouettes=potential always counts)");
+    return o;
 }
 
 OcclusionOptions occlusionOptions(std::span<const ParameterValue> given) {

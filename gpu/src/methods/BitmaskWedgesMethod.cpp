@@ -19,6 +19,7 @@
 // - after the last batch, V from the final mask's popcount (shaders/bitmask-resolve.frag).
 #include "engine/DebugViews.h"
 #include "engine/Method.h"
+#include "engine/PotentialSet.h"
 #include "passes/FullscreenPass.h"
 #include "passes/StencilVolumePass.h"
 #include "passes/WedgePass.h"
@@ -50,12 +51,17 @@ struct MaskLayout : BitmaskOptions {
         std::vector<std::string> d{"BITMASK_SAMPLES " + std::to_string(samples)};
         if (rotated) d.push_back("BITMASK_ROTATED 1");
         if (counts) d.push_back("BITMASK_COUNTS 1");
+        if (potential) {
+            d.push_back("BITMASK_POTENTIAL 1");
+            d.push_back("WEDGE_APEXES 1");
+        }
         return d;
     }
     // The parity variant's (the umbra step of combine=counts draws with it).
     std::vector<std::string> parityDefines() const {
         MaskLayout l = *this;
         l.counts = false;
+        l.potential = false;
         return l.defines();
     }
 };
@@ -84,7 +90,10 @@ public:
                  "bitmask-clear", PipelineState{}, mLayout.defines()),
           mResolve(r.shaders, "bitmask-resolve.frag", "bitmask-resolve", PipelineState{},
                    mLayout.defines()),
-          mSamples({.size = 0, .label = "light-samples"}) {}
+          mPotentialResolve(r.shaders, "bitmask-potential-resolve.frag", "bitmask-potential-resolve",
+                            PipelineState{}, mLayout.defines()),
+          mSamples({.size = 0, .label = "light-samples"}),
+          mMaskStats({.size = MASK_STAT_COUNT * sizeof(std::uint32_t), .label = "mask-stats"}) {}
 
     void resize(int width, int height) override {
         std::vector<FramebufferAttachment> group, final;
@@ -101,8 +110,15 @@ public:
         mFinalNoStencilFbo = Framebuffer({.attachments = final, .label = "bitmask-final"});
         if (mLayout.counts)
             mCounts = Texture({.target = GL_TEXTURE_2D_ARRAY, .width = width, .height = height,
-                               .layers = mLayout.samples / 8, .format = GL_R32UI,
+                               .layers = countLayers(), .format = GL_R32UI,
                                .label = "bitmask-counts"});
+        if (mLayout.potential) {
+            mArea = Texture({.width = width, .height = height, .format = GL_RG32F,
+                             .label = "bitmask-area"});
+            mAreaFbo = Framebuffer({.attachments = {{GL_COLOR_ATTACHMENT0, &mArea}},
+                                    .label = "bitmask-area"});
+            mResolveVisibility = 0;
+        }
         mStencilView.reset();
         mWidth = width;
         mHeight = height;
@@ -110,10 +126,15 @@ public:
 
     std::size_t targetBytesPerPixel() const override {
         return 2 * std::size_t(mLayout.targets()) * mLayout.bytesPerTarget() +
-               (mLayout.counts ? std::size_t(mLayout.samples) / 2 : 0); // 4 bits a sample
+               (mLayout.counts ? 4 * std::size_t(countLayers()) : 0) + // 4 bits a sample
+               (mLayout.potential ? 8 : 0);                             // the two sums
     }
 
     void execute(const FrameContext& ctx) override {
+        if (mLayout.potential) {
+            executePotential(ctx);
+            return;
+        }
         const Targets& t = ctx.targets;
         uploadPattern(ctx.settings.seed);
         glNamedFramebufferTexture(mGroupFbo.id(), GL_DEPTH_STENCIL_ATTACHMENT,
@@ -172,10 +193,87 @@ public:
     }
 
 private:
+    // Layers of the counts array: eight 4-bit counts each, and with silhouettes=potential two
+    // checksum layers.
+    int countLayers() const { return mLayout.samples / 8 + (mLayout.potential ? 2 : 0); }
+
+    // silhouettes=potential: one stencil pass (D(P, c), two-sided, every caster), one wedge
+    // pass over every potential silhouette edge (counts and A), one resolve.
+    void executePotential(const FrameContext& ctx) {
+        const Targets& t = ctx.targets;
+        uploadPattern(ctx.settings.seed);
+        {
+            const auto t0 = Clock::now();
+            mPotential.update(ctx.casters, ctx.casterSubset, ctx.light);
+            ctx.addCpuTime("potential-silhouettes", msSince(t0));
+        }
+        mPotential.bind(ctx.casters);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_SAMPLES, mSamples.id());
+        glNamedFramebufferTexture(mAreaFbo.id(), GL_DEPTH_STENCIL_ATTACHMENT, t.depthStencil.id(),
+                                  0);
+        if (mResolveVisibility != t.visibility.id()) {
+            std::vector<FramebufferAttachment> a{{GL_COLOR_ATTACHMENT0, &t.visibility}};
+            for (int i = 0; i < mLayout.targets(); ++i)
+                a.push_back({GLenum(GL_COLOR_ATTACHMENT1 + i), &mFinal[i]});
+            mResolveFbo = Framebuffer({.attachments = a, .label = "bitmask-potential-resolve"});
+            mResolveVisibility = t.visibility.id();
+        }
+        applyState(PipelineState{}); // colour writes on, no scissor: whole-frame clears
+        const std::array<float, 4> zero{0.0f, 0.0f, 0.0f, 0.0f};
+        glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, zero.data());
+        const GLuint bias = 0x88888888u, none = 0u;
+        const int layers = mLayout.samples / 8;
+        glClearTexSubImage(mCounts.id(), 0, 0, 0, 0, t.width, t.height, layers, GL_RED_INTEGER,
+                           GL_UNSIGNED_INT, &bias);
+        glClearTexSubImage(mCounts.id(), 0, 0, 0, layers, t.width, t.height, 2, GL_RED_INTEGER,
+                           GL_UNSIGNED_INT, &none);
+        glClearNamedBufferData(mMaskStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+        glBindImageTexture(IMAGE_GROUP_COUNTS, mCounts.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
+                           GL_R32UI);
+        {
+            ScopedPass pass(&ctx.timers, "wedge-setup");
+            mWedges.beginFrame(mPotential.edgeCount());
+            mWedges.setup(mPotential.wedgeRuns());
+            clearStencil(t);
+        }
+        {
+            ScopedPass pass(&ctx.timers, "shadow-volume");
+            mVolumes.drawCentre(t.visibilityFbo, t, mPotential.volumes());
+        }
+        {
+            ScopedPass pass(&ctx.timers, "wedges");
+            mWedges.draw(mAreaFbo, t, mPotential.wedges());
+        }
+        {
+            ScopedPass pass(&ctx.timers, "resolve");
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+            bindStencilView(t);
+            glBindTextureUnit(TEXUNIT_PARTS0, mArea.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MASK_STATS, mMaskStats.id());
+            const GLuint estimate = GLuint(mLayout.estimate);
+            mPotentialResolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
+                                      [&] { glUniform1ui(0, estimate); });
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                            GL_BUFFER_UPDATE_BARRIER_BIT);
+        }
+        addWedgeCounters(ctx, mWedges.counts(), mPotential.wedgeRuns());
+        std::array<std::uint32_t, MASK_STAT_COUNT> stats{};
+        glGetNamedBufferSubData(mMaskStats.id(), 0, sizeof(stats), stats.data());
+        const geometry::PotentialEdgeStats& e = mPotential.stats();
+        ctx.addCounter("wedges_centre_silhouette", mPotential.centreEdgeCount());
+        ctx.addCounter("potential_interior_edges", static_cast<double>(e.interior));
+        ctx.addCounter("potential_boundary_edges", static_cast<double>(e.boundary));
+        ctx.addCounter("potential_nonmanifold_edges", static_cast<double>(e.nonManifold));
+        ctx.addCounter("count_overflow_pixels", stats[MASK_STAT_OVERFLOW]);
+        ctx.addCounter("count_negative_pixels", stats[MASK_STAT_NEGATIVE]);
+        ctx.addCounter("light_samples", mLayout.samples);
+    }
+
     static WedgePass wedgePass(const ShaderLoader& shaders, const MaskLayout& layout) {
         return WedgePass(shaders,
-                         layout.counts ? WedgePass::Output::BitmaskCounts
-                                       : WedgePass::Output::Bitmask,
+                         layout.potential ? WedgePass::Output::BitmaskPotential
+                         : layout.counts  ? WedgePass::Output::BitmaskCounts
+                                          : WedgePass::Output::Bitmask,
                          layout.defines());
     }
 
@@ -255,12 +353,16 @@ private:
     };
 
     MaskLayout mLayout;
-    FullscreenPass mCombine, mUmbra, mClear, mResolve;
+    FullscreenPass mCombine, mUmbra, mClear, mResolve, mPotentialResolve;
+    PotentialSet mPotential;
+    Texture mArea; // silhouettes=potential: the wedges' sum of m coverage
+    Framebuffer mAreaFbo, mResolveFbo;
+    GLuint mResolveVisibility = 0;
     Texture mCounts; // combine=counts: 4 bits a sample, biased
     Handle<TextureDeleter> mStencilView;
     GLuint mStencilSource = 0;
     Framebuffer mFinalNoStencilFbo;
-    Buffer mSamples;
+    Buffer mSamples, mMaskStats;
     std::uint32_t mSeed = 0;
     std::array<Texture, 2> mGroup, mFinal;
     Framebuffer mGroupFbo, mFinalFbo;

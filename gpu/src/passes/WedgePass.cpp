@@ -17,7 +17,8 @@ WedgePass::WedgePass(const ShaderLoader& shaders, Output output, std::vector<std
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
                                      {GL_FRAGMENT_SHADER, output == Output::Parts4 ? "wedge-parts.frag"
                                                           : output == Output::Bitmask ||
-                                                                    output == Output::BitmaskCounts
+                                                                    output == Output::BitmaskCounts ||
+                                                                    output == Output::BitmaskPotential
                                                               ? "wedge-bitmask.frag"
                                                               : "wedge.frag"}},
                           .defines = std::move(defines),
@@ -109,6 +110,9 @@ void WedgePass::draw(const Framebuffer& target, const Targets& t, const DrawSet&
         if (mOutput == Output::BitmaskCounts) {
             state.blend = false; // image atomics only
             state.colorWrite = false;
+        }
+        if (mOutput == Output::BitmaskPotential) {
+            state.blendEquation = GL_FUNC_ADD; // A += m coverage (and counts by image atomics)
         }
         if (markTouched) {
             const StencilFace mark{.func = GL_ALWAYS,

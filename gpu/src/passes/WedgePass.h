@@ -73,7 +73,10 @@ public:
     // shaders/wedge-bitmask.frag).
     // BitmaskCounts: the same samples added, signed, to per-sample counts by image atomics
     // (wedges-bitmask combine=counts); no colour writes.
-    enum class Output { Subtract, Parts4, Bitmask, BitmaskCounts };
+    // BitmaskPotential (wedges-bitmask silhouettes=potential): counts by image atomics as
+    // BitmaskCounts, weighted by m_P(e), and m_P(e) times the edge's coverage added into one
+    // float target by blending.
+    enum class Output { Subtract, Parts4, Bitmask, BitmaskCounts, BitmaskPotential };
 
     // `defines`: the fragment program's variant (wedges-blend: shaders/wedge-parts.frag's).
     explicit WedgePass(const ShaderLoader& shaders, Output output = Output::Subtract,

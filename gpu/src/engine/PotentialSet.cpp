@@ -1,0 +1,153 @@
+// The frame arrays of wedges-bitmask silhouettes=potential (PotentialSet.h).
+#include "engine/PotentialSet.h"
+
+#include "engine/ShaderBindings.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace gpu {
+
+namespace {
+
+std::size_t storageAlignment() {
+    GLint a = 0;
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &a);
+    return static_cast<std::size_t>(std::max(a, 16));
+}
+
+std::size_t alignUp(std::size_t x, std::size_t a) { return (x + a - 1) / a * a; }
+
+constexpr geometry::SilhouetteSettings twoSidedLean() {
+    geometry::SilhouetteSettings s = geometry::SilhouetteSettings::lean();
+    s.oneSidedClosed = false; // D(p, c) two-sided for every mesh
+    return s;
+}
+
+} // namespace
+
+void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_t> subset,
+                          const geometry::RectLight& light) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool sameSubset = std::equal(subset.begin(), subset.end(), mSubset.begin(), mSubset.end());
+    if (mHasLight && sameSubset && light == mLight && mBytes > 0) {
+        mCpuMs = 0.0;
+        return;
+    }
+    if (!sameSubset) {
+        mCasters.clear();
+        mSubset.assign(subset.begin(), subset.end());
+        for (std::uint32_t c : subset) {
+            Caster k;
+            k.index = c;
+            k.extractor = std::make_unique<geometry::SilhouetteExtractor>(casters.topology(c));
+            mCasters.push_back(std::move(k));
+        }
+    }
+    mHasLight = true;
+    mLight = light;
+    static constexpr geometry::SilhouetteSettings settings = twoSidedLean();
+    const geometry::Aabb& sceneBounds = casters.sceneBounds();
+
+    // Sizes first.
+    std::uint32_t triangles = 0, sides = 0, potential = 0, groups = 0;
+    mStats = {};
+    for (Caster& k : mCasters) {
+        const geometry::SilhouetteFrame& f = k.extractor->update(light, sceneBounds, settings);
+        const geometry::PotentialEdgeStats s =
+            geometry::potentialSilhouetteEdges(casters.topology(k.index), light, k.edges);
+        mStats.interior += s.interior;
+        mStats.boundary += s.boundary;
+        mStats.nonManifold += s.nonManifold;
+        mStats.skipped += s.skipped;
+        triangles += static_cast<std::uint32_t>(f.triangles.size());
+        sides += static_cast<std::uint32_t>(f.edges.size());
+        potential += static_cast<std::uint32_t>(k.edges.size());
+        groups += static_cast<std::uint32_t>(f.groups.size()) + 1;
+    }
+    mCentreEdges = sides;
+    mWedgeTotal = potential;
+    mEdgeTotal = sides + potential;
+
+    const std::size_t align = storageAlignment();
+    mEdgeOffset = alignUp(std::max<std::uint32_t>(triangles, 1) * sizeof(std::uint32_t), align);
+    mApexOffset = alignUp(mEdgeOffset + std::max<std::uint32_t>(mEdgeTotal, 1) *
+                                            sizeof(shader::GpuEdge), align);
+    mGroupOffset = alignUp(mApexOffset + std::max<std::uint32_t>(mEdgeTotal, 1) *
+                                             sizeof(glm::uvec2), align);
+    mBytes = mGroupOffset + std::max<std::uint32_t>(groups, 1) * sizeof(shader::GpuGroup);
+    mStaging.assign(mBytes, std::byte{0});
+    auto* tris = reinterpret_cast<std::uint32_t*>(mStaging.data());
+    auto* edges = reinterpret_cast<shader::GpuEdge*>(mStaging.data() + mEdgeOffset);
+    auto* apexes = reinterpret_cast<glm::uvec2*>(mStaging.data() + mApexOffset);
+    auto* gpuGroups = reinterpret_cast<shader::GpuGroup*>(mStaging.data() + mGroupOffset);
+    std::fill(apexes, apexes + mEdgeTotal, glm::uvec2(geometry::kNoApex));
+
+    mVolumes.clear();
+    mWedges.clear();
+    mWedgeRuns.clear();
+    std::uint32_t tri = 0, side = 0, pot = sides, group = 0;
+    for (Caster& k : mCasters) {
+        const geometry::SilhouetteFrame& f = k.extractor->frame();
+        const std::uint32_t vb = casters.vertexBase(k.index), tb = casters.triangleBase(k.index);
+        const std::uint32_t firstTri = tri, firstSide = side;
+        for (const std::uint32_t t : f.triangles)
+            tris[tri++] = (t & geometry::kTriangleFlipped) | ((t & ~geometry::kTriangleFlipped) + tb);
+        geometry::Aabb occluder;
+        for (const geometry::SilhouetteGroup& g : f.groups) {
+            gpuGroups[group] = shader::GpuGroup{
+                .influenceMin = glm::vec4(g.influenceBounds.min, 0.0f),
+                .influenceMax = glm::vec4(g.influenceBounds.max, 0.0f),
+                .firstEdge = firstSide + g.firstEdge,
+                .edgeCount = g.edgeCount,
+                .firstTriangle = firstTri + g.firstTriangle,
+                .triangleCount = g.triangleCount};
+            for (std::uint32_t e = g.firstEdge; e < g.firstEdge + g.edgeCount; ++e)
+                edges[side++] = shader::GpuEdge{f.edges[e].v0 + vb, f.edges[e].v1 + vb, group, 0u};
+            occluder.extend(g.occluderBounds);
+            ++group;
+        }
+        // The caster's potential edges under one group: the caster's whole occluder box (every
+        // triangle takes part two-sided, so the groups' boxes cover the caster).
+        const geometry::Aabb influence =
+            geometry::occluderInfluenceBounds(occluder, light, sceneBounds);
+        const std::uint32_t firstPot = pot;
+        for (const geometry::PotentialEdge& e : k.edges) {
+            edges[pot] = shader::GpuEdge{e.v0 + vb, e.v1 + vb, group, 0u};
+            apexes[pot] = glm::uvec2(e.apex[0] == geometry::kNoApex ? geometry::kNoApex : e.apex[0] + vb,
+                                     e.apex[1] == geometry::kNoApex ? geometry::kNoApex : e.apex[1] + vb);
+            ++pot;
+        }
+        gpuGroups[group] = shader::GpuGroup{.influenceMin = glm::vec4(influence.min, 0.0f),
+                                            .influenceMax = glm::vec4(influence.max, 0.0f),
+                                            .firstEdge = firstPot,
+                                            .edgeCount = pot - firstPot,
+                                            .firstTriangle = firstTri,
+                                            .triangleCount = tri - firstTri};
+        ++group;
+        mVolumes.add(firstTri, tri - firstTri, firstSide, side - firstSide);
+        mWedges.add(0, 0, firstPot, pot - firstPot);
+        if (pot > firstPot) mWedgeRuns.push_back(CasterRange{.firstEdge = firstPot, .edgeCount = pot - firstPot});
+    }
+    if (mData.size() >= mBytes && mData.id() != 0) glInvalidateBufferData(mData.id());
+    mData.uploadResize(mStaging.data(), mBytes);
+    mCpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void PotentialSet::bind(const CasterSet& casters) const {
+    casters.bind(); // the static welded geometry (and the centre's arrays, rebound below)
+    const GLuint id = mData.id();
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_CAP_TRIANGLES, id, 0,
+                      static_cast<GLsizeiptr>(mEdgeOffset));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_EDGES, id,
+                      static_cast<GLintptr>(mEdgeOffset),
+                      static_cast<GLsizeiptr>(mApexOffset - mEdgeOffset));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_EDGE_APEXES, id,
+                      static_cast<GLintptr>(mApexOffset),
+                      static_cast<GLsizeiptr>(mGroupOffset - mApexOffset));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_GROUPS, id,
+                      static_cast<GLintptr>(mGroupOffset),
+                      static_cast<GLsizeiptr>(mBytes - mGroupOffset));
+}
+
+} // namespace gpu

@@ -1,0 +1,82 @@
+// wedges-bitmask silhouettes=potential, after the one wedge pass: per pixel and sample, the
+// count D(P, y) = D(P, c) (the stencil: the triangles the segment P -> c crosses, two-sided) plus
+// the 4-bit count the wedges added (biased by 8, eight to a layer); a sample is hidden where D is
+// non-zero. Writes V and the hidden samples' mask (Renderer::lightMasks).
+// uEstimate 0 (estimate=ratio): occluded = A * S_u / S_s, A = D(P, c) + the wedges' sum of
+// m_P(e) * area (the blended target: the exact integral of D over the light), S_u the share of
+// hidden samples, S_s the mean of D over the samples; A where no sample is hidden. Exact wherever
+// D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
+// (estimate=samples): occluded = S_u. uEstimate 2 (estimate=edges): occluded = S_u plus, per
+// edge, sign(m_P(e)) (area of R - share of samples in R): the samples' error corrected edge by
+// edge, exact where every edge with m != 0 bounds the hidden part (one layer, any N).
+// The two checksum layers after the counts (wedge-bitmask.frag) tell a count that did not fit
+// its 4 bits: such a pixel is counted (MASK_STAT_OVERFLOW) and takes A alone, clamped.
+#include "lib/Bindings.h"
+
+#ifndef BITMASK_SAMPLES
+#define BITMASK_SAMPLES 64
+#endif
+
+layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform readonly uimage2DArray iCounts;
+layout(binding = TEXUNIT_STENCIL) uniform usampler2D tStencil;
+layout(binding = TEXUNIT_PARTS0) uniform sampler2D tArea;
+layout(std430, binding = BINDING_MASK_STATS) buffer MaskStats {
+    uint maskStats[];
+};
+
+layout(location = 0) uniform uint uEstimate;
+
+layout(location = 0) out float oVisibility;
+layout(location = 1) out uvec4 oMask0;
+#if BITMASK_SAMPLES > 128
+layout(location = 2) out uvec4 oMask1;
+#endif
+
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    // The stencil's count bits (0-6, wrapping: a signed count in [-64, 63]; VolumeStates.h).
+    int centre = int(texelFetch(tStencil, px, 0).r & 0x7Fu);
+    if (centre >= 64) centre -= 128;
+    uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    int hidden = 0;
+    int sumD = 0;
+    uint added = 0u, weighted = 0u;
+    bool negative = false;
+    for (int layer = 0; layer < BITMASK_SAMPLES / 8; ++layer) {
+        uint x = imageLoad(iCounts, ivec3(px, layer)).r;
+        for (int j = 0; j < 8; ++j) {
+            int d = int((x >> uint(4 * j)) & 15u) - 8;
+            added += uint(d);
+            weighted += uint((j + 1) * d);
+            int D = centre + d;
+            if (D != 0) {
+                int i = 8 * layer + j;
+                words[i >> 5] |= 1u << uint(i & 31);
+                ++hidden;
+                sumD += abs(D);
+                negative = negative || D < 0;
+            }
+        }
+    }
+    bool overflow = added != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8)).r ||
+                    weighted != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1)).r;
+    vec2 sums = texelFetch(tArea, px, 0).rg;
+    float area = float(centre) + sums.x;
+    float occluded;
+    if (overflow) {
+        occluded = area;
+        atomicAdd(maskStats[MASK_STAT_OVERFLOW], 1u);
+    } else if (uEstimate == 1u) {
+        occluded = float(hidden) / float(BITMASK_SAMPLES);
+    } else if (uEstimate == 2u) {
+        occluded = float(hidden) / float(BITMASK_SAMPLES) + sums.y;
+    } else {
+        occluded = sumD > 0 ? area * float(hidden) / float(sumD) : area;
+    }
+    if (negative) atomicAdd(maskStats[MASK_STAT_NEGATIVE], 1u);
+    oVisibility = 1.0 - clamp(occluded, 0.0, 1.0);
+    oMask0 = uvec4(words[0], words[1], words[2], words[3]);
+#if BITMASK_SAMPLES > 128
+    oMask1 = uvec4(words[4], words[5], words[6], words[7]);
+#endif
+}
