@@ -39,9 +39,12 @@ double maxDifference(const Rendered& a, const Rendered& b) {
 
 TEST_F(AutoMethod, AllWedgeObjectsRenderAsTheWedgeMethod) {
     // Every object of the demo is manifold, opaque and not silhouette-dense: auto gives each to
-    // wedges and the frame is wedges-blend's (or the wedge method asked for), bit for bit.
+    // wedges and the frame is wedges-bitmask's (or the wedge method asked for), bit for bit.
     const auto scene = geometry::loadScene(testutil::dataPath("demo.json"));
-    const Rendered autoBlend = testutil::render(scene, "auto", 96, 96, 1);
+    const Rendered autoDefault = testutil::render(scene, "auto", 96, 96, 1);
+    EXPECT_EQ(maxDifference(autoDefault, testutil::render(scene, "wedges-bitmask", 96, 96, 1)),
+              0.0);
+    const Rendered autoBlend = testutil::render(scene, "auto", 96, 96, 1, {{"wedges", "blend"}});
     const Rendered blend = testutil::render(scene, "wedges-blend", 96, 96, 1);
     EXPECT_EQ(maxDifference(autoBlend, blend), 0.0);
     ASSERT_EQ(autoBlend.stats.objectChoices.size(), scene.objects.size());
@@ -120,7 +123,7 @@ TEST_F(AutoMethod, ComposesTheTwoPathsAsAProduct) {
         if (o.name == "oak") o.method = geometry::ShadowMethod::None;
     for (auto& o : oakOnly.objects)
         if (o.name == "box" || o.name == "ground") o.method = geometry::ShadowMethod::None;
-    const Rendered w = testutil::render(boxOnly, "wedges-blend", 96, 96, 1);
+    const Rendered w = testutil::render(boxOnly, "wedges-bitmask", 96, 96, 1);
     const Rendered o = testutil::render(oakOnly, "occlusion", 96, 96, 1);
     double maxDiff = 0.0, minW = 1.0, minO = 1.0;
     std::size_t both = 0; // pixels both paths shadow

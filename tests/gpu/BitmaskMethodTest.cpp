@@ -165,7 +165,8 @@ TEST_F(BitmaskWedges, MasksEqualTheCpuModelBitForBit) {
                 s.width = s.height = 64;
                 s.parameters = {{"samples", std::to_string(n)},
                                 {"pattern", rotated ? "rotated" : "fixed"},
-                                {"combine", counts ? "counts" : "parity"}};
+                                {"combine", counts ? "counts" : "parity"},
+                                {"silhouettes", "centre"}};
                 renderer.renderFrame(s);
                 const gpu::LightMasks masks = renderer.lightMasks();
                 ASSERT_EQ(masks.samples, n);
@@ -247,9 +248,9 @@ TEST_F(BitmaskWedges, CountsAreExactOnALevelWhereParityLeaks) {
     const geometry::Scene scene = testutil::framedLevel("levels/kaos2.glb");
     const Rendered ref = testutil::render(scene, "reference", 192, 128, 64);
     const Rendered counts = testutil::render(scene, "wedges-bitmask", 192, 128, 1,
-                                             {{"combine", "counts"}});
+                                             {{"combine", "counts"}, {"silhouettes", "centre"}});
     const Rendered parity = testutil::render(scene, "wedges-bitmask", 192, 128, 1,
-                                             {{"combine", "parity"}});
+                                             {{"combine", "parity"}, {"silhouettes", "centre"}});
     const auto ec = geometry::compareVisibility(counts.visibility.data, ref.visibility.data);
     const auto ep = geometry::compareVisibility(parity.visibility.data, ref.visibility.data);
     std::printf("  kaos2 192x128 vs reference N=64: counts mean %.5f, %zu pixels off > 0.05; "
@@ -278,7 +279,8 @@ struct BitmaskCase {
 class BitmaskScenes : public GlTest, public ::testing::WithParamInterface<BitmaskCase> {};
 
 std::vector<gpu::ParameterValue> bitmaskParameters(int n, bool rotated = false) {
-    return {{"samples", std::to_string(n)}, {"pattern", rotated ? "rotated" : "fixed"}};
+    return {{"samples", std::to_string(n)}, {"pattern", rotated ? "rotated" : "fixed"},
+            {"silhouettes", "centre"}};
 }
 
 // Per scene at 128²: wedges-blend against the N = 256 reference; wedges-bitmask at N = 32 ...

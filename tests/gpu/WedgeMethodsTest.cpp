@@ -312,7 +312,11 @@ TEST_F(AdditiveWedges, PerSilhouetteUmbraWithoutWedgesIsDark) {
         std::printf("  %s: max V %.4f, %.0f umbra pixels, %.0f touched\n", method, maxV,
                     counter(r, "pixels_umbra"), counter(r, "pixels_blended"));
         EXPECT_EQ(maxV, 0.0);
-        EXPECT_GT(counter(r, "pixels_umbra"), 0.5 * 64 * 64);
+        // wedges-bitmask's default (silhouettes=potential) has no per-group umbra step: its
+        // stencil count alone hides every sample there (V = 0, checked above).
+        if (std::string(method) != "wedges-bitmask") {
+            EXPECT_GT(counter(r, "pixels_umbra"), 0.5 * 64 * 64);
+        }
     }
 }
 
@@ -554,6 +558,8 @@ TEST_F(AdditiveWedges, DepthAwareCullingChangesOnlyTheOrder) {
             s.width = 160;
             s.height = 90;
             s.light = *lamp;
+            // The batched variant (silhouettes=potential draws no batches).
+            if (method == "wedges-bitmask") s.parameters = {{"silhouettes", "centre"}};
             s.depthAwareCulling = false;
             const gpu::FrameStats plainStats = renderer.renderFrame(s);
             const geometry::FloatImage plain = renderer.visibility();

@@ -140,3 +140,85 @@ int segmentCrossings(const dvec3& a, const dvec3& b,
 }
 
 } // namespace geometry
+
+namespace geometry {
+
+namespace {
+
+// The part of a triangle strictly between p's level (z = 1) and the light's plane (z = 0), z
+// the height over the light's plane over p's, as a convex polygon.
+std::vector<glm::dvec3> clipToSlab(const std::array<glm::dvec3, 3>& t, const glm::dvec3& n,
+                                   const glm::dvec3& c, double ap) {
+    std::vector<glm::dvec3> poly(t.begin(), t.end()), next;
+    const auto z = [&](const glm::dvec3& x) { return glm::dot(n, x - c) / ap; };
+    for (int side = 0; side < 2; ++side) {
+        // side 0: keep z >= 0; side 1: keep z <= 1.
+        next.clear();
+        const auto f = [&](const glm::dvec3& x) { return side == 0 ? z(x) : 1.0 - z(x); };
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+            const glm::dvec3& a = poly[i];
+            const glm::dvec3& b = poly[(i + 1) % poly.size()];
+            const double fa = f(a), fb = f(b);
+            if (fa >= 0.0) next.push_back(a);
+            if ((fa >= 0.0) != (fb >= 0.0)) next.push_back(a + (b - a) * (fa / (fa - fb)));
+        }
+        poly.swap(next);
+        if (poly.size() < 3) return {};
+    }
+    return poly;
+}
+
+} // namespace
+
+CountModel potentialCountModel(const glm::dvec3& p,
+                               std::span<const std::array<glm::dvec3, 3>> triangles,
+                               const RectLight& light, std::span<const glm::vec2> samples,
+                               double tolerance, double centreTolerance) {
+    const LightFrame f = lightFrame(light);
+    CountModel m;
+    m.count.assign(samples.size(), 0);
+    m.ambiguous.assign((samples.size() + 31) / 32, 0u);
+    const double ap = glm::dot(f.n, p - f.c);
+    if (ap == 0.0) return m;
+    std::vector<glm::dvec3> q, lines;
+    for (const auto& t : triangles) {
+        const std::vector<glm::dvec3> poly = clipToSlab(t, f.n, f.c, ap);
+        if (poly.empty()) continue;
+        // Homogeneous light coordinates (s w, t w, w) of each vertex's projection from p, w = 1 - z
+        // >= 0 (0: at infinity, a vertex at p's level).
+        q.clear();
+        for (const glm::dvec3& x : poly) {
+            const double w = std::max(0.0, 1.0 - glm::dot(f.n, x - f.c) / ap);
+            const glm::dvec3 y = w * (p - f.c) + (x - p);
+            q.emplace_back(glm::dot(f.uStar, y), glm::dot(f.vStar, y), w);
+        }
+        glm::dvec3 inner(0.0);
+        for (const glm::dvec3& x : q) inner += x / std::max(glm::length(x), 1e-300);
+        lines.clear();
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            glm::dvec3 l = glm::cross(q[i], q[(i + 1) % q.size()]);
+            const double len = std::hypot(l.x, l.y);
+            if (!(len > 0.0)) continue;
+            l /= len; // dot(l, (s, t, 1)): signed distance in light coordinates
+            if (glm::dot(l, inner) < 0.0) l = -l;
+            lines.push_back(l);
+        }
+        if (lines.size() < 3) continue;
+        const auto classify = [&](double s, double tt, double tol, bool& ambiguous) {
+            double least = 1e300;
+            for (const glm::dvec3& l : lines) least = std::min(least, l.x * s + l.y * tt + l.z);
+            ambiguous = std::abs(least) < tol;
+            return least > 0.0;
+        };
+        bool amb = false;
+        if (classify(0.0, 0.0, centreTolerance, amb)) ++m.centreCount;
+        m.centreAmbiguous = m.centreAmbiguous || amb;
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            if (classify(samples[i].x, samples[i].y, tolerance, amb)) ++m.count[i];
+            if (amb) m.ambiguous[i / 32] |= 1u << (i % 32);
+        }
+    }
+    return m;
+}
+
+} // namespace geometry

@@ -95,9 +95,9 @@ constexpr MethodParameter kPcssParameters[] = {
 };
 
 // auto: which wedge method serves the objects it gives to wedges.
-constexpr std::string_view kAutoWedges[] = {"blend", "additive", "multiply", "bitmask"};
+constexpr std::string_view kAutoWedges[] = {"bitmask", "blend", "additive", "multiply"};
 constexpr MethodParameter kAutoParameters[] = {
-    {"wedges", kAutoWedges, "blend",
+    {"wedges", kAutoWedges, "bitmask",
      "the wedge method of the objects auto gives to wedges: wedges-blend, -additive, -multiply "
      "or -bitmask (its default parameters)"},
 };
@@ -113,7 +113,8 @@ const std::array<MethodInfo, 10> kMethods = {{
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
      createBlendWedgesMethod, kBlendParameters},
     {"wedges-bitmask",
-     "per-silhouette light-sample masks (per-sample counts within a group), ORed over groups",
+     "light-sample counts from every edge that is a silhouette from some light point, per "
+     "receiver (exact to the samples), ratio estimator; silhouettes=centre: per-group masks",
      false, createBitmaskWedgesMethod, kBitmaskParameters},
     {"wedges-multiply", "per-silhouette visibility buffers multiplied (independent occluders)",
      false, createMultiplyWedgesMethod},

@@ -1,5 +1,6 @@
 // auto (the contract's default): per casting object the path geometry/shadow/AutoChoice.h decides —
-// penumbra wedges (`wedges-blend` unless the `wedges` parameter picks another wedge method) or
+// penumbra wedges (`wedges-bitmask` with its defaults — potential silhouettes, the ratio
+// estimator — unless the `wedges` parameter picks another wedge method) or
 // occlusion textures — run each on its own casters and composed in one frame as
 // V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path
 // is decided the first frame it is seen and then kept, so that a moving light never flips it.

@@ -49,4 +49,23 @@ GroupMaskModel groupMaskModel(const glm::dvec3& p, std::span<const MaskEdge> edg
 int segmentCrossings(const glm::dvec3& a, const glm::dvec3& b,
                      std::span<const std::array<glm::dvec3, 3>> triangles);
 
+// The model of wedges-bitmask silhouettes=potential, the definition itself: per sample y, D(p, y),
+// the number of `triangles` (any winding: counted two-sided) the segment p -> y crosses, each
+// triangle clipped to the slab between p's level and the light's plane and its projection from
+// p tested exactly (double). `ambiguous`: per sample, within `tolerance` (light coordinates) of
+// the projection of a triangle's edge, where float arithmetic may decide either way;
+// `centreAmbiguous`: the light centre within `centreTolerance` of one (the GPU's centre count
+// comes from the rasterised volumes). Call with p already moved off its own surface (towards
+// the camera, as the GPU takes a receiver on a two-sided surface).
+struct CountModel {
+    std::vector<int> count;
+    std::vector<std::uint32_t> ambiguous; // bit i % 32 of word i / 32
+    int centreCount = 0;
+    bool centreAmbiguous = false;
+};
+CountModel potentialCountModel(const glm::dvec3& p,
+                               std::span<const std::array<glm::dvec3, 3>> triangles,
+                               const RectLight& light, std::span<const glm::vec2> samples,
+                               double tolerance = 1e-4, double centreTolerance = 0.01);
+
 } // namespace geometry
