@@ -64,7 +64,8 @@ layout(location = 1) out uvec4 oMask1;
 // keep their sign. P in the triangle's plane (within float noise: P's own triangle, a coplanar
 // neighbour) is taken a little towards the camera, as the stencil's polygon offset takes it
 // (the visible side of a two-sided surface): the orientation of the eye instead.
-int triangleShare(vec4 t[3], vec3 p, float sc) {
+// (triangleSide: the sign of orient(P, e0, e1, apex); triangleShare: its share given sc.)
+int triangleSide(vec4 t[3], vec3 p) {
     if (t[0].w == 0.0) return 0;
     vec3 a = t[0].xyz;
     vec3 n = cross(t[1].xyz - a, t[2].xyz - a);
@@ -75,7 +76,10 @@ int triangleShare(vec4 t[3], vec3 p, float sc) {
         d = t[0].w * dot(a - eye, n);
         if (!(abs(d) > 4e-6 * length(n) * (length(a - eye) + length(eye)))) return 0;
     }
-    return (d > 0.0) == (sc < 0.0) ? 1 : -1;
+    return d > 0.0 ? 1 : -1;
+}
+int triangleShare(int side, float sc) {
+    return side == 0 ? 0 : (side > 0) == (sc < 0.0) ? 1 : -1;
 }
 #endif
 
@@ -85,6 +89,14 @@ void main() {
     if (position.w == 0.0) discard; // no surface
     vec3 p = position.xyz;
     if (vBounded != 0u && !wedgeHullContains(vPlanes, p)) discard;
+#ifdef BITMASK_POTENTIAL
+    // The two triangles on opposite sides of the plane through P and the edge: no silhouette
+    // seen from P, m = 0 whatever the centre's side (most fragments of most potential edges):
+    // before the projection.
+    int side0 = triangleSide(vTri0, p);
+    int side1 = triangleSide(vTri1, p);
+    if (side0 == -side1) discard;
+#endif
     CoverageLight light;
     light.c = frame.lightCenter.xyz;
     light.u = frame.lightU.xyz;
@@ -100,7 +112,7 @@ void main() {
     // projection that bounds R (R lies on the far side), so the two cannot disagree.
     float hp = dot(light.n, p - light.c);
     float sc = hp > 0.0 ? -sg : sg;
-    int m = triangleShare(vTri0, p, sc) + triangleShare(vTri1, p, sc);
+    int m = triangleShare(side0, sc) + triangleShare(side1, sc);
     if (m == 0) discard; // no silhouette seen from P: D does not change across it
 #endif
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
