@@ -4,7 +4,9 @@
 // not matter and nothing is read back. Samples: the light-samples buffer (geometry
 // lightMaskPattern, ordered by angle about the centre: only the run between the region's rays is
 // tested), shifted per pixel with BITMASK_ROTATED (then all of them). Words 0-3 in target 0, 4-7 in
-// target 1 (256 samples).
+// target 1 (256 samples). BITMASK_COUNTS: signed counts by image atomics instead (combine=counts).
+// BITMASK_POTENTIAL (silhouettes=potential): the edge's m_P(e) from its triangles, added to the
+// counts of R's samples, m_P(e) times R's area into a float target, and checksums of the adds.
 #include "lib/Bindings.h"
 #include "shared/Coverage.h"
 #include "shared/LightMask.h"

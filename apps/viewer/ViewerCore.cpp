@@ -130,17 +130,4 @@ geometry::Camera flyThrough(std::span<const geometry::Camera> cameras, int frame
     return c;
 }
 
-std::optional<geometry::RectLight> lampAhead(const geometry::Scene& scene,
-                                             const geometry::RayTracer& tracer,
-                                             const geometry::Camera& camera) {
-    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
-    std::vector<glm::vec3> bases;
-    float t = 0.0f;
-    glm::vec3 n;
-    if (tracer.intersect(camera.eye, forward, t, n))
-        bases.push_back(camera.eye + 0.5f * t * forward);
-    bases.push_back(camera.eye);
-    return geometry::hangLight(scene, tracer, bases);
-}
-
 } // namespace viewer

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <geometry/core/Types.h>
+#include <geometry/reference/Framing.h>
 
 #include <optional>
 #include <span>
@@ -67,11 +68,7 @@ struct LightRig {
 // slerped), `framesPerLeg` frames from one to the next; wraps around. Needs at least one camera.
 geometry::Camera flyThrough(std::span<const geometry::Camera> cameras, int frame, int framesPerLeg);
 
-// A lamp for the view of `camera` (geometry::hangLight): under the ceiling above the point halfway
-// to what the camera looks at, else above the camera. Nothing when neither has a ceiling over it
-// or no lamp fits. `tracer` is built on `scene`.
-std::optional<geometry::RectLight> lampAhead(const geometry::Scene& scene,
-                                             const geometry::RayTracer& tracer,
-                                             const geometry::Camera& camera);
+// The viewer's lamp for a view (geometry::lampAhead, beside hangLight in Framing.h).
+using geometry::lampAhead;
 
 } // namespace viewer

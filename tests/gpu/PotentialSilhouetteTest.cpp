@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -102,15 +103,9 @@ geometry::Scene levelWithLamp(const char* level, int camera) {
     geometry::Scene scene = geometry::loadScene(testutil::sharedPath(std::string("levels/") + level));
     geometry::selectCamera(scene, camera);
     const geometry::RayTracer tracer(scene);
-    const geometry::Camera& c = scene.camera;
-    const glm::vec3 forward = glm::normalize(c.target - c.eye);
-    std::vector<glm::vec3> bases;
-    float t = 0.0f;
-    glm::vec3 n;
-    if (tracer.intersect(c.eye, forward, t, n)) bases.push_back(c.eye + 0.5f * t * forward);
-    bases.push_back(c.eye);
-    const std::optional<geometry::RectLight> lamp = geometry::hangLight(scene, tracer, bases);
-    if (lamp) scene.light = *lamp;
+    const std::optional<geometry::RectLight> lamp = geometry::lampAhead(scene, tracer, scene.camera);
+    if (!lamp) throw std::runtime_error(std::string(level) + ": no lamp fits at the camera");
+    scene.light = *lamp;
     return scene;
 }
 
@@ -161,19 +156,7 @@ TEST_F(PotentialSilhouettes, MasksEqualTheDefinitionBitForBit) {
             EXPECT_LE(c.wrongBits, c.pixels * n / 100);
             EXPECT_EQ(counter(stats, "count_overflow_pixels"), 0.0);
             // estimate=samples: V is the popcount.
-            const geometry::FloatImage v = renderer.visibility();
-            std::size_t vWrong = 0;
-            for (int row = 0; row < 64; ++row)
-                for (int x = 0; x < 64; ++x) {
-                    const float vv = v.data[std::size_t(row) * 64 + x];
-                    if (!std::isfinite(vv)) continue;
-                    int hidden = 0;
-                    const std::size_t px = std::size_t(63 - row) * 64 + x;
-                    for (int w = 0; w < n / 32; ++w)
-                        hidden += std::popcount(masks.words[px * (n / 32) + w]);
-                    vWrong += vv != 1.0f - float(hidden) / float(n);
-                }
-            EXPECT_EQ(vWrong, 0u);
+            EXPECT_EQ(testutil::pixelsNotThePopcount(renderer.visibility(), masks), 0u);
         }
     }
 }

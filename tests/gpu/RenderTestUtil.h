@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <bit>
 #include <optional>
 #include <string>
 #include <vector>
@@ -128,6 +129,23 @@ inline geometry::Scene spawnScene(const SpawnView& view) {
     scene.light.v = {0.0f, 0.0f, view.halfSize};
     geometry::validateScene(scene); // the light must touch nothing
     return scene;
+}
+
+// Surface pixels of `v` (rows top to bottom) whose V is not 1 - popcount / N of their mask in
+// `masks` (Renderer::lightMasks: rows bottom to top).
+inline std::size_t pixelsNotThePopcount(const geometry::FloatImage& v, const gpu::LightMasks& masks) {
+    const int words = masks.samples / 32;
+    std::size_t wrong = 0;
+    for (int row = 0; row < masks.height; ++row)
+        for (int x = 0; x < masks.width; ++x) {
+            const float vv = v.data[std::size_t(row) * masks.width + x];
+            if (!std::isfinite(vv)) continue;
+            const std::size_t px = std::size_t(masks.height - 1 - row) * masks.width + x;
+            int hidden = 0;
+            for (int w = 0; w < words; ++w) hidden += std::popcount(masks.words[px * words + w]);
+            wrong += vv != 1.0f - float(hidden) / float(masks.samples);
+        }
+    return wrong;
 }
 
 // Pixels where two visibility images differ: by more than `tol`, or surface in one only (NaN).

@@ -538,14 +538,8 @@ TEST_F(AdditiveWedges, DepthAwareCullingChangesOnlyTheOrder) {
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     for (const int camera : {3, 8}) {
         geometry::selectCamera(scene, camera);
-        const geometry::Camera& c = scene.camera;
-        const glm::vec3 forward = glm::normalize(c.target - c.eye);
-        std::vector<glm::vec3> bases;
-        float t = 0.0f;
-        glm::vec3 n;
-        if (tracer.intersect(c.eye, forward, t, n)) bases.push_back(c.eye + 0.5f * t * forward);
-        bases.push_back(c.eye);
-        const std::optional<geometry::RectLight> lamp = geometry::hangLight(scene, tracer, bases);
+        const std::optional<geometry::RectLight> lamp =
+            geometry::lampAhead(scene, tracer, scene.camera);
         ASSERT_TRUE(lamp) << "camera " << camera;
         gpu::Renderer renderer(scene, shaders);
         for (const std::string method :

@@ -192,4 +192,16 @@ Scene loadScene(const std::filesystem::path& path) {
     return scene;
 }
 
+std::optional<RectLight> lampAhead(const Scene& scene, const RayTracer& tracer,
+                                   const Camera& camera) {
+    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+    std::vector<glm::vec3> bases;
+    float t = 0.0f;
+    glm::vec3 n;
+    if (tracer.intersect(camera.eye, forward, t, n))
+        bases.push_back(camera.eye + 0.5f * t * forward);
+    bases.push_back(camera.eye);
+    return hangLight(scene, tracer, bases);
+}
+
 } // namespace geometry

@@ -8,18 +8,11 @@
 
 namespace gpu {
 
-namespace {
-
-// Storage-buffer ranges must start at multiples of this (queried once per context).
 std::size_t storageAlignment() {
     GLint a = 0;
     glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &a);
     return static_cast<std::size_t>(std::max(a, 16));
 }
-
-std::size_t alignUp(std::size_t x, std::size_t a) { return (x + a - 1) / a * a; }
-
-} // namespace
 
 void multiDrawElements(GLenum mode, std::span<const GLint> firsts, std::span<const GLsizei> counts,
                        int perElement, std::vector<GLint>& firstScratch,

@@ -53,6 +53,11 @@ struct DrawSet {
     }
 };
 
+// GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT (at least 16), and x rounded up to a multiple of a:
+// where the ranges of a per-frame upload start (CasterSet, PotentialSet).
+std::size_t storageAlignment();
+inline std::size_t alignUp(std::size_t x, std::size_t a) { return (x + a - 1) / a * a; }
+
 // glMultiDrawArrays of `firsts`/`counts` elements of `perElement` vertices each (scratch:
 // reused vectors).
 void multiDrawElements(GLenum mode, std::span<const GLint> firsts, std::span<const GLsizei> counts,

@@ -4,19 +4,10 @@
 #include "engine/ShaderBindings.h"
 
 #include <algorithm>
-#include <chrono>
 
 namespace gpu {
 
 namespace {
-
-std::size_t storageAlignment() {
-    GLint a = 0;
-    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &a);
-    return static_cast<std::size_t>(std::max(a, 16));
-}
-
-std::size_t alignUp(std::size_t x, std::size_t a) { return (x + a - 1) / a * a; }
 
 constexpr geometry::SilhouetteSettings twoSidedLean() {
     geometry::SilhouetteSettings s = geometry::SilhouetteSettings::lean();
@@ -28,12 +19,8 @@ constexpr geometry::SilhouetteSettings twoSidedLean() {
 
 void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_t> subset,
                           const geometry::RectLight& light) {
-    const auto t0 = std::chrono::steady_clock::now();
     const bool sameSubset = std::equal(subset.begin(), subset.end(), mSubset.begin(), mSubset.end());
-    if (mHasLight && sameSubset && light == mLight && mBytes > 0) {
-        mCpuMs = 0.0;
-        return;
-    }
+    if (mHasLight && sameSubset && light == mLight && mBytes > 0) return;
     if (!sameSubset) {
         mCasters.clear();
         mSubset.assign(subset.begin(), subset.end());
@@ -131,7 +118,6 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
     }
     if (mData.size() >= mBytes && mData.id() != 0) glInvalidateBufferData(mData.id());
     mData.uploadResize(mStaging.data(), mBytes);
-    mCpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void PotentialSet::bind(const CasterSet& casters) const {

@@ -37,7 +37,6 @@ public:
     std::uint32_t wedgeCount() const { return mWedgeTotal; }
     std::uint32_t centreEdgeCount() const { return mCentreEdges; } // side copies (two-sided)
     const geometry::PotentialEdgeStats& stats() const { return mStats; }
-    double cpuMs() const { return mCpuMs; }
 
 private:
     struct Caster {
@@ -53,7 +52,6 @@ private:
     std::vector<CasterRange> mWedgeRuns;
     std::uint32_t mEdgeTotal = 0, mWedgeTotal = 0, mCentreEdges = 0;
     geometry::PotentialEdgeStats mStats;
-    double mCpuMs = 0.0;
     Buffer mData{BufferDesc{.label = "potential-silhouettes"}};
     std::vector<std::byte> mStaging;
     std::size_t mEdgeOffset = 0, mApexOffset = 0, mGroupOffset = 0, mBytes = 0;

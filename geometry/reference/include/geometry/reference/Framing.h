@@ -33,4 +33,10 @@ class RayTracer;
 std::optional<RectLight> hangLight(const Scene& scene, const RayTracer& tracer,
                                    std::span<const glm::vec3> bases);
 
+// The viewer's lamp for the view of `camera` (hangLight): under the ceiling above the point
+// halfway to what the camera looks at, else above the camera. Nothing when neither has a ceiling
+// over it or no lamp fits. `tracer` is built on `scene`.
+std::optional<RectLight> lampAhead(const Scene& scene, const RayTracer& tracer,
+                                   const Camera& camera);
+
 } // namespace geometry
