@@ -4,8 +4,9 @@
 // non-zero. Writes V and the hidden samples' mask (Renderer::lightMasks).
 // uEstimate 0 (estimate=ratio): occluded = A * S_u / S_s, A = D(P, c) + the wedges' sum of
 // m_P(e) * area (the blended target: the exact integral of D over the light), S_u the share of
-// hidden samples, S_s the mean of D over the samples; A where no sample is hidden. Exact wherever
-// D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
+// hidden samples, S_s the mean of D over the samples; A where no sample is hidden; every sample
+// hidden behind counts that differ: 1 (the ratio would only sample the layers' mix). Exact
+// wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
 // (estimate=samples): occluded = S_u. uEstimate 2 (estimate=edges): occluded = S_u plus, per
 // edge, sign(m_P(e)) (area of R - share of samples in R): the samples' error corrected edge by
 // edge, exact where every edge with m != 0 bounds the hidden part (one layer, any N).
@@ -40,6 +41,7 @@ void main() {
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     int hidden = 0;
     int sumD = 0;
+    int leastD = 1 << 30, mostD = 0; // over the hidden samples
     uint added = 0u, weighted = 0u;
     bool negative = false;
     for (int layer = 0; layer < BITMASK_SAMPLES / 8; ++layer) {
@@ -54,6 +56,8 @@ void main() {
                 words[i >> 5] |= 1u << uint(i & 31);
                 ++hidden;
                 sumD += abs(D);
+                leastD = min(leastD, abs(D));
+                mostD = max(mostD, abs(D));
                 negative = negative || D < 0;
             }
         }
@@ -71,7 +75,14 @@ void main() {
     } else if (uEstimate == 2u) {
         occluded = float(hidden) / float(BITMASK_SAMPLES) + sums.y;
     } else {
-        occluded = sumD > 0 ? area * float(hidden) / float(sumD) : area;
+        // The ratio where it is exact or helps: one count over the hidden samples (A / D), or
+        // several with some sample lit (a penumbra where layers overlap). With every sample
+        // hidden behind layers of different counts, A / mean D would only be the sampling
+        // error of the layers' mix, seen as light leaking into the umbra: the samples' share.
+        bool mixedUmbra = hidden == BITMASK_SAMPLES && leastD != mostD;
+        occluded = sumD == 0 ? area
+                   : mixedUmbra ? 1.0
+                                : area * float(hidden) / float(sumD);
     }
     if (negative) atomicAdd(maskStats[MASK_STAT_NEGATIVE], 1u);
     oVisibility = 1.0 - clamp(occluded, 0.0, 1.0);
