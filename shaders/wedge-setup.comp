@@ -19,6 +19,15 @@ layout(std430, binding = BINDING_WEDGE_STATS) buffer WedgeStats {
 
 layout(location = 0) uniform uvec2 uRange; // first edge, edge count
 
+#ifdef WEDGE_APEXES
+// wedges-bitmask silhouettes=potential: the third vertices of the edge's triangles
+// (engine/PotentialSet.h); with two, the hull is narrowed to the receivers that can see the edge
+// as a silhouette (wedgeHullNarrowed).
+layout(std430, binding = BINDING_EDGE_APEXES) readonly buffer EdgeApexes {
+    uvec2 edgeApexes[];
+};
+#endif
+
 void main() {
     if (gl_GlobalInvocationID.x >= uRange.y) return;
     uint i = uRange.x + gl_GlobalInvocationID.x;
@@ -37,8 +46,16 @@ void main() {
             w.rays[k] = vec4(0.0);
         }
     } else {
+#ifdef WEDGE_APEXES
+        uvec2 apex = edgeApexes[i];
+        bool two = apex.x != 0xFFFFFFFFu && apex.y != 0xFFFFFFFFu;
+        WedgeHull h = wedgeHullNarrowed(
+            w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz, frame.lightU.xyz, frame.lightV.xyz, two,
+            two ? weldedPositions[apex.x].xyz : vec3(0.0), two ? weldedPositions[apex.y].xyz : vec3(0.0));
+#else
         WedgeHull h = wedgeHull(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz, frame.lightU.xyz,
                                 frame.lightV.xyz);
+#endif
         // kWedgeHull{Bounded, Fullscreen, Degenerate} are WEDGE_{BOUNDED, FULLSCREEN, DEGENERATE}
         w.kind = uint(h.kind);
         for (int k = 0; k < 4; ++k) {

@@ -158,7 +158,67 @@ SHARED_FN vec2 wedgeHullSide(const vec2 P[4], const float B[4], vec2 fw, vec2 bw
 }
 
 
+// The angle (radians, in (-pi, pi]) from unit direction `from` to d, counter-clockwise.
+SHARED_FN float wedgeHullAngle(vec2 from, vec2 d) {
+    return atan(wedgeHullCross2(from, d), dot(from, d));
+}
+
+// Margin (radians) by which a silhouette-narrowed sector is widened on either side, at least:
+// receivers within it of a face's plane are decided by the camera's side of it (wedges-bitmask),
+// and the direction of a receiver close to the edge is known only to its rounding. To it is added
+// the angle the rounding of the third vertices' components across the edge may turn them
+// (kWedgeHullRound of the coordinates over their length); beyond kWedgeHullSilhouetteMarginMax
+// the hull is not narrowed.
+const float kWedgeHullSilhouetteMargin = 2.0e-3f;
+const float kWedgeHullSilhouetteMarginMax = 0.1f;
+
+// The part [lo, hi] of the sector [0, span] (angles from fw) whose directions d see the edge as
+// a silhouette: the plane through the edge along d leaves both triangles' third vertices (q0, q1:
+// their components across the edge) on one side, cross(d, q0) cross(d, q1) >= 0. That sign
+// changes only at +-q0, +-q1, so over the sector widened by kWedgeHullSilhouetteMargin the
+// silhouette part starts at the widened start if that qualifies, else at the first of those
+// directions inside, and ends likewise. Widened by `margin` and clamped to the sector; false
+// when no direction within the margin of the sector qualifies.
+SHARED_FN bool wedgeHullSilhouetteSpan(vec2 fw, float span, vec2 q0, vec2 q1, float margin,
+                                       SHARED_OUT(float) lo, SHARED_OUT(float) hi) {
+    float first = -margin;
+    float last = span + margin;
+    vec2 df = vec2(cos(first) * fw.x - sin(first) * fw.y, sin(first) * fw.x + cos(first) * fw.y);
+    vec2 dl = vec2(cos(last) * fw.x - sin(last) * fw.y, sin(last) * fw.x + cos(last) * fw.y);
+    bool atFirst = wedgeHullCross2(df, q0) * wedgeHullCross2(df, q1) >= 0.0f;
+    bool atLast = wedgeHullCross2(dl, q0) * wedgeHullCross2(dl, q1) >= 0.0f;
+    lo = atFirst ? first : 3.0e38f;
+    hi = atLast ? last : -3.0e38f;
+    for (int k = 0; k < 4; ++k) {
+        vec2 q = k < 2 ? q0 : q1;
+        if (k == 1 || k == 3) q = -q;
+        float t = wedgeHullAngle(fw, q);
+        if (t > first && t < last) {
+            lo = min(lo, t);
+            hi = max(hi, t);
+        }
+    }
+    if (!(hi >= lo)) return false;
+    lo = max(lo - margin, 0.0f);
+    hi = min(hi + margin, span);
+    return hi >= lo;
+}
+
+// wedgeHull limited to the receivers that can see the edge as a silhouette, for an edge of two
+// triangles with third vertices w0, w1 (wedges-bitmask silhouettes=potential: elsewhere the
+// edge's m_P is 0 and its fragments would be discarded). The front and back planes turn towards
+// each other to the silhouette part of the sector (wedgeHullSilhouetteSpan); the side planes
+// stay those of the whole sector, which hold for any part of it. Degenerate (nothing drawn)
+// when no receiver of the wedge sees a silhouette.
+SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, bool narrow,
+                                      vec3 w0, vec3 w1);
+
 SHARED_FN WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
+    return wedgeHullNarrowed(e0, e1, c, u, v, false, vec3(0.0f), vec3(0.0f));
+}
+
+SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, bool narrow,
+                                      vec3 w0, vec3 w1) {
     WedgeHull hull;
     hull.kind = kWedgeHullDegenerate;
     hull.e0 = e0;
@@ -259,6 +319,33 @@ SHARED_FN WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
     float b0 = dot(bw, h0);
     float b1 = dot(bw, h1);
     if (!(f1 > f0 && b1 > b0)) return hull; // (the sides would cross inside the sector)
+    if (narrow) {
+        vec3 r0 = w0 - e0;
+        vec3 r1 = w1 - e0;
+        vec2 q0 = vec2(dot(r0, x), dot(r0, y));
+        vec2 q1 = vec2(dot(r1, x), dot(r1, y));
+        float shortest = min(length(q0), length(q1));
+        float margin = kWedgeHullSilhouetteMargin +
+                       4.0f * kWedgeHullRound * (length(e0) + length(w0) + length(w1)) / shortest;
+        float lo = 0.0f;
+        float hi = 0.0f;
+        if (!(margin < kWedgeHullSilhouetteMarginMax)) {
+            lo = 0.0f; // too uncertain: the whole sector
+            hi = wedgeHullAngle(fw, bw);
+        } else if (!wedgeHullSilhouetteSpan(fw, wedgeHullAngle(fw, bw), q0, q1, margin, lo, hi)) {
+            hull.kind = kWedgeHullDegenerate;
+            return hull;
+        }
+        vec2 nf = vec2(cos(lo) * fw.x - sin(lo) * fw.y, sin(lo) * fw.x + cos(lo) * fw.y);
+        vec2 nb = vec2(cos(hi) * fw.x - sin(hi) * fw.y, sin(hi) * fw.x + cos(hi) * fw.y);
+        fw = nf;
+        bw = nb;
+        // The side planes are linear along the sector: ordered at its ends, so at these.
+        f0 = dot(fw, h0);
+        f1 = dot(fw, h1);
+        b0 = dot(bw, h0);
+        b1 = dot(bw, h1);
+    }
 
     vec3 F = fw.x * x + fw.y * y;
     vec3 B = bw.x * x + bw.y * y;

@@ -12,7 +12,11 @@
 namespace gpu {
 
 WedgePass::WedgePass(const ShaderLoader& shaders, Output output, std::vector<std::string> defines)
-    : mOutput(output), mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
+    : mOutput(output),
+      mSetup(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-setup.comp"}},
+                           .defines = output == Output::BitmaskPotential
+                                          ? std::vector<std::string>{"WEDGE_APEXES 1"}
+                                          : std::vector<std::string>{},
                            .label = "wedge-setup"})),
       mDraw(shaders.load({.stages = {{GL_VERTEX_SHADER, "wedge.vert"},
                                      {GL_FRAGMENT_SHADER, output == Output::Parts4 ? "wedge-parts.frag"

@@ -398,6 +398,73 @@ TEST(WedgeHullTest, ContainsEveryShadowRayAndEveryCoveredPoint) {
                 rayPoints, coveredPoints, worstTriangle);
 }
 
+// (1b) wedgeHullNarrowed (wedges-bitmask silhouettes=potential): every point of a shadow ray
+// through the edge from which the edge is a silhouette (its two triangles' third vertices on one
+// side of the plane through the point and the edge, in double) is inside the narrowed hull, and
+// on the sampled edges the narrowing leaves out most of the rest. Third vertices at random, and
+// nearly coplanar with the edge (a flat, finely tessellated surface: the thin case).
+TEST(WedgeHullTest, NarrowedHullHoldsEverySilhouetteReceiver) {
+    Rng rng(0xface);
+    const std::array<double, 6> ts = {1e-3, 0.1, 1.0, 10.0, 1e3, 1e5};
+    long inside = 0, silhouettePoints = 0, otherPoints = 0, otherInside = 0;
+    int degenerate = 0, tried = 0;
+    for (int n = 0; n < 4400; ++n) {
+        const auto kind = static_cast<EdgeKind>(n % kKinds);
+        const Case k = randomCase(rng, kind);
+        const dvec3 e0(k.e0), e1(k.e1);
+        const double len = glm::length(e1 - e0);
+        const dvec3 r0 = rng.direction();
+        const dvec3 r1 = rng.direction();
+        const bool flat = n % 2 == 1;
+        // Flat: both third vertices near one plane through the edge, on either side of it.
+        const dvec3 across = glm::normalize(glm::cross(e1 - e0, r0));
+        const dvec3 inPlane = glm::normalize(glm::cross(across, e1 - e0));
+        const double tilt0 = rng.uniform(-0.05, 0.05);
+        const double tilt1 = rng.uniform(-0.05, 0.05);
+        const dvec3 w0 = flat ? e0 + len * (inPlane + tilt0 * across) : e0 + len * r0;
+        const dvec3 w1 = flat ? e0 + len * (-inPlane + tilt1 * across) : e0 + len * r1;
+        const WedgeHull whole = hullOf(k);
+        if (whole.kind != geometry::kWedgeHullBounded) continue;
+        const WedgeHull h = geometry::wedgeHullNarrowed(k.e0, k.e1, k.light.center, k.light.u,
+                                                        k.light.v, true, vec3(w0), vec3(w1));
+        ++tried;
+        degenerate += h.kind == geometry::kWedgeHullDegenerate;
+        const Frame f = frameOf(k.light);
+        for (int li = 0; li < 13; ++li) {
+            const auto [s, t] = lightSample(rng, li);
+            const dvec3 y = lightPoint(f, s, t, 0.0);
+            for (int ai = 0; ai < 3; ++ai) {
+                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
+                const dvec3 a = e0 + lambda * (e1 - e0);
+                for (double tt : ts) {
+                    const dvec3 p = a + tt * (a - y);
+                    // orient(p, e0, e1, w) as dot(e0 - p, (e1 - e0) x (w - e0)): the cross product
+                    // of the short vectors, stable for far points.
+                    const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
+                    const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
+                    const bool in = h.kind == geometry::kWedgeHullBounded &&
+                                    geometry::wedgeHullContains(h.planes, vec3(p));
+                    if (o0 * o1 >= 0.0) {
+                        ++silhouettePoints;
+                        inside += in;
+                        ASSERT_TRUE(in) << "t " << tt << " lambda " << lambda << " flat " << flat
+                                        << "\n" << describe(k);
+                    } else {
+                        ++otherPoints;
+                        otherInside += in;
+                    }
+                }
+            }
+        }
+    }
+    std::printf("[ hull     ] narrowed: %d hulls, %d with no silhouette receiver; %ld silhouette "
+                "points inside, %ld of %ld others kept (%.0f%%)\n",
+                tried, degenerate, inside, otherInside, otherPoints,
+                100.0 * double(otherInside) / double(std::max(otherPoints, 1L)));
+    EXPECT_GT(silhouettePoints, 10000);
+    EXPECT_LT(otherInside, otherPoints / 2);
+}
+
 // (2) The 24 vertices: each triangle's vertices lie on its face's stored plane (directions
 // parallel to it), and each triangle is wound outward: an interior point is on the inner side of
 // every triangle, and the far triangles have det[g_a, g_b, g_c] > 0.

@@ -18,6 +18,7 @@ using shader::WedgeHull;
 using shader::wedgeHull;
 using shader::wedgeHullClipVertex;
 using shader::wedgeHullContains;
+using shader::wedgeHullNarrowed;
 using shader::wedgeHullVertex;
 
 // The face (index into planes; 4 = the plane at infinity) of each of the 8 triangles.
