@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # README command 1: install what is missing, build, render the demo scene with the GPU reference,
-# hard shadow volumes and the wedge methods, and print each one's frame time (and its ratio to
+# hard shadow volumes, the wedge methods (wedges-bitmask: the recommended one) and auto (the
+# default), and print each one's frame time (and its ratio to
 # the hard frame of the same run) and its error against the reference.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -8,7 +9,7 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 render=build/bin/penumbra-render
 scene=data/demo.json
-methods=(hard wedges-additive wedges-multiply wedges-blend)
+methods=(hard wedges-additive wedges-multiply wedges-blend wedges-bitmask auto)
 echo "== reference: 256 stratified hard-shadow passes =="
 "$render" --scene "$scene" --method reference --samples 256 --size 512x512 --out out/demo-reference
 for m in "${methods[@]}"; do
