@@ -7,9 +7,7 @@
 // hidden samples, S_s the mean of D over the samples; A where no sample is hidden; every sample
 // hidden behind counts that differ: 1 (the ratio would only sample the layers' mix). Exact
 // wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
-// (estimate=samples): occluded = S_u. uEstimate 2 (estimate=edges): occluded = S_u plus, per
-// edge, sign(m_P(e)) (area of R - share of samples in R): the samples' error corrected edge by
-// edge, exact where every edge with m != 0 bounds the hidden part (one layer, any N).
+// (estimate=samples): occluded = S_u.
 // The two checksum layers after the counts (wedge-bitmask.frag) tell a count that did not fit
 // its 4 bits: such a pixel is counted (MASK_STAT_OVERFLOW) and takes A alone, clamped.
 #include "lib/Bindings.h"
@@ -64,16 +62,13 @@ void main() {
     }
     bool overflow = added != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8)).r ||
                     weighted != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1)).r;
-    vec2 sums = texelFetch(tArea, px, 0).rg;
-    float area = float(centre) + sums.x;
+    float area = float(centre) + texelFetch(tArea, px, 0).r;
     float occluded;
     if (overflow) {
         occluded = area;
         atomicAdd(maskStats[MASK_STAT_OVERFLOW], 1u);
     } else if (uEstimate == 1u) {
         occluded = float(hidden) / float(BITMASK_SAMPLES);
-    } else if (uEstimate == 2u) {
-        occluded = float(hidden) / float(BITMASK_SAMPLES) + sums.y;
     } else {
         // The ratio where it is exact or helps: one count over the hidden samples (A / D), or
         // several with some sample lit (a penumbra where layers overlap). With every sample

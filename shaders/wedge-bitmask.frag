@@ -40,10 +40,9 @@ flat in uint vBounded;
 #ifdef BITMASK_POTENTIAL
 flat in vec4 vTri0[3];
 flat in vec4 vTri1[3];
-// Summed over the wedges by additive blending: x, the edge's share of A = (1/|L|) integral of D
-// over the light, m_P(e) times the area of R (edgeCoverage's); y, the edge's share of the
-// control variate of estimate=edges, sign(m_P(e)) times (area of R - share of samples in R).
-layout(location = 0) out vec2 oArea;
+// The edge's share of A = (1/|L|) integral of D over the light, m_P(e) times the area of R
+// (edgeCoverage's), summed over the wedges by additive blending.
+layout(location = 0) out float oArea;
 #endif
 #if defined(BITMASK_COUNTS) || defined(BITMASK_POTENTIAL)
 // combine=counts: per sample a 4-bit count biased by 8, eight to a layer; the edge adds its sign
@@ -159,11 +158,7 @@ void main() {
     for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
 #endif
 #ifdef BITMASK_POTENTIAL
-    float coverage = abs(edgeCoverage(p, vE0.xyz, vE1.xyz, light));
-    int inRegion = 0;
-    for (int w = 0; w < BITMASK_WORDS; ++w) inRegion += bitCount(words[w]);
-    oArea = vec2(float(m) * coverage,
-                 (m > 0 ? 1.0 : -1.0) * (coverage - float(inRegion) / float(BITMASK_SAMPLES)));
+    oArea = float(m) * abs(edgeCoverage(p, vE0.xyz, vE1.xyz, light));
     if (any != 0u) {
         // Checksums of the adds (wedges-bitmask.md): the sum over samples of the added counts,
         // and the same weighted by 1 + the count's place in its 32-bit word, which the resolve

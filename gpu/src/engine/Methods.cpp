@@ -32,7 +32,7 @@ constexpr std::string_view kBitmaskSamples[] = {"32", "64", "128", "256"};
 constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
 constexpr std::string_view kBitmaskCombine[] = {"parity", "counts"};
 constexpr std::string_view kBitmaskSilhouettes[] = {"potential", "centre"};
-constexpr std::string_view kBitmaskEstimate[] = {"ratio", "edges", "samples"};
+constexpr std::string_view kBitmaskEstimate[] = {"ratio", "samples"};
 constexpr MethodParameter kBitmaskParameters[] = {
     {"samples", kBitmaskSamples, "64",
      "light samples per pixel and silhouette group, one bit each (the reference's stratified "
@@ -241,8 +241,6 @@ BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
                      .potential = parameterValue(r, "silhouettes") == "potential",
                      .estimate = parameterValue(r, "estimate") == "samples"
                                      ? BitmaskOptions::Estimate::Samples
-                                 : parameterValue(r, "estimate") == "edges"
-                                     ? BitmaskOptions::Estimate::Edges
                                      : BitmaskOptions::Estimate::Ratio};
     if (o.potential && !o.counts)
         throw geometry::InputError("wedges-bitmask: combine=parity needs silhouettes=centre "

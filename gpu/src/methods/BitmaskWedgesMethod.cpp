@@ -113,7 +113,7 @@ public:
                                .layers = countLayers(), .format = GL_R32UI,
                                .label = "bitmask-counts"});
         if (mLayout.potential) {
-            mArea = Texture({.width = width, .height = height, .format = GL_RG32F,
+            mArea = Texture({.width = width, .height = height, .format = GL_R32F,
                              .label = "bitmask-area"});
             mAreaFbo = Framebuffer({.attachments = {{GL_COLOR_ATTACHMENT0, &mArea}},
                                     .label = "bitmask-area"});
@@ -127,7 +127,7 @@ public:
     std::size_t targetBytesPerPixel() const override {
         return 2 * std::size_t(mLayout.targets()) * mLayout.bytesPerTarget() +
                (mLayout.counts ? 4 * std::size_t(countLayers()) : 0) + // 4 bits a sample
-               (mLayout.potential ? 8 : 0);                             // the two sums
+               (mLayout.potential ? 4 : 0);                             // A
     }
 
     void execute(const FrameContext& ctx) override {
@@ -219,8 +219,8 @@ private:
             mResolveVisibility = t.visibility.id();
         }
         applyState(PipelineState{}); // colour writes on, no scissor: whole-frame clears
-        const std::array<float, 4> zero{0.0f, 0.0f, 0.0f, 0.0f};
-        glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, zero.data());
+        const float zero = 0.0f;
+        glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, &zero);
         const GLuint bias = 0x88888888u, none = 0u;
         const int layers = mLayout.samples / 8;
         glClearTexSubImage(mCounts.id(), 0, 0, 0, 0, t.width, t.height, layers, GL_RED_INTEGER,
