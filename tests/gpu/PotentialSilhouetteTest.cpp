@@ -112,8 +112,9 @@ geometry::Scene levelWithLamp(const char* level, int camera) {
 // Curved casters, a light large next to its occluder, a light grazing a plate, and a level from
 // a spawn camera with the viewer's lamp: the masks against the definition, away from float ties.
 // Not bit for bit: measured at 64², 0.3-1.5 % of the compared pixels hold wrong bits (sphere 22-53
-// of 3824, torus 22-70, spheres-nine 77-201 of 3368, large-light 27-51 of 2779, light-grazing
-// 15-20 of 461, kaos2 44 of 3742 wholly wrong: there the two disagree on the centre's count),
+// of 3824 at N = 32-256; at N = 64 torus 42, spheres-nine 109 of 3368, large-light 31 of 2779,
+// light-grazing 16 of 461, kaos2 44 of 3742 wholly wrong: there the two disagree on the centre's
+// count),
 // 0.03-0.9 % of the bits; where the GPU is compared with the reference of its own samples (N
 // hard passes, the same offsets) it agrees to 0.00001 mean (PotentialSilhouettes
 // .MatchesTheReferenceOfItsSamples). These bounds document the measured disagreement with the
@@ -135,8 +136,9 @@ TEST_F(PotentialSilhouettes, MasksEqualTheDefinitionBitForBit) {
     for (const Case& k : cases) {
         gpu::ShaderLoader shaders(gpu::defaultShaderDir());
         gpu::Renderer renderer(k.scene, shaders);
+        // Every N on the sphere, N = 64 elsewhere (the model is the test's cost).
         for (const int n : {32, 64, 256}) {
-            if (n != 64 && k.name.find("kaos2") != std::string::npos) continue;
+            if (n != 64 && k.name != "sphere.json") continue;
             SCOPED_TRACE(k.name + " N=" + std::to_string(n));
             gpu::RenderSettings s;
             s.method = "wedges-bitmask";

@@ -182,6 +182,12 @@ CountModel potentialCountModel(const glm::dvec3& p,
     if (ap == 0.0) return m;
     std::vector<glm::dvec3> q, lines;
     for (const auto& t : triangles) {
+        // Wholly at or beyond p's level, or at or beyond the light's plane: nothing in between
+        // (the common case; decided before clipping).
+        const double z0 = glm::dot(f.n, t[0] - f.c) / ap, z1 = glm::dot(f.n, t[1] - f.c) / ap,
+                     z2 = glm::dot(f.n, t[2] - f.c) / ap;
+        if ((z0 <= 0.0 && z1 <= 0.0 && z2 <= 0.0) || (z0 >= 1.0 && z1 >= 1.0 && z2 >= 1.0))
+            continue;
         const std::vector<glm::dvec3> poly = clipToSlab(t, f.n, f.c, ap);
         if (poly.empty()) continue;
         // Homogeneous light coordinates (s w, t w, w) of each vertex's projection from p, w = 1 - z
