@@ -109,17 +109,23 @@ void main() {
     for (int i = 0; i < 4; ++i) vPlanes[i] = wedge.planes[i];
     vBounded = wedge.kind == WEDGE_BOUNDED ? 1u : 0u;
 #ifdef WEDGE_APEXES
-    GpuEdge edge = edges[w];
-    uvec2 apex = edgeApexes[w];
+    GpuEdge edge = edges[wedge.edge]; // a twin slot's edge is another slot's
+    uvec2 apex = edgeApexes[wedge.edge];
     triangleCorners(edge.v0, edge.v1, apex.x, vTri0);
     triangleCorners(edge.v0, edge.v1, apex.y, vTri1);
 #endif
     bool entry = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside == 0u;
     bool exit = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside != 0u;
     if ((uPass == WEDGE_PASS_ENTRY && entry) || (uPass == WEDGE_PASS_EXIT && exit)) {
-        vec4 world = corner == 0   ? vec4(wedge.e0.xyz, 1.0)
-                     : corner == 1 ? vec4(wedge.e1.xyz, 1.0)
-                                   : vec4(wedge.rays[corner - 2].xyz, 0.0);
+        // A silhouette cone cut to its box (WedgeHull::cone, reach > 0): both end-point corners
+        // at its apex, the others the points apex + reach g (wedgeHullVertex's).
+        float reach = wedge.rays[3].w;
+        vec3 apex = vec3(wedge.rays[0].w, wedge.rays[1].w, wedge.rays[2].w);
+        vec4 world = reach > 0.0 ? (corner >= 2 ? vec4(apex + reach * wedge.rays[corner - 2].xyz, 1.0)
+                                                : vec4(apex, 1.0))
+                     : corner >= 2 ? vec4(wedge.rays[corner - 2].xyz, 0.0)
+                     : corner == 0 ? vec4(wedge.e0.xyz, 1.0)
+                                   : vec4(wedge.e1.xyz, 1.0);
         gl_Position = frame.viewProj * world;
     } else if (uPass == WEDGE_PASS_EXIT && wedge.kind == WEDGE_FULLSCREEN) {
         GpuGroup g = groups[wedge.group];

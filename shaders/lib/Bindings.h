@@ -53,9 +53,11 @@
 #define WEDGE_DEGENERATE 2u // zero-length edge: changes nothing, draws nothing
 #define WEDGE_CULLED 3u     // its group's influence misses the view frustum: draws nothing
 // Counters in the wedge-stats buffer: one per kind, then pixels clamped by the resolve, then
-// bounded wedges around the camera.
+// bounded wedges around the camera, then edges whose Fullscreen hull two silhouette cones
+// replace (wedges-bitmask silhouettes=potential: wedgeHullSilhouetteCone).
 #define WEDGE_STAT_CLAMPED 4
 #define WEDGE_STAT_EYE_INSIDE 5
+#define WEDGE_STAT_CONES 6
 #define WEDGE_STAT_COUNT 8
 
 #define CAP_FLIPPED 0x80000000u // light-oriented winding is (a, c, b) (geometry kTriangleFlipped)
@@ -151,11 +153,12 @@ struct GpuWedge {
     vec4 e1;        // xyz: edge end
     vec4 planes[4]; // hull planes: front, back, side at e0, side at e1; P is inside when
                     // dot(planes[i].xyz, P) + planes[i].w <= 0 for all four
-    vec4 rays[4];   // xyz: the hull's directions at infinity g1..g4
+    vec4 rays[4];   // xyz: the hull's directions at infinity g1..g4; a silhouette cone
+                    // (WedgeHull::cone): w of rays[0..2] its apex, rays[3].w = 1
     uint kind;      // WEDGE_*
     uint group;
     uint eyeInside; // 1: the camera may be inside the hull (drawn by its exit faces)
-    uint pad;
+    uint edge;      // the edge's index in the edges array (a twin slot's is another's)
 };
 
 #ifdef __cplusplus

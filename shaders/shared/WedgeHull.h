@@ -77,6 +77,10 @@ struct WedgeHull {
     vec3 g[4];      // g1..g4: unit directions of the cone's edges (Bounded only)
     vec4 planes[4]; // front, back, side at e0, side at e1: xyz unit outward normal,
                     // w = -dot(n, point); inside when dot(n, p) + w <= 0
+    int cone;       // 1: a silhouette cone (wedgeHullSilhouetteCone): vertices 0 and 1 both at apex
+    vec3 apex;
+    float reach;    // a cone truncated to a box (wedgeHullTruncateCone): vertices 2..5 are the
+                    // points apex + reach g; 0: directions at infinity
 };
 
 // Rounding of the ray coordinates computed below (unit roundoff 2^-24 = 6e-8), with slack:
@@ -213,12 +217,8 @@ SHARED_FN bool wedgeHullSilhouetteSpan(vec2 fw, float span, vec2 q0, vec2 q1, fl
 SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, bool narrow,
                                       vec3 w0, vec3 w1);
 
-SHARED_FN WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
-    return wedgeHullNarrowed(e0, e1, c, u, v, false, vec3(0.0f), vec3(0.0f));
-}
-
-SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, bool narrow,
-                                      vec3 w0, vec3 w1) {
+// Degenerate, every field set.
+SHARED_FN WedgeHull wedgeHullEmpty(vec3 e0, vec3 e1) {
     WedgeHull hull;
     hull.kind = kWedgeHullDegenerate;
     hull.e0 = e0;
@@ -227,6 +227,19 @@ SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, 
         hull.g[i] = vec3(0.0f);
         hull.planes[i] = vec4(0.0f);
     }
+    hull.cone = 0;
+    hull.apex = vec3(0.0f);
+    hull.reach = 0.0f;
+    return hull;
+}
+
+SHARED_FN WedgeHull wedgeHull(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v) {
+    return wedgeHullNarrowed(e0, e1, c, u, v, false, vec3(0.0f), vec3(0.0f));
+}
+
+SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, bool narrow,
+                                      vec3 w0, vec3 w1) {
+    WedgeHull hull = wedgeHullEmpty(e0, e1);
     vec3 d = e1 - e0;
     float len = length(d);
     if (!(len > 0.0f) || isinf(len)) return hull; // zero length, or not finite
@@ -368,11 +381,140 @@ SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, 
     return hull;
 }
 
+// Where wedgeHull is Fullscreen (typically an edge whose line passes through the light: the
+// rays from the light through it surround it), the receivers that can see an edge of two
+// triangles as a silhouette still lie in two thin opposite sectors about its line: directions d
+// (across the edge) with both third vertices' components q0, q1 on one side of span(a, d),
+// cross(d, q0) cross(d, q1) >= 0. With alpha the angle from q0 to q1, they are the sector from
+// -qa to qb (counter-clockwise, pi - |alpha| wide) and its opposite, (qa, qb) = (q1, q0) when
+// alpha >= 0, else (q0, q1); `which` (0 or 1) picks one, widened by the narrowed hull's margin on
+// each side. Every receiver is a point e + lambda (e - y) of the edge e and a light point y, so
+// it lies farther from the light's plane than the end point nearer to it: the cap, that plane
+// moved through this end point. Sector and cap make a cone with its apex on the edge's line
+// (just past the nearer end point, towards the light) and three edges at infinity: along the
+// edge away from the light, and the sector's two boundary directions turned into the cap's
+// plane. It takes the hull's topology with vertices 0 and 1 both at the apex (their triangles
+// of the front and back quads and the far side's are then empty): the cap is the side plane at
+// the nearer end point, the other side plane is dropped (0, 0, 0, -1). Fullscreen where this
+// cannot be done: an end point within rounding of the light's plane (or beyond it), an edge
+// within 0.57 degrees of parallel to it, a sector (widened) of 178 degrees or more, or third
+// vertices too close to the edge to give a direction.
+SHARED_FN WedgeHull wedgeHullSilhouetteCone(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, vec3 w0,
+                                            vec3 w1, int which) {
+    WedgeHull hull = wedgeHullEmpty(e0, e1);
+    vec3 d = e1 - e0;
+    float len = length(d);
+    if (!(len > 0.0f) || isinf(len)) return hull;
+    hull.kind = kWedgeHullFullscreen;
+    vec3 a = d / len;
+    vec3 x =
+        normalize(cross(abs(a.x) < 0.5f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f), a));
+    vec3 y = cross(a, x);
+    vec3 n = cross(u, v);
+    float nLen = length(n);
+    if (!(nLen > 0.0f)) return hull;
+    n = n / nLen;
+    float s0 = dot(n, c - e0);
+    if (s0 < 0.0f) n = -n;
+    s0 = dot(n, c - e0);
+    float s1 = dot(n, c - e1);
+    float push = kWedgeHullRound * (length(e0) + length(e1));
+    float tol = kWedgeHullRound * (length(c) + length(u) + length(v)) + 2.0f * push;
+    if (!(s0 > tol && s1 > tol)) return hull;
+    float na = dot(n, a); // > 0: e1 is the end point nearer the light's plane
+    if (!(abs(na) > 1.0e-2f)) return hull;
+
+    vec3 r0 = w0 - e0;
+    vec3 r1 = w1 - e0;
+    vec2 q0 = vec2(dot(r0, x), dot(r0, y));
+    vec2 q1 = vec2(dot(r1, x), dot(r1, y));
+    float shortest = min(length(q0), length(q1));
+    if (!(shortest > 0.0f)) return hull;
+    float margin = kWedgeHullSilhouetteMargin +
+                   4.0f * kWedgeHullRound * (length(e0) + length(w0) + length(w1)) / shortest;
+    if (!(margin < kWedgeHullSilhouetteMarginMax)) return hull;
+    vec2 u0 = q0 / length(q0);
+    vec2 u1 = q1 / length(q1);
+    bool ccw = wedgeHullCross2(u0, u1) >= 0.0f;
+    vec2 qa = ccw ? u1 : u0;
+    vec2 qb = ccw ? u0 : u1;
+    vec2 start = which == 0 ? -qa : qa;
+    vec2 end = which == 0 ? qb : -qb;
+    float cm = cos(margin);
+    float sm = sin(margin);
+    vec2 fw = vec2(cm * start.x + sm * start.y, cm * start.y - sm * start.x); // turned by -margin
+    vec2 bw = vec2(cm * end.x - sm * end.y, cm * end.y + sm * end.x);         // by +margin
+    vec2 sum = fw + bw;
+    if (!(wedgeHullCross2(fw, bw) > 0.0f && 0.5f * length(sum) >= kWedgeHullMinHalfCos))
+        return hull;
+
+    vec3 F = fw.x * x + fw.y * y;
+    vec3 B = bw.x * x + bw.y * y;
+    // The sector's boundaries turned along the edge into the cap's plane (dot(n, .) = 0).
+    vec3 Fh = normalize(F - (dot(n, F) / na) * a);
+    vec3 Bh = normalize(B - (dot(n, B) / na) * a);
+    // The apex: the nearer end point moved towards the light along the edge's line, so that the
+    // cap's plane clears the end point by 4 pushes; the cap pushed once more.
+    bool nearE1 = na > 0.0f;
+    vec3 apex = (nearE1 ? e1 : e0) + ((nearE1 ? 4.0f : -4.0f) * push / abs(na)) * a;
+    vec4 cap = vec4(n, -dot(n, apex) - push);
+    vec4 none = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    vec3 away = nearE1 ? -a : a; // along the edge, away from the light
+    hull.g[0] = nearE1 ? away : Fh;
+    hull.g[1] = nearE1 ? Fh : away;
+    hull.g[2] = nearE1 ? away : Bh;
+    hull.g[3] = nearE1 ? Bh : away;
+    vec3 nFront = fw.y * x - fw.x * y;
+    vec3 nBack = bw.x * y - bw.y * x;
+    hull.planes[0] = vec4(nFront, -dot(nFront, e0) - push);
+    hull.planes[1] = vec4(nBack, -dot(nBack, e0) - push);
+    hull.planes[2] = nearE1 ? none : cap;
+    hull.planes[3] = nearE1 ? cap : none;
+    hull.cone = 1;
+    hull.apex = apex;
+    hull.kind = kWedgeHullBounded;
+    return hull;
+}
+
+// A silhouette cone cut to the box [lo, hi] (the receivers it can reach: its caster's influence
+// bounds): the cone is apex + sum c_i g_i over its three distinct directions (c_i >= 0), and
+// l(p) = sum c_i, linear, is largest over the box's part in the cone at one of the box's corners;
+// with reach just above that largest l, the far face through apex + reach g_i leaves every such
+// point inside, and the cone becomes a tetrahedron (finite, so that it covers only the screen
+// its receivers may). Degenerate when the box lies wholly outside the cone (l < 0 at every
+// corner); unchanged (directions at infinity) where the directions are too close to dependent.
+SHARED_FN WedgeHull wedgeHullTruncateCone(WedgeHull hull, vec3 lo, vec3 hi) {
+    if (hull.kind != kWedgeHullBounded || hull.cone == 0) return hull;
+    // The three distinct directions: slots 0 and 2 (or 1 and 3) hold the same one.
+    bool nearE1 = hull.g[0] == hull.g[2];
+    vec3 ga = nearE1 ? hull.g[0] : hull.g[1];
+    vec3 gb = nearE1 ? hull.g[1] : hull.g[0];
+    vec3 gc = nearE1 ? hull.g[3] : hull.g[2];
+    float det = dot(ga, cross(gb, gc));
+    if (!(abs(det) > 1.0e-4f)) return hull;
+    vec3 l = (cross(gb, gc) + cross(gc, ga) + cross(ga, gb)) / det;
+    float most = -3.0e38f;
+    for (int k = 0; k < 8; ++k) {
+        vec3 corner = vec3((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y,
+                           (k & 4) != 0 ? hi.z : lo.z);
+        most = max(most, dot(l, corner - hull.apex));
+    }
+    if (!(most > 0.0f)) {
+        hull.kind = kWedgeHullDegenerate;
+        return hull;
+    }
+    hull.reach = most * 1.001f + 1.0e-4f * length(hi - lo);
+    return hull;
+}
+
 // Vertex `index` (0..23) as a homogeneous point (w = 1) or direction (w = 0); vec4(0) for every
 // index unless the hull is Bounded.
 SHARED_FN vec4 wedgeHullVertex(WedgeHull hull, int index) {
     if (hull.kind != kWedgeHullBounded) return vec4(0.0f);
     int slot = kWedgeHullIndex[index];
+    if (slot <= 1 && hull.cone != 0) return vec4(hull.apex, 1.0f);
+    if (slot >= 2 && hull.cone != 0 && hull.reach > 0.0f)
+        return vec4(hull.apex + hull.reach * hull.g[slot - 2], 1.0f);
     if (slot == 0) return vec4(hull.e0, 1.0f);
     if (slot == 1) return vec4(hull.e1, 1.0f);
     return vec4(hull.g[slot - 2], 0.0f);

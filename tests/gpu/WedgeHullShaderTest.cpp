@@ -250,10 +250,8 @@ TEST_F(WedgeHullShaderTest, ComputeMatchesTheCppBuild) {
         }
 
         // The GLSL vertex table is the C++ one: the GPU's 24 vertices rebuilt from its own hull.
-        geometry::WedgeHull fromGpu;
+        geometry::WedgeHull fromGpu = geometry::wedgeHullEmpty(vec3(x.e0), vec3(x.e1));
         fromGpu.kind = kind;
-        fromGpu.e0 = vec3(x.e0);
-        fromGpu.e1 = vec3(x.e1);
         for (int k = 0; k < 4; ++k) {
             fromGpu.g[k] = vec3(g[1 + k]);
             fromGpu.planes[k] = g[5 + k];
@@ -428,6 +426,118 @@ TEST_F(WedgeHullShaderTest, NarrowedComputeMatchesTheCppBuild) {
     EXPECT_GT(narrowed, kItems / 10);
     EXPECT_EQ(kindMismatch, 0);
     EXPECT_EQ(planeMismatch, 0);
+}
+
+// wedgeHullSilhouetteCone and wedgeHullTruncateCone (the two cones that replace a Fullscreen
+// potential edge's hull) on the driver against the C++ build: edges whose line passes through the
+// light, both halves, cut to a box around the edge.
+const char* kConeComp = R"(#include "shared/WedgeHull.h"
+layout(local_size_x = 64) in;
+struct ConeInput {
+    vec4 e0;
+    vec4 e1;
+    vec4 c;
+    vec4 u;
+    vec4 v;
+    vec4 w0;
+    vec4 w1;
+    vec4 lo;
+    vec4 hi;
+};
+layout(std430, binding = 0) readonly buffer Inputs { ConeInput inputs[]; };
+layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
+uniform uint count;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    ConeInput x = inputs[i];
+    for (int which = 0; which < 2; ++which) {
+        WedgeHull hull = wedgeHullTruncateCone(
+            wedgeHullSilhouetteCone(x.e0.xyz, x.e1.xyz, x.c.xyz, x.u.xyz, x.v.xyz, x.w0.xyz,
+                                    x.w1.xyz, which),
+            x.lo.xyz, x.hi.xyz);
+        uint base = 6u * (2u * i + uint(which));
+        outputs[base] = vec4(float(hull.kind), hull.reach, float(hull.cone), 0.0);
+        outputs[base + 1u] = vec4(hull.apex, 0.0);
+        for (int k = 0; k < 4; ++k) outputs[base + 2u + uint(k)] = hull.planes[k];
+    }
+}
+)";
+
+TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
+    ScratchDir dir;
+    gpu::ShaderLoader loader(gpu::defaultShaderDir());
+    gpu::Program program =
+        loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("cone.comp", kConeComp)}},
+                     .label = "wedge-hull-cone-check"});
+    ASSERT_TRUE(program);
+    Rng rng(4242);
+    constexpr int kItems = 4000;
+    struct ConeInput {
+        vec4 e0, e1, c, u, v, w0, w1, lo, hi;
+    };
+    std::vector<ConeInput> inputs;
+    for (int n = 0; n < kItems; ++n) {
+        const dvec3 c(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5));
+        const dvec3 a = rng.direction();
+        const dvec3 b = glm::normalize(glm::cross(a, rng.direction()));
+        const dvec3 u = a * rng.uniform(0.05, 2.0), v = b * rng.uniform(0.05, 2.0);
+        const double size = glm::length(u) + glm::length(v);
+        const dvec3 y = c + rng.uniform(-0.9, 0.9) * u + rng.uniform(-0.9, 0.9) * v;
+        dvec3 d = rng.direction();
+        const dvec3 nrm = glm::normalize(glm::cross(u, v));
+        if (std::abs(glm::dot(d, nrm)) < 0.05) d = glm::normalize(d + 0.2 * nrm);
+        const double d0 = rng.uniform(0.05, 3) * size, d1 = d0 + rng.uniform(0.01, 2) * size;
+        dvec3 e0 = y + d0 * d, e1 = y + d1 * d;
+        if (n % 2 == 0) std::swap(e0, e1);
+        const double len = glm::length(e1 - e0);
+        const dvec3 w0 = e0 + len * rng.direction(), w1 = e0 + len * rng.direction();
+        const dvec3 lo = glm::min(e0, e1) - 5.0 * size, hi = glm::max(e0, e1) + 5.0 * size;
+        inputs.push_back({vec4(vec3(e0), 1), vec4(vec3(e1), 1), vec4(vec3(c), 1),
+                          vec4(vec3(u), 0), vec4(vec3(v), 0), vec4(vec3(w0), 1),
+                          vec4(vec3(w1), 1), vec4(vec3(lo), 1), vec4(vec3(hi), 1)});
+    }
+    gpu::Buffer in({.size = inputs.size() * sizeof(ConeInput), .data = inputs.data(),
+                    .label = "hull-cone-in"});
+    gpu::Buffer out({.size = inputs.size() * 12 * sizeof(vec4), .label = "hull-cone-out"});
+    glUseProgram(program.id());
+    glProgramUniform1ui(program.id(), program.uniformLocation("count"), kItems);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glDispatchCompute((kItems + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<vec4> gpu(static_cast<std::size_t>(kItems) * 12);
+    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(vec4)),
+                            gpu.data());
+    glUseProgram(0);
+    int cones = 0, kindMismatch = 0, differs = 0;
+    for (int n = 0; n < kItems; ++n) {
+        const ConeInput& x = inputs[n];
+        for (int which = 0; which < 2; ++which) {
+            const geometry::WedgeHull cpu = geometry::wedgeHullTruncateCone(
+                geometry::wedgeHullSilhouetteCone(vec3(x.e0), vec3(x.e1), vec3(x.c), vec3(x.u),
+                                                  vec3(x.v), vec3(x.w0), vec3(x.w1), which),
+                vec3(x.lo), vec3(x.hi));
+            const vec4* g = gpu.data() + 6 * (2 * n + which);
+            const int kind = static_cast<int>(g[0].x);
+            kindMismatch += kind != cpu.kind;
+            if (kind != cpu.kind || cpu.kind != geometry::kWedgeHullBounded) continue;
+            ++cones;
+            const float scale = glm::length(vec3(x.e0)) + glm::length(vec3(x.e1)) + 1.0f;
+            bool d = std::abs(g[0].y - cpu.reach) > 1e-4f * (cpu.reach + scale) ||
+                     glm::length(vec3(g[1]) - cpu.apex) > 1e-5f * scale;
+            for (int k = 0; k < 4; ++k)
+                d = d || glm::length(vec3(g[2 + k]) - vec3(cpu.planes[k])) > 1e-4f ||
+                    std::abs(g[2 + k].w - cpu.planes[k].w) > 1e-4f * scale;
+            differs += d;
+        }
+    }
+    std::printf("  %d items: %d cones; %d kinds and %d cones (planes, apex, reach) differ from "
+                "the C++ build\n",
+                kItems, cones, kindMismatch, differs);
+    EXPECT_GT(cones, kItems);
+    EXPECT_EQ(kindMismatch, 0);
+    EXPECT_EQ(differs, 0);
 }
 
 TEST_F(WedgeHullShaderTest, BackFacesCoverEachViewRayThroughTheHullOnce) {

@@ -116,6 +116,11 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
         mWedges.add(0, 0, firstPot, pot - firstPot);
         if (pot > firstPot) mWedgeRuns.push_back(CasterRange{.firstEdge = firstPot, .edgeCount = pot - firstPot});
     }
+    // The twin slots (a second silhouette cone: wedge-setup.comp), twinOffset() past each edge.
+    const std::size_t runs = mWedges.edgeFirst.size();
+    for (std::size_t r = 0; r < runs; ++r)
+        mWedges.add(0, 0, static_cast<std::uint32_t>(mWedges.edgeFirst[r]) + mWedgeTotal,
+                    static_cast<std::uint32_t>(mWedges.edgeCount[r]));
     if (mData.size() >= mBytes && mData.id() != 0) glInvalidateBufferData(mData.id());
     mData.uploadResize(mStaging.data(), mBytes);
 }

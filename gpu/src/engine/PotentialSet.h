@@ -31,10 +31,14 @@ public:
     void bind(const CasterSet& casters) const;
 
     const DrawSet& volumes() const { return mVolumes; } // caps and side copies
-    const DrawSet& wedges() const { return mWedges; }   // potential edges
+    const DrawSet& wedges() const { return mWedges; }   // potential edges and their twins
     std::span<const CasterRange> wedgeRuns() const { return mWedgeRuns; } // for WedgePass::setup
     std::uint32_t edgeCount() const { return mEdgeTotal; } // entries of the edges array
     std::uint32_t wedgeCount() const { return mWedgeTotal; }
+    // Potential edge i's second wedge (a silhouette cone, WedgePass::setup) is at i + this; the
+    // wedge buffer holds wedgeSlots().
+    std::uint32_t twinOffset() const { return mWedgeTotal; }
+    std::uint32_t wedgeSlots() const { return mEdgeTotal + mWedgeTotal; }
     std::uint32_t centreEdgeCount() const { return mCentreEdges; } // side copies (two-sided)
     const geometry::PotentialEdgeStats& stats() const { return mStats; }
 

@@ -166,7 +166,15 @@ public:
     }
 
     bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
-        return view == DebugView::WedgeWireframe && drawWedgeWireframe(ctx, mWedges, debug);
+        if (view != DebugView::WedgeWireframe) return false;
+        if (!mLayout.potential) return drawWedgeWireframe(ctx, mWedges, debug);
+        // The potential set's own wedges (and silhouette cones), not the centre's edges.
+        mPotential.bind(ctx.casters);
+        debug.drawWedgeLines(mWedges, ctx.targets, mPotential.wedges());
+        debug.note = "wedges: " + std::to_string(mPotential.wedgeCount()) +
+                     " potential silhouette edges' hulls as drawn (cyan; dim where behind a "
+                     "surface; an edge seen end-on from the light as its two silhouette cones)";
+        return true;
     }
 
     LightMasks lightMasks() const override {
@@ -232,8 +240,8 @@ private:
                            GL_R32UI);
         {
             ScopedPass pass(&ctx.timers, "wedge-setup");
-            mWedges.beginFrame(mPotential.edgeCount());
-            mWedges.setup(mPotential.wedgeRuns());
+            mWedges.beginFrame(mPotential.wedgeSlots());
+            mWedges.setup(mPotential.wedgeRuns(), mPotential.twinOffset());
             clearStencil(t);
         }
         {
@@ -256,7 +264,9 @@ private:
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                             GL_BUFFER_UPDATE_BARRIER_BIT);
         }
-        addWedgeCounters(ctx, mWedges.counts(), mPotential.wedgeRuns());
+        const WedgeCounts counts = mWedges.counts();
+        addWedgeCounters(ctx, counts, mPotential.wedgeRuns());
+        ctx.addCounter("wedges_silhouette_cones", counts.cones);
         std::array<std::uint32_t, MASK_STAT_COUNT> stats{};
         glGetNamedBufferSubData(mMaskStats.id(), 0, sizeof(stats), stats.data());
         const geometry::PotentialEdgeStats& e = mPotential.stats();

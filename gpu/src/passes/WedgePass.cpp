@@ -55,8 +55,9 @@ void WedgePass::beginFrame(std::uint32_t edgeCount) {
     mQueriesUsed = 0;
 }
 
-void WedgePass::setup(std::span<const CasterRange> runs) {
+void WedgePass::setup(std::span<const CasterRange> runs, std::uint32_t twinOffset) {
     glUseProgram(mSetup.id());
+    if (mOutput == Output::BitmaskPotential) glUniform1ui(1, twinOffset);
     for (const CasterRange& range : runs) {
         if (range.edgeCount == 0) continue;
         glUniform2ui(0, range.firstEdge, range.edgeCount);
@@ -176,6 +177,7 @@ WedgeCounts WedgePass::counts() {
     c.culled = s[WEDGE_CULLED];
     c.clampedPixels = s[WEDGE_STAT_CLAMPED];
     c.eyeInside = s[WEDGE_STAT_EYE_INSIDE];
+    c.cones = s[WEDGE_STAT_CONES];
     for (std::size_t q = 0; q < mQueriesUsed; ++q) {
         GLuint64 samples = 0;
         glGetQueryObjectui64v(mQueries[q].id(), GL_QUERY_RESULT, &samples);

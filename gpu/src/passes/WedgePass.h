@@ -27,6 +27,9 @@ struct WedgeCounts {
     std::uint32_t bounded = 0, fullscreen = 0, degenerate = 0, culled = 0;
     std::uint32_t eyeInside = 0; // bounded wedges drawn by their exit faces
     std::uint32_t clampedPixels = 0;
+    // Output::BitmaskPotential: edges whose Fullscreen hull two silhouette cones replace (the
+    // first counted as Bounded, the second in the twin slot, not counted by kind).
+    std::uint32_t cones = 0;
     // GL_SAMPLES_PASSED over the wedge draws. The shader discards fragments without a surface,
     // outside the hull or with zero coverage; llvmpipe counts after the discard (then this is
     // the fragments with non-zero coverage), a driver may count at the early depth test instead.
@@ -84,10 +87,13 @@ public:
     // The wedge draw program, for a variant's own uniforms (set with glProgramUniform*).
     GLuint drawProgram() const { return mDraw.id(); }
 
-    // Once per frame before setup(): sizes the wedge buffer for `edgeCount` edges, zeroes the
+    // Once per frame before setup(): sizes the wedge buffer for `edgeCount` wedges, zeroes the
     // counters, binds both.
     void beginFrame(std::uint32_t edgeCount);
-    void setup(std::span<const CasterRange> runs);
+    // The wedges of `runs`' edges. Output::BitmaskPotential: each edge's second silhouette cone
+    // (wedge-setup.comp) goes to the slot `twinOffset` further on, which beginFrame must have
+    // sized for and the draw set must hold.
+    void setup(std::span<const CasterRange> runs, std::uint32_t twinOffset = 0);
     // Wedges of `set`'s edges into `target` (V there minus coverage; the target must hold the
     // shared depth-stencil attachment), optionally scissored. `markTouched`: every fragment that
     // passes the depth test also sets the stencil's kStencilWedgeMark bit (VolumeStates.h), for

@@ -465,6 +465,186 @@ TEST(WedgeHullTest, NarrowedHullHoldsEverySilhouetteReceiver) {
     EXPECT_LT(otherInside, otherPoints / 2);
 }
 
+// (1c) wedgeHullSilhouetteCone / wedgeHullTruncateCone: where the whole hull is Fullscreen
+// (edges whose line passes through the light, the common case among a curved caster's potential
+// silhouettes; edges towards a corner or close under the light), every point of a shadow ray
+// through the edge from which it is a silhouette (in double) is inside one of the two cones: by
+// their planes, by their rasterised triangles, and by the triangles of the cones cut to a box
+// around the sampled points (to 1e-6 of the scale, of the cut cones' reach for those: a receiver
+// on the edge's line extended lies on both cones' boundaries). The triangles are wound outward (a point inside each cone is
+// inside every non-empty triangle), and the cones leave out most of the other points.
+namespace {
+
+// Largest signed distance of p outside the triangles of h (finite vertices, or directions; empty
+// triangles skipped), relative to the configuration's scale; and whether some triangle is
+// wound inward for `inner`, a point inside.
+struct TriangleCheck {
+    double excess = -1e300;
+    bool inward = false;
+};
+TriangleCheck checkTriangles(const WedgeHull& h, const dvec3& p, const dvec3& inner) {
+    TriangleCheck c;
+    for (int t = 0; t < 8; ++t) {
+        const dvec4 a(geometry::wedgeHullVertex(h, 3 * t));
+        const dvec4 b(geometry::wedgeHullVertex(h, 3 * t + 1));
+        const dvec4 d(geometry::wedgeHullVertex(h, 3 * t + 2));
+        if (a == b || b == d || a == d) continue; // empty (two vertices alike)
+        const dvec4 pl = homogeneousPlane(a, b, d);
+        const double nl = glm::length(dvec3(pl));
+        if (!(nl > 0.0)) continue; // three directions: the far side of an uncut cone
+        c.excess = std::max(c.excess, (glm::dot(dvec3(pl), p) + pl.w) / nl);
+        c.inward = c.inward || (glm::dot(dvec3(pl), inner) + pl.w) / nl > 0.0;
+    }
+    return c;
+}
+
+// A point inside a cone: the apex moved along its three directions.
+dvec3 coneInner(const WedgeHull& h) {
+    const dvec3 sum = dvec3(h.g[0]) + dvec3(h.g[1]) + dvec3(h.g[2]) + dvec3(h.g[3]);
+    const double reach = h.reach > 0.0f ? double(h.reach) : 1.0;
+    return dvec3(h.apex) + 0.05 * reach * sum;
+}
+
+} // namespace
+
+TEST(WedgeHullTest, SilhouetteConesHoldEverySilhouetteReceiver) {
+    Rng rng(0xc0de);
+    const std::array<double, 5> ts = {1e-3, 0.1, 1.0, 10.0, 1e3};
+    long silhouettePoints = 0, otherPoints = 0, otherInside = 0, onLine = 0;
+    int cases = 0, cones = 0, leftFullscreen = 0, bounded = 0;
+    double worstPlane = -1e300, worstTriangle = -1e300, worstCut = -1e300;
+    for (int n = 0; n < 6000; ++n) {
+        Case k;
+        if (n % 3 != 0) {
+            // The edge's line through the light, both end points on one side of its plane.
+            k.light = randomLight(rng, 0.0);
+            k.kind = EdgeKind::Generic;
+            const Frame f = frameOf(k.light);
+            const double size = glm::length(f.u) + glm::length(f.v);
+            const dvec3 x = lightPoint(f, rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9), 0.0);
+            dvec3 dir = rng.direction();
+            if (std::abs(glm::dot(dir, f.n)) < 0.05) dir = glm::normalize(dir + 0.2 * f.n);
+            const double d0 = rng.uniform(0.05, 3) * size;
+            const double d1 = d0 + rng.uniform(0.01, 2) * size;
+            k.e0 = vec3(x + d0 * dir);
+            k.e1 = vec3(x + d1 * dir);
+            if (n % 2 == 0) std::swap(k.e0, k.e1);
+        } else {
+            const EdgeKind kinds[3] = {EdgeKind::TowardCorner, EdgeKind::CloseToLight,
+                                       EdgeKind::TowardLight};
+            k = randomCase(rng, kinds[(n / 3) % 3]);
+        }
+        const WedgeHull whole = hullOf(k);
+        if (whole.kind == geometry::kWedgeHullBounded) {
+            ++bounded;
+            continue;
+        }
+        if (whole.kind != geometry::kWedgeHullFullscreen) continue;
+        ++cases;
+        const dvec3 e0(k.e0), e1(k.e1);
+        const double len = glm::length(e1 - e0);
+        const dvec3 across = glm::normalize(glm::cross(e1 - e0, rng.direction()));
+        const dvec3 inPlane = glm::normalize(glm::cross(across, e1 - e0));
+        const bool flat = n % 2 == 1;
+        const dvec3 w0 = flat ? e0 + len * (inPlane + rng.uniform(-0.05, 0.05) * across)
+                              : e0 + len * rng.direction();
+        const dvec3 w1 = flat ? e0 + len * (-inPlane + rng.uniform(-0.05, 0.05) * across)
+                              : e0 + len * rng.direction();
+        WedgeHull c[2];
+        for (int which = 0; which < 2; ++which)
+            c[which] = geometry::wedgeHullSilhouetteCone(k.e0, k.e1, k.light.center, k.light.u,
+                                                         k.light.v, vec3(w0), vec3(w1), which);
+        ASSERT_EQ(c[0].kind, c[1].kind) << describe(k);
+        if (c[0].kind != geometry::kWedgeHullBounded) {
+            ++leftFullscreen;
+            continue;
+        }
+        ++cones;
+        const double scale = sceneScale(k);
+        for (const WedgeHull& h : c) {
+            const TriangleCheck t = checkTriangles(h, coneInner(h), coneInner(h));
+            ASSERT_FALSE(t.inward) << describe(k);
+        }
+        // The sampled points first, then the box around them the cones are cut to.
+        std::vector<std::pair<dvec3, bool>> points;
+        const Frame f = frameOf(k.light);
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (int li = 0; li < 13; ++li) {
+            const auto [s, t] = lightSample(rng, li);
+            const dvec3 y = lightPoint(f, s, t, 0.0);
+            for (int ai = 0; ai < 3; ++ai) {
+                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
+                const dvec3 a = e0 + lambda * (e1 - e0);
+                for (double tt : ts) {
+                    const dvec3 p = a + tt * (a - y);
+                    // On the edge's line (y on it: the edge seen end-on), within the rounding
+                    // of p: no plane through the edge and p, no region on the light.
+                    if (glm::length(glm::cross(p - e0, e1 - e0)) / len <
+                        1e-5 * (glm::length(p - e0) + sceneScale(k))) {
+                        ++onLine;
+                        continue;
+                    }
+                    const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
+                    const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
+                    points.push_back({p, o0 * o1 >= 0.0});
+                    lo = glm::min(lo, p);
+                    hi = glm::max(hi, p);
+                }
+            }
+        }
+        WedgeHull cut[2];
+        for (int which = 0; which < 2; ++which)
+            cut[which] = geometry::wedgeHullTruncateCone(c[which], vec3(lo), vec3(hi));
+        for (const WedgeHull& h : cut) {
+            if (h.kind != geometry::kWedgeHullBounded) continue;
+            const TriangleCheck t = checkTriangles(h, coneInner(h), coneInner(h));
+            ASSERT_FALSE(t.inward) << "cut\n" << describe(k);
+        }
+        for (const auto& [p, silhouette] : points) {
+            const bool in = geometry::wedgeHullContains(c[0].planes, vec3(p)) ||
+                            geometry::wedgeHullContains(c[1].planes, vec3(p));
+            if (!silhouette) {
+                ++otherPoints;
+                otherInside += in;
+                continue;
+            }
+            ++silhouettePoints;
+            double plane = -1e300;
+            for (const WedgeHull& h : c) {
+                double m = -1e300;
+                for (int i = 0; i < 4; ++i)
+                    m = std::max(m, glm::dot(dvec3(h.planes[i]), p) + double(h.planes[i].w));
+                plane = std::max(plane, -m); // how far inside the better cone
+            }
+            worstPlane = std::max(worstPlane, -plane / scale);
+            const double tri = std::min(checkTriangles(c[0], p, coneInner(c[0])).excess,
+                                        checkTriangles(c[1], p, coneInner(c[1])).excess);
+            worstTriangle = std::max(worstTriangle, tri / scale);
+            // The cut cones' vertices lie up to `reach` out: their rounding scales with it.
+            double cutExcess = 1e300, cutScale = scale;
+            for (const WedgeHull& h : cut) {
+                if (h.kind != geometry::kWedgeHullBounded) continue;
+                cutExcess = std::min(cutExcess, checkTriangles(h, p, coneInner(h)).excess);
+                cutScale = std::max(cutScale, scale + double(h.reach));
+            }
+            worstCut = std::max(worstCut, cutExcess / cutScale);
+            ASSERT_TRUE(in) << "t " << glm::length(p - e0) << " flat " << flat << "\n" << describe(k);
+            ASSERT_LE(tri, 1e-6 * scale) << describe(k);
+            ASSERT_LE(cutExcess, 1e-6 * cutScale) << describe(k);
+        }
+    }
+    std::printf("[ hull     ] silhouette cones: %d Fullscreen hulls (%d bounded skipped): %d made "
+                "cones, %d left Fullscreen; %ld silhouette points inside (worst margins: planes "
+                "%.2g, triangles %.2g, cut %.2g of the scale), %ld of %ld others kept (%.0f%%), "
+                "%ld on the edge's line skipped\n",
+                cases, bounded, cones, leftFullscreen, silhouettePoints, worstPlane, worstTriangle,
+                worstCut, otherInside, otherPoints,
+                100.0 * double(otherInside) / double(std::max(otherPoints, 1L)), onLine);
+    EXPECT_GT(cones, cases / 2);
+    EXPECT_GT(silhouettePoints, 10000);
+    EXPECT_LT(otherInside, otherPoints / 2);
+}
+
 // (2) The 24 vertices: each triangle's vertices lie on its face's stored plane (directions
 // parallel to it), and each triangle is wound outward: an interior point is on the inner side of
 // every triangle, and the far triangles have det[g_a, g_b, g_c] > 0.

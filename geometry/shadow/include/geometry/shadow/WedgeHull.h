@@ -18,7 +18,10 @@ using shader::WedgeHull;
 using shader::wedgeHull;
 using shader::wedgeHullClipVertex;
 using shader::wedgeHullContains;
+using shader::wedgeHullEmpty;
 using shader::wedgeHullNarrowed;
+using shader::wedgeHullSilhouetteCone;
+using shader::wedgeHullTruncateCone;
 using shader::wedgeHullVertex;
 
 // The face (index into planes; 4 = the plane at infinity) of each of the 8 triangles.
