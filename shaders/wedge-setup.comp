@@ -95,16 +95,20 @@ void main() {
         WedgeHull h = wedgeHullNarrowed(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz,
                                         frame.lightU.xyz, frame.lightV.xyz, two, w0, w1);
         if (h.kind == kWedgeHullFullscreen && two) {
-            // Each cut to the caster's influence box (finite: it covers the screen its
-            // receivers may, no more); one whose cone misses the box draws nothing.
+            // Each cut to where its receivers can be (the caster's influence box, the edge's
+            // wedge): finite, it covers the screen they may; one that holds none draws nothing.
             WedgeHull c0 = wedgeHullSilhouetteCone(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz,
                                                    frame.lightU.xyz, frame.lightV.xyz, w0, w1, 0);
             if (c0.kind == kWedgeHullBounded) {
                 WedgeHull c1 = wedgeHullSilhouetteCone(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz,
                                                        frame.lightU.xyz, frame.lightV.xyz, w0, w1,
                                                        1);
-                h = wedgeHullTruncateCone(c0, g.influenceMin.xyz, g.influenceMax.xyz);
-                storeHull(twin, wedgeHullTruncateCone(c1, g.influenceMin.xyz, g.influenceMax.xyz));
+                h = wedgeHullTruncateCone(c0, frame.lightCenter.xyz, frame.lightU.xyz,
+                                          frame.lightV.xyz, g.influenceMin.xyz,
+                                          g.influenceMax.xyz);
+                storeHull(twin, wedgeHullTruncateCone(c1, frame.lightCenter.xyz, frame.lightU.xyz,
+                                                      frame.lightV.xyz, g.influenceMin.xyz,
+                                                      g.influenceMax.xyz));
                 atomicAdd(wedgeStats[WEDGE_STAT_CONES], 1u);
             }
         }

@@ -476,14 +476,20 @@ SHARED_FN WedgeHull wedgeHullSilhouetteCone(vec3 e0, vec3 e1, vec3 c, vec3 u, ve
     return hull;
 }
 
-// A silhouette cone cut to the box [lo, hi] (the receivers it can reach: its caster's influence
-// bounds): the cone is apex + sum c_i g_i over its three distinct directions (c_i >= 0), and
-// l(p) = sum c_i, linear, is largest over the box's part in the cone at one of the box's corners;
-// with reach just above that largest l, the far face through apex + reach g_i leaves every such
-// point inside, and the cone becomes a tetrahedron (finite, so that it covers only the screen
-// its receivers may). Degenerate when the box lies wholly outside the cone (l < 0 at every
-// corner); unchanged (directions at infinity) where the directions are too close to dependent.
-SHARED_FN WedgeHull wedgeHullTruncateCone(WedgeHull hull, vec3 lo, vec3 hi) {
+// A silhouette cone cut to what its receivers can reach: the cone is apex + sum c_i g_i over its
+// three distinct directions (c_i >= 0), and l(p) = sum c_i is linear, so its largest value over
+// a convex set is at one of the set's vertices. Receivers lie in the box [lo, hi] (the caster's
+// influence bounds) and in the edge's wedge W = E + cone{e_i - c_j}, whose part above the plane
+// parallel to the light through the box's corner farthest from it is the polytope of the end
+// points and the 8 points where the rays from the light's corners through them cross that plane
+// (every ray goes away from the light: both end points lie on one side of its plane). With reach
+// just above the smaller of l's largest values over the box's corners and over those 10 points,
+// the far face through apex + reach g_i leaves every receiver of the cone inside, and the cone
+// becomes a tetrahedron (finite, so that it covers only the screen its receivers may).
+// Degenerate when that largest value is not positive (no receiver in the cone); unchanged
+// (directions at infinity) where the directions are too close to dependent.
+SHARED_FN WedgeHull wedgeHullTruncateCone(WedgeHull hull, vec3 c, vec3 u, vec3 v, vec3 lo,
+                                          vec3 hi) {
     if (hull.kind != kWedgeHullBounded || hull.cone == 0) return hull;
     // The three distinct directions: slots 0 and 2 (or 1 and 3) hold the same one.
     bool nearE1 = hull.g[0] == hull.g[2];
@@ -493,12 +499,33 @@ SHARED_FN WedgeHull wedgeHullTruncateCone(WedgeHull hull, vec3 lo, vec3 hi) {
     float det = dot(ga, cross(gb, gc));
     if (!(abs(det) > 1.0e-4f)) return hull;
     vec3 l = (cross(gb, gc) + cross(gc, ga) + cross(ga, gb)) / det;
-    float most = -3.0e38f;
+    vec3 n = normalize(cross(u, v));
+    if (dot(n, c - hull.e0) < 0.0f) n = -n;
+    float inBox = -3.0e38f;
+    float deepest = 3.0e38f;
     for (int k = 0; k < 8; ++k) {
         vec3 corner = vec3((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y,
                            (k & 4) != 0 ? hi.z : lo.z);
-        most = max(most, dot(l, corner - hull.apex));
+        inBox = max(inBox, dot(l, corner - hull.apex));
+        deepest = min(deepest, dot(n, corner));
     }
+    deepest -= 1.0e-3f * length(hi - lo);
+    float inWedge = max(dot(l, hull.e0 - hull.apex), dot(l, hull.e1 - hull.apex));
+    for (int j = 0; j < 4; ++j) {
+        float s = (j == 1 || j == 2) ? 1.0f : -1.0f;
+        float t = (j >= 2) ? 1.0f : -1.0f;
+        vec3 corner = c + s * u + t * v;
+        for (int i = 0; i < 2; ++i) {
+            vec3 e = i == 0 ? hull.e0 : hull.e1;
+            vec3 ray = e - corner;
+            float down = -dot(n, ray);
+            float over = dot(n, e) - deepest;
+            // (down > 0 for the cones built: both end points under the light's plane)
+            float along = over > 0.0f && down > 0.0f ? over / down : 0.0f;
+            inWedge = max(inWedge, dot(l, e + along * ray - hull.apex));
+        }
+    }
+    float most = min(inBox, inWedge);
     if (!(most > 0.0f)) {
         hull.kind = kWedgeHullDegenerate;
         return hull;

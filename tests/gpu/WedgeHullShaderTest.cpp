@@ -455,7 +455,7 @@ void main() {
         WedgeHull hull = wedgeHullTruncateCone(
             wedgeHullSilhouetteCone(x.e0.xyz, x.e1.xyz, x.c.xyz, x.u.xyz, x.v.xyz, x.w0.xyz,
                                     x.w1.xyz, which),
-            x.lo.xyz, x.hi.xyz);
+            x.c.xyz, x.u.xyz, x.v.xyz, x.lo.xyz, x.hi.xyz);
         uint base = 6u * (2u * i + uint(which));
         outputs[base] = vec4(float(hull.kind), hull.reach, float(hull.cone), 0.0);
         outputs[base + 1u] = vec4(hull.apex, 0.0);
@@ -517,7 +517,7 @@ TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
             const geometry::WedgeHull cpu = geometry::wedgeHullTruncateCone(
                 geometry::wedgeHullSilhouetteCone(vec3(x.e0), vec3(x.e1), vec3(x.c), vec3(x.u),
                                                   vec3(x.v), vec3(x.w0), vec3(x.w1), which),
-                vec3(x.lo), vec3(x.hi));
+                vec3(x.c), vec3(x.u), vec3(x.v), vec3(x.lo), vec3(x.hi));
             const vec4* g = gpu.data() + 6 * (2 * n + which);
             const int kind = static_cast<int>(g[0].x);
             kindMismatch += kind != cpu.kind;

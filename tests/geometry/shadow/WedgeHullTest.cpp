@@ -594,7 +594,8 @@ TEST(WedgeHullTest, SilhouetteConesHoldEverySilhouetteReceiver) {
         }
         WedgeHull cut[2];
         for (int which = 0; which < 2; ++which)
-            cut[which] = geometry::wedgeHullTruncateCone(c[which], vec3(lo), vec3(hi));
+            cut[which] = geometry::wedgeHullTruncateCone(c[which], k.light.center, k.light.u,
+                                                         k.light.v, vec3(lo), vec3(hi));
         for (const WedgeHull& h : cut) {
             if (h.kind != geometry::kWedgeHullBounded) continue;
             const TriangleCheck t = checkTriangles(h, coneInner(h), coneInner(h));
