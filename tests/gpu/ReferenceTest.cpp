@@ -1,5 +1,6 @@
 // The two references — N stratified hard-shadow passes on the GPU, and N Embree rays per pixel —
 // against each other and against the exact visibility of parallel rectangles.
+#include "ClosedForm.h"
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
 
@@ -14,17 +15,7 @@ namespace {
 
 using testutil::Rendered;
 
-// Exact V at every floor pixel (NaN elsewhere) for scenes of horizontal rectangles.
-std::vector<float> closedFormFloor(const geometry::Scene& scene, const Rendered& r,
-                                   std::span<const geometry::HorizontalRect> rects) {
-    std::vector<float> v(r.visibility.data.size(), std::nanf(""));
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const glm::vec3 p = testutil::pixelPosition(r.position, i);
-        if (std::isfinite(r.visibility.data[i]) && std::fabs(p.y) < 1e-3f)
-            v[i] = geometry::visibilityParallelRects(scene.light, rects, p);
-    }
-    return v;
-}
+using testutil::closedFormFloor;
 
 geometry::ErrorStats check(const std::string& name, const Rendered& r,
                            const std::vector<float>& expected) {
@@ -81,14 +72,10 @@ TEST_P(ReferenceClosedForm, GpuAndEmbreeMatchExactVisibility) {
 
 INSTANTIATE_TEST_SUITE_P(
     Scenes, ReferenceClosedForm,
-    ::testing::Values(SceneCase{"parallel-square.json", {{-0.5f, 0.5f, -0.5f, 0.5f, 1.0f}}},
-                      SceneCase{"overlap.json",
-                                {{-0.9f, 0.1f, -0.4f, 0.6f, 1.0f},
-                                 {0.1f, 0.8f, -0.45f, 0.25f, 2.0f}}},
-                      SceneCase{"plates-three.json",
-                                {{-0.8f, -0.1f, 0.0f, 0.7f, 0.6f},
-                                 {0.0f, 0.6f, -0.15f, 0.45f, 1.2f},
-                                 {-0.25f, 0.25f, -0.7f, -0.2f, 1.8f}}}),
+    ::testing::Values(
+        SceneCase{"parallel-square.json", testutil::closedFormRects("parallel-square.json")},
+        SceneCase{"overlap.json", testutil::closedFormRects("overlap.json")},
+        SceneCase{"plates-three.json", testutil::closedFormRects("plates-three.json")}),
     [](const auto& info) { // "plates-three.json" -> "PlatesThree"
         std::string name;
         bool upper = true;

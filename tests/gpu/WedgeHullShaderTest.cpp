@@ -478,20 +478,28 @@ TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
     };
     std::vector<ConeInput> inputs;
     for (int n = 0; n < kItems; ++n) {
-        const dvec3 c(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5));
+        // One draw per statement: the same cases whatever the compiler's argument order.
+        dvec3 c;
+        for (int k = 0; k < 3; ++k) c[k] = rng.uniform(-5, 5);
         const dvec3 a = rng.direction();
         const dvec3 b = glm::normalize(glm::cross(a, rng.direction()));
-        const dvec3 u = a * rng.uniform(0.05, 2.0), v = b * rng.uniform(0.05, 2.0);
+        const double su = rng.uniform(0.05, 2.0);
+        const double sv = rng.uniform(0.05, 2.0);
+        const dvec3 u = a * su, v = b * sv;
         const double size = glm::length(u) + glm::length(v);
-        const dvec3 y = c + rng.uniform(-0.9, 0.9) * u + rng.uniform(-0.9, 0.9) * v;
+        const double ys = rng.uniform(-0.9, 0.9);
+        const double yt = rng.uniform(-0.9, 0.9);
+        const dvec3 y = c + ys * u + yt * v;
         dvec3 d = rng.direction();
         const dvec3 nrm = glm::normalize(glm::cross(u, v));
         if (std::abs(glm::dot(d, nrm)) < 0.05) d = glm::normalize(d + 0.2 * nrm);
-        const double d0 = rng.uniform(0.05, 3) * size, d1 = d0 + rng.uniform(0.01, 2) * size;
+        const double d0 = rng.uniform(0.05, 3) * size;
+        const double d1 = d0 + rng.uniform(0.01, 2) * size;
         dvec3 e0 = y + d0 * d, e1 = y + d1 * d;
         if (n % 2 == 0) std::swap(e0, e1);
         const double len = glm::length(e1 - e0);
-        const dvec3 w0 = e0 + len * rng.direction(), w1 = e0 + len * rng.direction();
+        const dvec3 w0 = e0 + len * rng.direction();
+        const dvec3 w1 = e0 + len * rng.direction();
         const dvec3 lo = glm::min(e0, e1) - 5.0 * size, hi = glm::max(e0, e1) + 5.0 * size;
         inputs.push_back({vec4(vec3(e0), 1), vec4(vec3(e1), 1), vec4(vec3(c), 1),
                           vec4(vec3(u), 0), vec4(vec3(v), 0), vec4(vec3(w0), 1),

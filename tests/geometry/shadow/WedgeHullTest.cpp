@@ -521,7 +521,9 @@ TEST(WedgeHullTest, SilhouetteConesHoldEverySilhouetteReceiver) {
             k.kind = EdgeKind::Generic;
             const Frame f = frameOf(k.light);
             const double size = glm::length(f.u) + glm::length(f.v);
-            const dvec3 x = lightPoint(f, rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9), 0.0);
+            const double xs = rng.uniform(-0.9, 0.9); // (one draw per statement: the same
+            const double xt = rng.uniform(-0.9, 0.9); // cases whatever the compiler)
+            const dvec3 x = lightPoint(f, xs, xt, 0.0);
             dvec3 dir = rng.direction();
             if (std::abs(glm::dot(dir, f.n)) < 0.05) dir = glm::normalize(dir + 0.2 * f.n);
             const double d0 = rng.uniform(0.05, 3) * size;

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# The shared levels as a player sees them: penumbra-viewer at spawn cameras (CAMERAS, default
+# "0 2": the first and third) with its lamp under the ceiling ahead (the viewer's default),
+# 320x180, against `raytrace` with TRUTH_SAMPLES (default 4096) light samples of the same view.
+# Per method: mean |V - V_truth| over the pixels with a surface, the pixels off by more than
+# 0.05, and the frame (median of 4) over `hard`'s of the same view.
+# Writes docs/levels-lamp.md. Usage: bash scripts/levels-lamp.sh [build-dir]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${1:-build}
+viewer=$BUILD/bin/penumbra-viewer
+N=${TRUTH_SAMPLES:-4096}
+CAMERAS=${CAMERAS:-0 2}
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+run=()
+if [[ -z ${DISPLAY:-} && -z ${WAYLAND_DISPLAY:-} ]]; then run=(xvfb-run -a -s "-screen 0 640x480x24"); fi
+methods=(hard wedges-blend wedges-bitmask auto)
+rows=()
+for level in kaos2 oa_dm1 oa_dm4 oa_dm5; do
+  for camera in $CAMERAS; do
+    glb=../shared/levels/$level.glb
+    view=$level-$camera
+    echo "== $level camera $camera (raytrace N = $N)" >&2
+    "${run[@]}" "$viewer" "$glb" --camera "$camera" --method raytrace --samples "$N" --size 320x180 \
+        --frames 1 --hide-ui --visibility "$OUT/$view-truth.pfm" --report "$OUT/$view-truth.json" >/dev/null
+    for m in "${methods[@]}"; do
+        "${run[@]}" "$viewer" "$glb" --camera "$camera" --method "$m" --size 320x180 --frames 4 \
+            --hide-ui --visibility "$OUT/$view-$m.pfm" --report "$OUT/$view-$m.json" >/dev/null
+    done
+    rows+=("$(/usr/bin/python3 - "$OUT" "$view" "$level, camera $camera" "${methods[@]}" <<'PY'
+import json, sys
+import numpy as np
+out, view, name, methods = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+def pfm(path):
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    return data.reshape(h, w, 3 if kind == b"PF" else 1)[..., 0]
+truth = pfm(f"{out}/{view}-truth.pfm")
+hard = json.load(open(f"{out}/{view}-hard.json"))["frame_ms_median"]
+cells = []
+for m in methods:
+    v = pfm(f"{out}/{view}-{m}.pfm")
+    both = np.isfinite(v) & np.isfinite(truth) # (no surface: NaN in both)
+    if (np.isfinite(v) != np.isfinite(truth)).any():
+        sys.exit(f"{view} {m}: surface coverage differs from the truth's")
+    d = np.abs(v - truth)[both]
+    ms = json.load(open(f"{out}/{view}-{m}.json"))["frame_ms_median"]
+    cells.append("%.5f (%d) / %.1f×" % (d.mean(), int((d > 0.05).sum()), ms / hard))
+print("| %s | %s |" % (name, " | ".join(cells)))
+PY
+)")
+  done
+done
+first=${CAMERAS%% *}
+renderer=$(/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['gl_renderer'] + ', CPU ' + d['cpu'])" "$OUT/kaos2-$first-hard.json")
+{
+    echo "<!-- written by scripts/levels-lamp.sh; do not edit by hand -->"
+    echo "The shared levels from spawn cameras (\`--camera N\`) with the viewer's lamp, 320×180: mean"
+    echo "|V − V_truth| over the pixels with a surface (pixels off by > 0.05) / frame over \`hard\`'s"
+    echo "(median of 4 frames). Truth: \`raytrace\` N = $N of the same view. GL_RENDERER $renderer"
+    echo "($(nproc) cores)."
+    echo
+    echo "| view |$(printf ' %s |' "${methods[@]}")"
+    echo "|---|$(printf -- '---|%.0s' "${methods[@]}")"
+    printf '%s\n' "${rows[@]}"
+} > docs/levels-lamp.md
+cat docs/levels-lamp.md
