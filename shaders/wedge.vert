@@ -120,9 +120,10 @@ void main() {
         // A silhouette cone cut to its box (WedgeHull::cone, reach > 0): both end-point corners
         // at its apex, the others the points apex + reach g (wedgeHullVertex's).
         float reach = wedge.rays[3].w;
-        vec3 apex = vec3(wedge.rays[0].w, wedge.rays[1].w, wedge.rays[2].w);
-        vec4 world = reach > 0.0 ? (corner >= 2 ? vec4(apex + reach * wedge.rays[corner - 2].xyz, 1.0)
-                                                : vec4(apex, 1.0))
+        vec3 coneApex = vec3(wedge.rays[0].w, wedge.rays[1].w, wedge.rays[2].w);
+        vec4 world = reach > 0.0 && corner >= 2
+                         ? vec4(coneApex + reach * wedge.rays[corner - 2].xyz, 1.0)
+                     : reach > 0.0 ? vec4(coneApex, 1.0)
                      : corner >= 2 ? vec4(wedge.rays[corner - 2].xyz, 0.0)
                      : corner == 0 ? vec4(wedge.e0.xyz, 1.0)
                                    : vec4(wedge.e1.xyz, 1.0);

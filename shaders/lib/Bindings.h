@@ -153,8 +153,9 @@ struct GpuWedge {
     vec4 e1;        // xyz: edge end
     vec4 planes[4]; // hull planes: front, back, side at e0, side at e1; P is inside when
                     // dot(planes[i].xyz, P) + planes[i].w <= 0 for all four
-    vec4 rays[4];   // xyz: the hull's directions at infinity g1..g4; a silhouette cone
-                    // (WedgeHull::cone): w of rays[0..2] its apex, rays[3].w = 1
+    vec4 rays[4];   // xyz: the hull's directions at infinity g1..g4; a silhouette cone cut to
+                    // its receivers (WedgeHull::cone, reach): w of rays[0..2] its apex,
+                    // rays[3].w its reach (> 0; 0 for every other hull)
     uint kind;      // WEDGE_*
     uint group;
     uint eyeInside; // 1: the camera may be inside the hull (drawn by its exit faces)

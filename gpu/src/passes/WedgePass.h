@@ -28,7 +28,7 @@ struct WedgeCounts {
     std::uint32_t eyeInside = 0; // bounded wedges drawn by their exit faces
     std::uint32_t clampedPixels = 0;
     // Output::BitmaskPotential: edges whose Fullscreen hull two silhouette cones replace (the
-    // first counted as Bounded, the second in the twin slot, not counted by kind).
+    // first counted by its kind, the second, in the twin slot, not counted by kind).
     std::uint32_t cones = 0;
     // GL_SAMPLES_PASSED over the wedge draws. The shader discards fragments without a surface,
     // outside the hull or with zero coverage; llvmpipe counts after the discard (then this is
