@@ -4,6 +4,7 @@
 #include "engine/ShaderBindings.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace gpu {
 
@@ -73,6 +74,8 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
     mVolumes.clear();
     mWedges.clear();
     mWedgeRuns.clear();
+    mEdgeA.clear();
+    mEdgeB.clear();
     std::uint32_t tri = 0, side = 0, pot = sides, group = 0;
     for (Caster& k : mCasters) {
         const geometry::SilhouetteFrame& f = k.extractor->frame();
@@ -99,7 +102,10 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
         const geometry::Aabb influence =
             geometry::occluderInfluenceBounds(occluder, light, sceneBounds);
         const std::uint32_t firstPot = pot;
+        const auto positions = casters.topology(k.index).positions();
         for (const geometry::PotentialEdge& e : k.edges) {
+            mEdgeA.push_back(positions[e.v0]);
+            mEdgeB.push_back(positions[e.v1]);
             edges[pot] = shader::GpuEdge{e.v0 + vb, e.v1 + vb, group, 0u};
             apexes[pot] = glm::uvec2(e.apex[0] == geometry::kNoApex ? geometry::kNoApex : e.apex[0] + vb,
                                      e.apex[1] == geometry::kNoApex ? geometry::kNoApex : e.apex[1] + vb);
@@ -123,6 +129,31 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
                     static_cast<std::uint32_t>(mWedges.edgeCount[r]));
     if (mData.size() >= mBytes && mData.id() != 0) glInvalidateBufferData(mData.id());
     mData.uploadResize(mStaging.data(), mBytes);
+}
+
+void PotentialSet::keptWedges(std::span<const std::uint8_t> keep, DrawSet& wedges,
+                              std::vector<CasterRange>& runs) const {
+    if (keep.size() != mWedgeTotal) throw std::logic_error("PotentialSet::keptWedges: wrong size");
+    wedges.clear();
+    runs.clear();
+    // Runs of kept edges within each caster's run (a set-up run has one group).
+    for (const CasterRange& r : mWedgeRuns) {
+        const std::uint32_t base = mCentreEdges;
+        std::uint32_t start = 0, length = 0;
+        for (std::uint32_t e = r.firstEdge; e < r.firstEdge + r.edgeCount; ++e) {
+            const bool kept = keep[e - base] != 0;
+            if (kept) {
+                if (length == 0) start = e;
+                ++length;
+            }
+            if (length > 0 && (!kept || e + 1 == r.firstEdge + r.edgeCount)) {
+                runs.push_back(CasterRange{.firstEdge = start, .edgeCount = length});
+                length = 0;
+            }
+        }
+    }
+    for (const CasterRange& r : runs) wedges.add(0, 0, r.firstEdge, r.edgeCount);
+    for (const CasterRange& r : runs) wedges.add(0, 0, r.firstEdge + mWedgeTotal, r.edgeCount);
 }
 
 void PotentialSet::bind(const CasterSet& casters) const {

@@ -15,6 +15,8 @@
 #include <geometry/shadow/PotentialSilhouettes.h>
 #include <geometry/shadow/Silhouette.h>
 
+#include <glm/glm.hpp>
+
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -40,6 +42,13 @@ public:
     std::uint32_t twinOffset() const { return mWedgeTotal; }
     std::uint32_t wedgeSlots() const { return mEdgeTotal + mWedgeTotal; }
     std::uint32_t centreEdgeCount() const { return mCentreEdges; } // side copies (two-sided)
+    // The potential edges' end points (world), in the order of the edges array's potential part.
+    std::span<const glm::vec3> edgeStarts() const { return mEdgeA; }
+    std::span<const glm::vec3> edgeEnds() const { return mEdgeB; }
+    // The wedge set and set-up runs of the potential edges with keep[i] != 0 (i as in
+    // edgeStarts), their twin slots included: depth-aware culling of a frame.
+    void keptWedges(std::span<const std::uint8_t> keep, DrawSet& wedges,
+                    std::vector<CasterRange>& runs) const;
     const geometry::PotentialEdgeStats& stats() const { return mStats; }
 
 private:
@@ -55,6 +64,7 @@ private:
     DrawSet mVolumes, mWedges;
     std::vector<CasterRange> mWedgeRuns;
     std::uint32_t mEdgeTotal = 0, mWedgeTotal = 0, mCentreEdges = 0;
+    std::vector<glm::vec3> mEdgeA, mEdgeB;
     geometry::PotentialEdgeStats mStats;
     Buffer mData{BufferDesc{.label = "potential-silhouettes"}};
     std::vector<std::byte> mStaging;

@@ -25,6 +25,7 @@
 #include "passes/WedgePass.h"
 #include "engine/ShaderBindings.h"
 #include "engine/MethodOptions.h"
+#include "methods/GroupBatches.h"
 #include "methods/SilhouetteBatchMethod.h"
 #include "methods/MethodUtil.h"
 
@@ -238,10 +239,28 @@ private:
         glClearNamedBufferData(mMaskStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
         glBindImageTexture(IMAGE_GROUP_COUNTS, mCounts.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                            GL_R32UI);
+        // Depth-aware culling (as the per-group methods do, RenderSettings::depthAwareCulling):
+        // the wedges of edges whose shadow cone meets no visible surface are neither set up nor
+        // drawn (levels: the edges of other rooms).
+        const DrawSet* wedgeSet = &mPotential.wedges();
+        std::span<const CasterRange> wedgeRuns = mPotential.wedgeRuns();
+        std::size_t hiddenWedges = 0;
+        if (depthAwareFrame(ctx)) {
+            const SurfaceTiles tiles = measureSurface(ctx, mSurface);
+            const auto t0 = Clock::now();
+            const std::vector<std::uint8_t> keep = segmentsReachingSurface(
+                mPotential.edgeStarts(), mPotential.edgeEnds(), ctx.casters.sceneBounds(), tiles,
+                ctx.light, ctx.viewProj, t.width, t.height);
+            mPotential.keptWedges(keep, mKeptWedges, mKeptRuns);
+            for (const std::uint8_t k : keep) hiddenWedges += k == 0;
+            ctx.addCpuTime("depth-aware-culling", msSince(t0));
+            wedgeSet = &mKeptWedges;
+            wedgeRuns = mKeptRuns;
+        }
         {
             ScopedPass pass(&ctx.timers, "wedge-setup");
             mWedges.beginFrame(mPotential.wedgeSlots());
-            mWedges.setup(mPotential.wedgeRuns(), mPotential.twinOffset());
+            mWedges.setup(wedgeRuns, mPotential.twinOffset());
             clearStencil(t);
         }
         {
@@ -250,7 +269,7 @@ private:
         }
         {
             ScopedPass pass(&ctx.timers, "wedges");
-            mWedges.draw(mAreaFbo, t, mPotential.wedges());
+            mWedges.draw(mAreaFbo, t, *wedgeSet);
         }
         {
             ScopedPass pass(&ctx.timers, "resolve");
@@ -267,6 +286,7 @@ private:
         const WedgeCounts counts = mWedges.counts();
         addWedgeCounters(ctx, counts, mPotential.wedgeRuns());
         ctx.addCounter("wedges_silhouette_cones", counts.cones);
+        ctx.addCounter("wedges_hidden", static_cast<double>(hiddenWedges));
         std::array<std::uint32_t, MASK_STAT_COUNT> stats{};
         glGetNamedBufferSubData(mMaskStats.id(), 0, sizeof(stats), stats.data());
         const geometry::PotentialEdgeStats& e = mPotential.stats();
@@ -364,6 +384,8 @@ private:
 
     MaskLayout mLayout;
     FullscreenPass mCombine, mUmbra, mClear, mResolve, mPotentialResolve;
+    DrawSet mKeptWedges;                // silhouettes=potential, depth-aware: this frame's
+    std::vector<CasterRange> mKeptRuns; // wedges and set-up runs
     PotentialSet mPotential;
     Texture mArea; // silhouettes=potential: the wedges' sum of m coverage
     Framebuffer mAreaFbo, mResolveFbo;

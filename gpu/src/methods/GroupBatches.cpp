@@ -5,6 +5,7 @@
 #include "engine/Method.h"
 #include "engine/Targets.h"
 
+#include <geometry/shadow/PotentialSilhouettes.h>
 #include <geometry/shadow/ShadowCone.h>
 
 #include <algorithm>
@@ -67,6 +68,31 @@ bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width,
     return r.x1 > r.x0 && r.y1 > r.y0;
 }
 
+// Surface boxes grown by a relative margin (float: the G-buffer position and the point a
+// shader reconstructs or depth-tests may differ in their last bits), with their spheres.
+struct TileSphere {
+    geometry::Aabb box;
+    glm::vec3 centre{0.0f};
+    float radius = 0.0f;
+};
+
+std::vector<TileSphere> tileSpheres(const SurfaceTiles& surface) {
+    std::vector<TileSphere> spheres(surface.boxes.size());
+    for (std::size_t i = 0; i < spheres.size(); ++i) {
+        const geometry::Aabb& b = surface.boxes[i];
+        if (b.empty()) continue;
+        const float margin =
+            1e-4f * (glm::length(b.max - b.min) + glm::length(glm::abs(b.min) + glm::abs(b.max))) +
+            1e-6f;
+        TileSphere& t = spheres[i];
+        t.box.extend(b.min - glm::vec3(margin));
+        t.box.extend(b.max + glm::vec3(margin));
+        t.centre = 0.5f * (t.box.min + t.box.max);
+        t.radius = 0.5f * glm::length(t.box.max - t.box.min);
+    }
+    return spheres;
+}
+
 } // namespace
 
 namespace {
@@ -88,29 +114,8 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
     if (depthAware && (surface->tile != tile || surface->tilesX != tilesX ||
                        surface->tilesY != tilesY))
         throw std::logic_error("batchGroups: surface tiles of another grid");
-    // Surface boxes grown by a relative margin (float: the G-buffer position and the point a
-    // shader reconstructs or depth-tests may differ in their last bits), with their spheres.
-    struct TileSphere {
-        geometry::Aabb box;
-        glm::vec3 centre{0.0f};
-        float radius = 0.0f;
-    };
     std::vector<TileSphere> spheres;
-    if (depthAware) {
-        spheres.resize(surface->boxes.size());
-        for (std::size_t i = 0; i < spheres.size(); ++i) {
-            const geometry::Aabb& b = surface->boxes[i];
-            if (b.empty()) continue;
-            const float margin =
-                1e-4f * (glm::length(b.max - b.min) + glm::length(glm::abs(b.min) + glm::abs(b.max))) +
-                1e-6f;
-            TileSphere& s = spheres[i];
-            s.box.extend(b.min - glm::vec3(margin));
-            s.box.extend(b.max + glm::vec3(margin));
-            s.centre = 0.5f * (s.box.min + s.box.max);
-            s.radius = 0.5f * glm::length(s.box.max - s.box.min);
-        }
-    }
+    if (depthAware) spheres = tileSpheres(*surface);
 
     // Per group its rectangle and its tiles (indices into the grid).
     std::vector<GroupRect> rects;
@@ -242,6 +247,38 @@ GroupBatches batchGroups(const CasterSet& casters, std::span<const std::uint32_t
         batch.pixels = std::uint64_t(batch.rect.width) * std::uint64_t(batch.rect.height);
     }
     return out;
+}
+
+std::vector<std::uint8_t> segmentsReachingSurface(std::span<const glm::vec3> a,
+                                                  std::span<const glm::vec3> b,
+                                                  const geometry::Aabb& sceneBounds,
+                                                  const SurfaceTiles& surface,
+                                                  const geometry::RectLight& light,
+                                                  const glm::mat4& viewProj, int width, int height) {
+    const int tile = surface.tile;
+    if (surface.tilesX != (width + tile - 1) / tile || surface.tilesY != (height + tile - 1) / tile)
+        throw std::logic_error("segmentsReachingSurface: surface tiles of another grid");
+    const std::vector<TileSphere> spheres = tileSpheres(surface);
+    std::vector<std::uint8_t> reaches(a.size(), 0);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        geometry::Aabb segment;
+        segment.extend(a[i]);
+        segment.extend(b[i]);
+        const geometry::Aabb influence =
+            geometry::occluderInfluenceBounds(segment, light, sceneBounds);
+        GroupRect r{0, 0, 0, 0, 0, 0};
+        if (influence.empty() || !screenRect(influence, viewProj, width, height, r)) continue;
+        const geometry::ShadowCone cone = geometry::shadowCone(segment, light);
+        bool hit = false;
+        for (int ty = r.y0 / tile; ty <= (r.y1 - 1) / tile && !hit; ++ty)
+            for (int tx = r.x0 / tile; tx <= (r.x1 - 1) / tile && !hit; ++tx) {
+                const TileSphere& t = spheres[static_cast<std::size_t>(ty * surface.tilesX + tx)];
+                hit = !t.box.empty() && overlaps(t.box, influence) &&
+                      geometry::sphereMayMeetCone(cone, t.centre, t.radius);
+            }
+        reaches[i] = hit ? 1 : 0;
+    }
+    return reaches;
 }
 
 // Below this many silhouette groups the surface tiles are not measured: the pass and the wait

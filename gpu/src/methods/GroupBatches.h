@@ -75,6 +75,19 @@ struct VisibleSets {
 std::optional<VisibleSets> visibleSets(const FrameContext& ctx, SurfaceTilePass& surface,
                                        const geometry::RectLight& light, bool wedges);
 
+// wedges-bitmask silhouettes=potential (one wedge pass over every caster, no groups): per
+// segment [a[i], b[i]] (a potential silhouette edge, world), whether its shadow cone for `light`
+// (geometry/shadow/ShadowCone.h, the segment as the occluder) meets the visible surface of some
+// tile within the screen rectangle of its influence bounds (the segment's reach, clamped to
+// `sceneBounds`). A wedge whose edge reaches no visible surface changes no pixel: its m and
+// region are zero for every receiver it does not shade.
+std::vector<std::uint8_t> segmentsReachingSurface(std::span<const glm::vec3> a,
+                                                  std::span<const glm::vec3> b,
+                                                  const geometry::Aabb& sceneBounds,
+                                                  const SurfaceTiles& surface,
+                                                  const geometry::RectLight& light,
+                                                  const glm::mat4& viewProj, int width, int height);
+
 // Whether this frame culls by the visible surface (RenderSettings::depthAwareCulling and at least
 // 64 silhouette groups), and the tiles measured for it (timed as the "surface-tiles" pass).
 bool depthAwareFrame(const FrameContext& ctx);
