@@ -9,7 +9,8 @@
 // wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
 // (estimate=samples): occluded = S_u.
 // The two checksum layers after the counts (wedge-bitmask.frag) tell a count that did not fit
-// its 4 bits: such a pixel is counted (MASK_STAT_OVERFLOW) and takes A alone, clamped.
+// its 4 bits: such a pixel is counted (MASK_STAT_OVERFLOW) and takes A alone, clamped. A pixel
+// no wedge reached (the stencil's mark bit clear) skips the counts.
 #include "lib/Bindings.h"
 
 #ifndef BITMASK_SAMPLES
@@ -34,9 +35,26 @@ layout(location = 2) out uvec4 oMask1;
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     // The stencil's count bits (0-6, wrapping: a signed count in [-64, 63]; VolumeStates.h).
-    int centre = int(texelFetch(tStencil, px, 0).r & 0x7Fu);
+    uint stencil = texelFetch(tStencil, px, 0).r;
+    int centre = int(stencil & 0x7Fu);
     if (centre >= 64) centre -= 128;
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    if ((stencil & 0x80u) == 0u) {
+        // No wedge fragment reached the pixel (the wedge pass marks the stencil's top bit): every
+        // sample's D is D(P, c), no count was added and A is D(P, c). What the loop below
+        // gives then, without reading the counts: all samples hidden or none, V 0 or 1.
+        if (centre != 0) {
+            for (int w = 0; w < BITMASK_SAMPLES / 32; ++w) words[w] = 0xFFFFFFFFu;
+            if (centre < 0) atomicAdd(maskStats[MASK_STAT_NEGATIVE], 1u);
+        }
+        float occluded = uEstimate == 1u ? (centre != 0 ? 1.0 : 0.0) : float(sign(centre));
+        oVisibility = 1.0 - clamp(occluded, 0.0, 1.0);
+        oMask0 = uvec4(words[0], words[1], words[2], words[3]);
+#if BITMASK_SAMPLES > 128
+        oMask1 = uvec4(words[4], words[5], words[6], words[7]);
+#endif
+        return;
+    }
     int hidden = 0;
     int sumD = 0;
     int leastD = 1 << 30, mostD = 0; // over the hidden samples

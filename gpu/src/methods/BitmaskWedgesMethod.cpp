@@ -269,7 +269,8 @@ private:
         }
         {
             ScopedPass pass(&ctx.timers, "wedges");
-            mWedges.draw(mAreaFbo, t, *wedgeSet);
+            // Marking the stencil where a wedge reached: the resolve skips the other pixels.
+            mWedges.draw(mAreaFbo, t, *wedgeSet, nullptr, /*markTouched=*/true);
         }
         {
             ScopedPass pass(&ctx.timers, "resolve");
