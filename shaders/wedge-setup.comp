@@ -103,13 +103,21 @@ void main() {
                 WedgeHull c1 = wedgeHullSilhouetteCone(w.e0.xyz, w.e1.xyz, frame.lightCenter.xyz,
                                                        frame.lightU.xyz, frame.lightV.xyz, w0, w1,
                                                        1);
-                h = wedgeHullTruncateCone(c0, frame.lightCenter.xyz, frame.lightU.xyz,
-                                          frame.lightV.xyz, g.influenceMin.xyz,
-                                          g.influenceMax.xyz);
-                storeHull(twin, wedgeHullTruncateCone(c1, frame.lightCenter.xyz, frame.lightU.xyz,
-                                                      frame.lightV.xyz, g.influenceMin.xyz,
-                                                      g.influenceMax.xyz));
-                atomicAdd(wedgeStats[WEDGE_STAT_CONES], 1u);
+                WedgeHull t0 = wedgeHullTruncateCone(c0, frame.lightCenter.xyz, frame.lightU.xyz,
+                                                     frame.lightV.xyz, g.influenceMin.xyz,
+                                                     g.influenceMax.xyz);
+                WedgeHull t1 = wedgeHullTruncateCone(c1, frame.lightCenter.xyz, frame.lightU.xyz,
+                                                     frame.lightV.xyz, g.influenceMin.xyz,
+                                                     g.influenceMax.xyz);
+                // Both cut (or shown empty), or neither used: wedge.vert draws a cone only cut
+                // (reach > 0), and the full-screen wedge must not overlap a cone of its edge.
+                bool cut0 = t0.kind == kWedgeHullDegenerate || t0.reach > 0.0;
+                bool cut1 = t1.kind == kWedgeHullDegenerate || t1.reach > 0.0;
+                if (cut0 && cut1) {
+                    h = t0;
+                    storeHull(twin, t1);
+                    atomicAdd(wedgeStats[WEDGE_STAT_CONES], 1u);
+                }
             }
         }
 #else

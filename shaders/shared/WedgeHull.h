@@ -487,7 +487,8 @@ SHARED_FN WedgeHull wedgeHullSilhouetteCone(vec3 e0, vec3 e1, vec3 c, vec3 u, ve
 // the far face through apex + reach g_i leaves every receiver of the cone inside, and the cone
 // becomes a tetrahedron (finite, so that it covers only the screen its receivers may).
 // Degenerate when that largest value is not positive (no receiver in the cone); unchanged
-// (directions at infinity) where the directions are too close to dependent.
+// (directions at infinity, reach 0) where the directions are too close to dependent: the
+// wedge set-up then keeps the edge's full-screen wedge instead of its two cones.
 SHARED_FN WedgeHull wedgeHullTruncateCone(WedgeHull hull, vec3 c, vec3 u, vec3 v, vec3 lo,
                                           vec3 hi) {
     if (hull.kind != kWedgeHullBounded || hull.cone == 0) return hull;
