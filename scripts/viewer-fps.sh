@@ -18,7 +18,7 @@ viewer=build/bin/penumbra-viewer
 [[ -x $viewer ]] || { echo "viewer-fps: build first (scripts/build.sh)" >&2; exit 1; }
 run=()
 if [[ -z ${DISPLAY:-} && -z ${WAYLAND_DISPLAY:-} ]]; then run=(xvfb-run -a -s "-screen 0 1920x1080x24"); fi
-methods=(hard wedges-additive wedges-multiply wedges-blend occlusion pcss auto reference raytrace)
+methods=(hard wedges-additive wedges-multiply wedges-blend wedges-bitmask occlusion pcss auto reference raytrace)
 for m in "${methods[@]}"; do
     echo "viewer-fps: $m" >&2
     n=$frames

@@ -532,7 +532,9 @@ TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
             if (kind != cpu.kind || cpu.kind != geometry::kWedgeHullBounded) continue;
             ++cones;
             const float scale = glm::length(vec3(x.e0)) + glm::length(vec3(x.e1)) + 1.0f;
-            bool d = std::abs(g[0].y - cpu.reach) > 1e-4f * (cpu.reach + scale) ||
+            // The reach to within the cut's own widening (0.1 %): a nearly flat cone's l
+            // (over a small determinant) amplifies the driver's rounding.
+            bool d = std::abs(g[0].y - cpu.reach) > 1e-3f * cpu.reach + 1e-4f * scale ||
                      glm::length(vec3(g[1]) - cpu.apex) > 1e-5f * scale;
             for (int k = 0; k < 4; ++k)
                 d = d || glm::length(vec3(g[2 + k]) - vec3(cpu.planes[k])) > 1e-4f ||
