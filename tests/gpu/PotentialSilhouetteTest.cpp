@@ -172,6 +172,14 @@ TEST_F(PotentialSilhouettes, MasksEqualTheDefinitionBitForBit) {
 // blend's 0.0041, 0.0052, 0.0010, 0.0004, 0.0001; above blend where plates' penumbrae overlap:
 // plates-three 0.0024, diamonds 0.0013, bars-cross 0.0008, overlap 0.0006 against 0.0008,
 // 0.0007, 0.0006, 0.0005).
+// A scene file as a test name: "stability/plates-stacked.json" -> "plates_stacked".
+std::string sceneTestName(std::string n) {
+    n = n.substr(n.rfind('/') + 1);
+    n = n.substr(0, n.find('.'));
+    std::replace(n.begin(), n.end(), '-', '_');
+    return n;
+}
+
 struct AccuracyCase {
     const char* scene;
     double ownMean;   // estimate=samples against reference N = 64 (the same samples)
@@ -218,11 +226,7 @@ INSTANTIATE_TEST_SUITE_P(
                       AccuracyCase{"stability/large-light-small-occluder.json", 0.00000, 0.0025},
                       AccuracyCase{"stability/light-grazing.json", 0.00015, 0.0028}),
     [](const ::testing::TestParamInfo<AccuracyCase>& info) {
-        std::string n = info.param.scene;
-        n = n.substr(n.rfind('/') + 1); // (stability/...)
-        n = n.substr(0, n.find('.'));
-        std::replace(n.begin(), n.end(), '-', '_');
-        return n;
+        return sceneTestName(info.param.scene);
     });
 
 // Against the true V where it is known in closed form (the floor under horizontal plates,
@@ -269,10 +273,7 @@ INSTANTIATE_TEST_SUITE_P(
                       ExactCase{"overlap.json", {0.00027, 0.00015, 0.00012}, {0, 0, 0}},
                       ExactCase{"plates-three.json", {0.00318, 0.00215, 0.00136}, {62, 3, 0}}),
     [](const ::testing::TestParamInfo<ExactCase>& info) {
-        std::string n = info.param.scene;
-        n = n.substr(0, n.find('.'));
-        std::replace(n.begin(), n.end(), '-', '_');
-        return n;
+        return sceneTestName(info.param.scene);
     });
 
 // A count past the 4 bits' [-8, 7] (nine plates stacked over the floor, the light centre seen

@@ -139,6 +139,27 @@ static_assert(sizeof(CheckInput) == 6 * 16, "CheckInput must match std430");
 
 using testutil::Rng;
 
+// Runs a compute program of one invocation per item (the items at binding 0, their number in the
+// uniform `count`, `perItem` vec4 outputs each at binding 1) and returns the outputs.
+template <typename Input>
+std::vector<vec4> runItems(const gpu::Program& program, const std::vector<Input>& inputs,
+                           std::size_t perItem, const char* label) {
+    gpu::Buffer in({.size = inputs.size() * sizeof(Input), .data = inputs.data(), .label = label});
+    gpu::Buffer out({.size = inputs.size() * perItem * sizeof(vec4), .label = label});
+    glUseProgram(program.id());
+    glProgramUniform1ui(program.id(), program.uniformLocation("count"),
+                        static_cast<GLuint>(inputs.size()));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glDispatchCompute(static_cast<GLuint>((inputs.size() + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<vec4> result(inputs.size() * perItem);
+    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(result.size() * sizeof(vec4)),
+                            result.data());
+    glUseProgram(0);
+    return result;
+}
+
 // Random light and edge (every fifth edge reaches into the light: Fullscreen), a point on a
 // shadow ray through the edge (so the coverage is mostly non-zero), and the ray's parameters.
 struct Item {
@@ -216,20 +237,7 @@ TEST_F(WedgeHullShaderTest, ComputeMatchesTheCppBuild) {
     // Two degenerate edges: zero length.
     inputs[0].e1 = inputs[0].e0;
     inputs[1].e0 = inputs[1].e1;
-    gpu::Buffer in({.size = inputs.size() * sizeof(CheckInput),
-                    .data = inputs.data(),
-                    .label = "hull-check-in"});
-    gpu::Buffer out({.size = inputs.size() * kStride * sizeof(vec4), .label = "hull-check-out"});
-    glUseProgram(program.id());
-    glProgramUniform1ui(program.id(), program.uniformLocation("count"), kItems);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
-    glDispatchCompute((kItems + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<vec4> gpu(static_cast<std::size_t>(kItems) * kStride);
-    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(vec4)),
-                            gpu.data());
-    glUseProgram(0);
+    const std::vector<vec4> gpu = runItems(program, inputs, kStride, "hull-check");
     ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 
     int kindMismatch = 0, bounded = 0, fullscreen = 0, degenerate = 0, hullDiffers = 0;
@@ -379,19 +387,7 @@ TEST_F(WedgeHullShaderTest, NarrowedComputeMatchesTheCppBuild) {
         inputs.push_back({it.in.e0, it.in.e1, it.in.c, it.in.u, it.in.v, vec4(w0, 1.0f),
                           vec4(w1, 1.0f)});
     }
-    gpu::Buffer in({.size = inputs.size() * sizeof(NarrowInput), .data = inputs.data(),
-                    .label = "hull-narrow-in"});
-    gpu::Buffer out({.size = inputs.size() * 5 * sizeof(vec4), .label = "hull-narrow-out"});
-    glUseProgram(program.id());
-    glProgramUniform1ui(program.id(), program.uniformLocation("count"), kItems);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
-    glDispatchCompute((kItems + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<vec4> gpu(static_cast<std::size_t>(kItems) * 5);
-    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(vec4)),
-                            gpu.data());
-    glUseProgram(0);
+    const std::vector<vec4> gpu = runItems(program, inputs, 5, "hull-narrow");
     int kindMismatch = 0, planeMismatch = 0, sideMismatch = 0, narrowed = 0, bounded = 0,
         degenerate = 0;
     for (int n = 0; n < kItems; ++n) {
@@ -505,19 +501,7 @@ TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
                           vec4(vec3(u), 0), vec4(vec3(v), 0), vec4(vec3(w0), 1),
                           vec4(vec3(w1), 1), vec4(vec3(lo), 1), vec4(vec3(hi), 1)});
     }
-    gpu::Buffer in({.size = inputs.size() * sizeof(ConeInput), .data = inputs.data(),
-                    .label = "hull-cone-in"});
-    gpu::Buffer out({.size = inputs.size() * 12 * sizeof(vec4), .label = "hull-cone-out"});
-    glUseProgram(program.id());
-    glProgramUniform1ui(program.id(), program.uniformLocation("count"), kItems);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
-    glDispatchCompute((kItems + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<vec4> gpu(static_cast<std::size_t>(kItems) * 12);
-    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(vec4)),
-                            gpu.data());
-    glUseProgram(0);
+    const std::vector<vec4> gpu = runItems(program, inputs, 12, "hull-cone");
     int cones = 0, kindMismatch = 0, differs = 0;
     for (int n = 0; n < kItems; ++n) {
         const ConeInput& x = inputs[n];
