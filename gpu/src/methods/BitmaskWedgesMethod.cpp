@@ -169,10 +169,15 @@ public:
     bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
         if (view != DebugView::WedgeWireframe) return false;
         if (!mLayout.potential) return drawWedgeWireframe(ctx, mWedges, debug);
-        // The potential set's own wedges (and silhouette cones), not the centre's edges.
+        // The potential set's own wedges (and silhouette cones) as this frame set them up and
+        // drew them (depth-aware culling may have left some out), not the centre's edges.
         mPotential.bind(ctx.casters);
-        debug.drawWedgeLines(mWedges, ctx.targets, mPotential.wedges());
-        debug.note = "wedges: " + std::to_string(mPotential.wedgeCount()) +
+        const DrawSet& drawn = mDrawnWedges ? *mDrawnWedges : mPotential.wedges();
+        debug.drawWedgeLines(mWedges, ctx.targets, drawn);
+        std::size_t edges = 0;
+        for (const GLsizei n : drawn.edgeCount) edges += static_cast<std::size_t>(n);
+        debug.note = "wedges: " + std::to_string(edges / 2) + " of " +
+                     std::to_string(mPotential.wedgeCount()) +
                      " potential silhouette edges' hulls as drawn (cyan; dim where behind a "
                      "surface; an edge seen end-on from the light as its two silhouette cones)";
         return true;
@@ -257,6 +262,7 @@ private:
             wedgeSet = &mKeptWedges;
             wedgeRuns = mKeptRuns;
         }
+        mDrawnWedges = wedgeSet;
         {
             ScopedPass pass(&ctx.timers, "wedge-setup");
             mWedges.beginFrame(mPotential.wedgeSlots());
@@ -387,6 +393,7 @@ private:
     FullscreenPass mCombine, mUmbra, mClear, mResolve, mPotentialResolve;
     DrawSet mKeptWedges;                // silhouettes=potential, depth-aware: this frame's
     std::vector<CasterRange> mKeptRuns; // wedges and set-up runs
+    const DrawSet* mDrawnWedges = nullptr; // the wedge set the last frame drew (debug view)
     PotentialSet mPotential;
     Texture mArea; // silhouettes=potential: the wedges' sum of m coverage
     Framebuffer mAreaFbo, mResolveFbo;
