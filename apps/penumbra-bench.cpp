@@ -1,7 +1,9 @@
 // penumbra-bench: scenes × methods × parameters, speed against accuracy (DESIGN.md §3, §5).
 //
 // All runs share one process and one surfaceless EGL context; each scene is loaded once and
-// rendered by one Renderer. Per scene and light scale:
+// rendered by one Renderer. A .gltf/.glb level is measured from its glTF (spawn) cameras
+// (--cameras, default the first), each lit by the viewer's lamp for its view. Per view and light
+// scale:
 // - the truth (`reference`, or `raytrace` with --truth) of the same view, once, and along the
 //   light path when flicker is measured;
 // - `hard` first (the denominator of frame_over_hard), then every requested run: warm-up frames,
@@ -17,6 +19,7 @@
 #include <geometry/core/Error.h>
 #include <geometry/reference/ErrorImage.h>
 #include <geometry/reference/ErrorStats.h>
+#include <geometry/scene/AlphaMask.h>
 #include <geometry/scene/ImageIO.h>
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
@@ -104,6 +107,7 @@ struct Options {
     float sweep = 1.0f;
     std::uint32_t seed = 1;
     std::string outDir = "out/bench";
+    std::string cameras = "0"; // of a .gltf/.glb: framed, all, or N,M,...
     bool saveImages = false;
     bool noChart = false;
 };
@@ -339,6 +343,7 @@ public:
           mHeight(height), mScales(std::move(scales)), mOut(opt.outDir) {}
 
     int execute();
+    std::size_t viewCount = 0; // views over all scenes (--cameras), for the progress count
 
 private:
     const Options& mOpt;
@@ -380,11 +385,16 @@ private:
         s.samples = run.samples;
         s.seed = mOpt.seed;
         s.light = light;
+        s.camera = mCamera;
         s.progress = [](int, int) { checkInterrupt(); };
         return s;
     }
 
     void benchScene(const fs::path& path);
+    void benchView(const geometry::Scene& scene, gpu::Renderer& renderer,
+                   const std::string& sceneName, const geometry::RectLight& viewLight,
+                   bool alphaTested);
+    std::optional<geometry::Camera> mCamera; // the view's (benchScene)
 };
 
 void Bench::writeJson(bool complete) const {
@@ -428,22 +438,79 @@ int Bench::drawChart() const {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// The views of a scene the bench measures (--cameras): a scene JSON's camera, or for a
+// .gltf/.glb the glTF cameras asked for, each lit by the viewer's lamp for it (as
+// penumbra-render and the viewer light them: geometry::lightAtView), or its framing.
+struct BenchView {
+    std::string name; // the scene column: the path, with "@cameraN" for a glTF camera
+    geometry::Camera camera;
+    geometry::RectLight light;
+    std::string source; // camera and light, for the log
+};
+
+std::vector<BenchView> benchViews(const fs::path& path, const geometry::Scene& loaded,
+                                  const std::string& cameras) {
+    std::vector<BenchView> views;
+    if (loaded.cameras.empty() || cameras == "framed") {
+        geometry::Scene scene = loaded;
+        if (!scene.cameras.empty()) geometry::selectFramedCamera(scene);
+        views.push_back({path.string(), scene.camera, scene.light, scene.cameraSource});
+        return views;
+    }
+    std::vector<int> indices;
+    if (cameras == "all") {
+        for (std::size_t i = 0; i < loaded.cameras.size(); ++i) indices.push_back(int(i));
+    } else {
+        for (const std::string& item : splitList(cameras)) {
+            char* end = nullptr;
+            const long i = std::strtol(item.c_str(), &end, 10);
+            if (end == item.c_str() || *end || i < 0 || i >= long(loaded.cameras.size()))
+                throw geometry::InputError(
+                    "--cameras: '" + item + "' is not a glTF camera of " + path.string() + " (" +
+                    std::to_string(loaded.cameras.size()) + " cameras: 0 to " +
+                    std::to_string(loaded.cameras.size() - 1) + ")");
+            indices.push_back(int(i));
+        }
+    }
+    for (const int i : indices) {
+        geometry::Scene scene = loaded;
+        geometry::selectCamera(scene, i);
+        const std::string light = geometry::lightAtView(scene, false);
+        views.push_back({path.string() + "@camera" + std::to_string(i), scene.camera, scene.light,
+                         scene.cameraSource + ", " + light});
+    }
+    return views;
+}
+
 void Bench::benchScene(const fs::path& path) {
     const auto t0 = std::chrono::steady_clock::now();
-    // Levels are measured from their automatic framed view, which looks at what the framed light
-    // lights: a level's first spawn camera (what penumbra-render and the viewer open at) often
-    // sees only shadow. Every run of the bench, and the README's tables, use that same view.
-    geometry::Scene scene = geometry::loadScene(path);
-    if (!scene.cameras.empty()) geometry::selectFramedCamera(scene);
+    // Levels are measured where players stand (DESIGN.md §5): from their glTF (spawn) cameras,
+    // each with the viewer's lamp; --cameras framed keeps the automatic framed view.
+    const geometry::Scene scene = geometry::loadScene(path);
+    const std::vector<BenchView> views = benchViews(path, scene, mOpt.cameras);
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
-    const std::string sceneName = path.string();
-    std::fprintf(stderr, "scene %s: %zu triangles, view %s, loaded in %.1f s\n", sceneName.c_str(),
-                 renderer.triangleCount(), scene.cameraSource.c_str(),
+    std::fprintf(stderr, "scene %s: %zu triangles, %zu view%s, loaded in %.1f s\n",
+                 path.string().c_str(), renderer.triangleCount(), views.size(),
+                 views.size() == 1 ? "" : "s",
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    // The truth must see what the scene holds: `reference` occludes with whole triangles.
+    const bool alphaTested = std::any_of(scene.objects.begin(), scene.objects.end(), [](const auto& o) {
+        return o.method != geometry::ShadowMethod::None && geometry::hasAlphaMask(o.mesh);
+    });
+    for (const BenchView& view : views) {
+        std::fprintf(stderr, "view %s: %s\n", view.name.c_str(), view.source.c_str());
+        mCamera = view.camera;
+        benchView(scene, renderer, view.name, view.light, alphaTested);
+    }
+    mCamera.reset();
+}
 
+void Bench::benchView(const geometry::Scene& scene, gpu::Renderer& renderer,
+                      const std::string& sceneName, const geometry::RectLight& viewLight,
+                      bool alphaTested) {
     for (const double scale : mScales) {
-        geometry::RectLight light = scene.light;
+        geometry::RectLight light = viewLight;
         light.u *= static_cast<float>(scale);
         light.v *= static_cast<float>(scale);
         Row base;
@@ -464,6 +531,14 @@ void Bench::benchScene(const fs::path& path) {
 
         // The truth of the static view and, for flicker, of every light position of the path.
         const RunSpec truthRun{&gpu::findMethod(mOpt.truth), {}, mOpt.truthSamples};
+        if (alphaTested && !truthRun.method->alphaMasks) {
+            const std::string why = "no truth (" + mOpt.truth +
+                                    "): it occludes with whole triangles and the scene has "
+                                    "alpha-tested casters; measure against --truth raytrace";
+            std::fprintf(stderr, "  light x%g: %s\n", scale, why.c_str());
+            writeRowForEveryRun(base, why);
+            continue;
+        }
         const int steps = mOpt.flickerSteps;
         std::vector<geometry::RectLight> path =
             steps > 0 ? lightPath(light, steps, mOpt.sweep) : std::vector<geometry::RectLight>{light};
@@ -602,7 +677,7 @@ int Bench::execute() {
 
     gpu::EglContext context;
     mInfo = context.info();
-    mRunTotal = mScenes.size() * mScales.size() * mRuns.size();
+    mRunTotal = (viewCount > 0 ? viewCount : mScenes.size()) * mScales.size() * mRuns.size();
     std::fprintf(stderr,
                  "penumbra-bench: %zu scenes x %zu runs x %zu light scales = %zu runs at %dx%d "
                  "on %s; truth %s N=%d; %d warm-up + %d timed frames; flicker %s\n",
@@ -678,15 +753,25 @@ int run(const Options& opt) {
     if (scales.empty()) throw geometry::InputError("--light-scale: no value");
     apps::checkOutputFolder("--out", opt.outDir);
     const std::vector<fs::path> scenes = expandScenes(opt.inputs);
+    std::size_t views = 0;
     for (const fs::path& p : scenes) { // parse errors now, not an hour into the run
         std::fprintf(stderr, "checking %s\n", p.string().c_str());
-        geometry::loadScene(p);
+        const geometry::Scene scene = geometry::loadScene(p);
+        if (scene.cameras.empty() || opt.cameras == "framed")
+            views += 1;
+        else if (opt.cameras == "all")
+            views += scene.cameras.size();
+        else
+            views += splitList(opt.cameras).size();
+        if (opt.cameras != "framed" && opt.cameras != "all" && !scene.cameras.empty())
+            benchViews(p, scene, opt.cameras); // the indices exist (a lamp is hung later)
     }
     if (!opt.noChart && access("/usr/bin/python3", X_OK) != 0)
         throw geometry::InputError("the chart needs /usr/bin/python3 with matplotlib (Debian: apt "
                                    "install python3-matplotlib), or give --no-chart");
 
     Bench bench(opt, scenes, runs, width, height, scales);
+    bench.viewCount = views;
     return bench.execute();
 }
 
@@ -727,6 +812,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     std::int64_t seed = opt.seed; // checked by apps::checkSeed
     app.add_option("--seed", seed, "sample pattern seed of the truth and reference runs")
+        ->capture_default_str();
+    app.add_option("--cameras", opt.cameras,
+                   "views of a .gltf/.glb with glTF cameras: N,M,... (their indices), all, or "
+                   "framed (the automatic framing with its light); each glTF camera is lit by the "
+                   "viewer's lamp for its view, its rows named PATH@cameraN")
         ->capture_default_str();
     app.add_option("--out", opt.outDir, "output folder")->capture_default_str();
     app.add_flag("--save-images", opt.saveImages,

@@ -1,6 +1,6 @@
 // penumbra-render: headless renderer (DESIGN.md §3 contract).
-// - loads a scene JSON (or a .gltf/.glb: seen from its first glTF camera, or --camera N, else
-//   framed automatically) and validates every flag first: bad input exits with code 2 and
+// - loads a scene JSON (or a .gltf/.glb: seen from its first glTF camera, or --camera N, lit by
+//   the viewer's lamp for that view unless --scene-light; else framed automatically) and validates every flag first: bad input exits with code 2 and
 //   writes nothing;
 // - renders --frames frames with --method on a surfaceless EGL context (llvmpipe in CI);
 // - writes image.png, visibility.pfm, position.pfm and report.json into --out;
@@ -63,6 +63,7 @@ struct Options {
     float errorScale = geometry::kDefaultErrorScale;
     std::vector<std::string> parameters; // --param NAME=VALUE, in the order given
     std::optional<int> camera;           // --camera N: index into the glTF cameras
+    bool sceneLight = false;             // --scene-light: no lamp at a glTF camera
     bool quiet = false;
     std::string debugView = "shaded"; // what image.png shows (gpu::debugViews())
     int debugGroup = 0;
@@ -104,6 +105,8 @@ int run(const Options& opt) {
             throw geometry::InputError(std::string("--camera: ") + e.what());
         }
     }
+    // At a glTF camera, the viewer's lamp for the view (as the viewer and the bench light it).
+    const std::string lightSource = geometry::lightAtView(scene, opt.sceneLight);
     const double loadMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -179,6 +182,7 @@ int run(const Options& opt) {
                         {"up", apps::vec3Json(scene.camera.up)},
                         {"fov_y_deg", scene.camera.fovYDeg}};
     report["camera_source"] = scene.cameraSource;
+    report["light_source"] = lightSource;
     report["cameras"] = scene.cameras.size();
     report["light"] = {{"center", apps::vec3Json(scene.light.center)},
                        {"u", apps::vec3Json(scene.light.u)},
@@ -259,7 +263,13 @@ int run(const Options& opt) {
             std::printf(" (%d orthographic glTF camera%s skipped)", scene.skippedCameras,
                         scene.skippedCameras == 1 ? "" : "s");
         std::printf("\n");
+        std::printf("  light: %s\n", lightSource.c_str());
         std::printf("  renderer: %s\n", info.renderer.c_str());
+        // Where a method chose per object (auto), or left alpha-tested ones to occlusion
+        // textures: one line per object.
+        for (const auto& choice : last.objectChoices)
+            std::printf("  object '%s': %s (%s)\n", scene.objects[choice.object].name.c_str(),
+                        choice.path.c_str(), choice.reason.c_str());
         if (!last.debugNote.empty()) std::printf("  %s\n", last.debugNote.c_str());
         std::printf("  frame %.2f ms (median of %d)", median(frameMs), frames);
         for (const auto& name : gpuOrder)
@@ -317,7 +327,10 @@ int main(int argc, char** argv) {
                                               "listed under --method)");
     app.add_option("--camera", opt.camera,
                    "with a .gltf/.glb: view from its glTF camera N (0 = the first, the default; "
-                   "report.json camera_source names it)");
+                   "report.json camera_source names it); lit by the viewer's lamp for that view "
+                   "(a small light under the ceiling ahead; report.json light_source)");
+    app.add_flag("--scene-light", opt.sceneLight,
+                 "at a glTF camera, keep the file's framed light instead of the viewer's lamp");
     std::string views;
     for (const gpu::DebugViewInfo& v : gpu::debugViews())
         views += "\n    " + std::string(v.name) + ": " + std::string(v.help);

@@ -217,6 +217,34 @@ TEST_F(BenchCli, AFolderOfScenesGivesItsJsonFiles) {
     }
 }
 
+// A level is measured from its spawn cameras (--cameras), each lit by the viewer's lamp: one
+// set of rows per view, named PATH@cameraN; `framed` keeps the automatic framed view.
+TEST_F(BenchCli, LevelsAreMeasuredFromTheirSpawnCamerasWithTheLamp) {
+    const fs::path level = fs::path(PENUMBRA_SHARED_DIR) / "levels" / "oa_dm4.glb";
+    const std::string common = " --methods hard --size 32x24 --truth-samples 4 --frames 1 "
+                               "--warmup 0 --flicker-steps 0 --no-chart --save-images";
+    const fs::path out = mDir / "out";
+    std::string log;
+    ASSERT_EQ(run(q(level) + " --cameras 0,2" + common + " --out " + q(out), &log), 0) << log;
+    std::vector<std::string> header;
+    const auto rows = readCsv(out / "results.csv", &header);
+    ASSERT_EQ(rows.size(), 2u) << log; // hard at each view
+    EXPECT_EQ(rows[0].at("scene"), level.string() + "@camera0");
+    EXPECT_EQ(rows[1].at("scene"), level.string() + "@camera2");
+    for (const auto& row : rows) EXPECT_EQ(row.at("status"), "ok") << row.at("scene");
+    EXPECT_NE(log.find("lamp at the view"), std::string::npos) << log;
+    const fs::path framed = mDir / "framed";
+    ASSERT_EQ(run(q(level) + " --cameras framed" + common + " --out " + q(framed), &log), 0)
+        << log;
+    const auto framedRows = readCsv(framed / "results.csv", &header);
+    ASSERT_EQ(framedRows.size(), 1u);
+    EXPECT_EQ(framedRows[0].at("scene"), level.string());
+    // A camera the file does not have is bad input, before any work.
+    EXPECT_EQ(run(q(level) + " --cameras 99" + common + " --out " + q(mDir / "bad"), &log), 2);
+    EXPECT_NE(log.find("--cameras: '99' is not a glTF camera"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(mDir / "bad"));
+}
+
 TEST_F(BenchCli, BadInputExitsTwoAndWritesNothing) {
     const std::string scene = q(kData / "overlap.json");
     const fs::path out = mDir / "out";

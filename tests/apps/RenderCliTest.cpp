@@ -211,12 +211,42 @@ TEST_F(RenderCli, PcssRendersWithItsParameters) {
     EXPECT_LT(help.output.find("pcss:"), help.output.find("--param blocker_samples="));
 }
 
-// Alpha-tested foliage: refused by methods that would shadow with whole cards, rendered by
-// occlusion (its parameters and counters in report.json).
-TEST_F(RenderCli, FoliageNeedsAMethodHonouringAlphaMasks) {
-    const fs::path tree = fs::path(PENUMBRA_SHARED_DIR) / "foliage" / "oak_hungarian_1.glb";
-    expectRejected(tree, "alpha-masked", "--method hard");
-    expectRejected(tree, "occlusion", "--method wedges-additive");
+// Alpha-tested casters with a method that would shadow with whole cards: not refused. The
+// oak (every triangle a leaf-card material) goes to occlusion textures whole; the textured
+// level is split on loading, its walls to the method asked for, its grate and flames to
+// occlusion; report.json and the output say so per object.
+TEST_F(RenderCli, AlphaTestedObjectsWithAWedgeMethodGoToOcclusion) {
+    const fs::path shared(PENUMBRA_SHARED_DIR);
+    struct Case {
+        fs::path scene;
+        std::size_t opaque, tested;
+    };
+    for (const Case& c : {Case{shared / "foliage" / "oak_hungarian_1.glb", 0, 1},
+                          Case{shared / "levels" / "textured" / "kaos2.glb", 1, 1}}) {
+        const fs::path out = mDir / "out";
+        const RunResult r = run("--scene '" + c.scene.string() +
+                                "' --method wedges-additive --size 48x48 --out '" + out.string() +
+                                "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        std::ifstream in(out / "report.json");
+        const auto report = nlohmann::json::parse(in);
+        std::size_t opaque = 0, tested = 0;
+        for (const auto& object : report["objects"]) {
+            ASSERT_TRUE(object.contains("shadow_path")) << object.dump();
+            const std::string reason = object["shadow_path_reason"];
+            if (object["shadow_path"] == "occlusion") {
+                ++tested;
+                EXPECT_NE(reason.find("alpha-tested materials: "), std::string::npos) << reason;
+            } else {
+                ++opaque;
+                EXPECT_EQ(object["shadow_path"], "wedges-additive") << object.dump();
+            }
+        }
+        EXPECT_EQ(opaque, c.opaque) << report["objects"].dump();
+        EXPECT_EQ(tested, c.tested) << report["objects"].dump();
+        EXPECT_NE(r.output.find("occlusion (alpha-tested materials"), std::string::npos)
+            << r.output; // said, not only written
+    }
 }
 
 TEST_F(RenderCli, FoliageRendersWithOcclusion) {

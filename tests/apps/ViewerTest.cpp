@@ -320,6 +320,44 @@ TEST_F(Viewer, ALampIsHungAtEachSpawnView) {
     EXPECT_NE(hung.find("frame 1: lamp hung at"), std::string::npos) << hung;
 }
 
+// One view everywhere: penumbra-render at a glTF camera lights it with the viewer's lamp, so the
+// two programs give the same V there (the textured level: the alpha-tested part goes to
+// occlusion in both); --scene-light in both keeps the file's light, and again they agree.
+TEST_F(Viewer, RenderAndViewerGiveTheSameVisibilityAtASpawnCamera) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    const std::string render = std::string(PENUMBRA_BIN_DIR) + "/penumbra-render";
+    const std::string level = std::string(PENUMBRA_SHARED_DIR) + "/levels/textured/oa_dm4.glb";
+    for (const std::string light : {"", " --scene-light"}) {
+        const fs::path vis = mDir / "viewer.pfm", out = mDir / "render";
+        const RunResult v = viewer("'" + level + "' --camera 1 --method auto --size 96x64 " +
+                                   "--frames 2 --visibility '" + vis.string() + "'" + light);
+        ASSERT_EQ(v.exitCode, 0) << v.output;
+        const RunResult r = runCommand("'" + render + "' --scene '" + level +
+                                           "' --camera 1 --method auto --size 96x64 --out '" +
+                                           out.string() + "'" + light,
+                                       mDir / "render-log.txt");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        EXPECT_NE(r.output.find(light.empty() ? "light: lamp at the view" : "--scene-light"),
+                  std::string::npos)
+            << r.output;
+        const geometry::FloatImage a = geometry::readPfm(vis);
+        const geometry::FloatImage b = geometry::readPfm(out / "visibility.pfm");
+        ASSERT_EQ(a.data.size(), b.data.size());
+        double sum = 0.0;
+        std::size_t surface = 0, coverage = 0;
+        for (std::size_t i = 0; i < a.data.size(); ++i) {
+            coverage += std::isfinite(a.data[i]) != std::isfinite(b.data[i]);
+            if (!std::isfinite(a.data[i]) || !std::isfinite(b.data[i])) continue;
+            sum += std::abs(a.data[i] - b.data[i]);
+            ++surface;
+        }
+        EXPECT_EQ(coverage, 0u) << light;
+        ASSERT_GT(surface, 1000u) << light;
+        EXPECT_LE(sum / double(surface), 0.001) << light; // measured: 0
+    }
+}
+
 TEST(ViewerNoDisplay, ExitsTwoWithAClearMessage) {
     const fs::path log = fs::temp_directory_path() / "penumbra-viewer-nodisplay.txt";
     const RunResult r = runCommand("env -u DISPLAY -u WAYLAND_DISPLAY '" + kViewer + "' '" + kLevel +

@@ -164,7 +164,7 @@ Scene loadScene(const std::filesystem::path& path) {
         SceneObject obj;
         obj.mesh = std::move(gltf.mesh);
         obj.name = path.filename().string();
-        scene.objects.push_back(std::move(obj));
+        scene.objects = splitByAlphaTest(std::move(obj));
         const Aabb b = scene.bounds();
         scene.camera = defaultCamera(b);
         scene.light = defaultLight(b);
@@ -202,6 +202,17 @@ std::optional<RectLight> lampAhead(const Scene& scene, const RayTracer& tracer,
         bases.push_back(camera.eye + 0.5f * t * forward);
     bases.push_back(camera.eye);
     return hangLight(scene, tracer, bases);
+}
+
+std::string lightAtView(Scene& scene, bool keepSceneLight) {
+    if (scene.cameras.empty()) return scene.cameraSource == "scene" ? "scene JSON" : "framed";
+    if (keepSceneLight) return "scene light (--scene-light)";
+    if (scene.cameraSource == "framed") return "framed";
+    const RayTracer tracer(scene);
+    const std::optional<RectLight> lamp = lampAhead(scene, tracer, scene.camera);
+    if (!lamp) return "framed: no ceiling above the view to hang a lamp under";
+    scene.light = *lamp;
+    return "lamp at the view";
 }
 
 } // namespace geometry

@@ -19,7 +19,11 @@ float effectiveAlphaCutoff(const Material& material) {
 
 bool hasAlphaMask(const MeshData& mesh) {
     if (mesh.triangleMaterial.empty()) return false;
-    return std::any_of(mesh.materials.begin(), mesh.materials.end(), isAlphaMasked);
+    if (std::none_of(mesh.materials.begin(), mesh.materials.end(), isAlphaMasked)) return false;
+    return std::any_of(mesh.triangleMaterial.begin(), mesh.triangleMaterial.end(),
+                       [&](std::uint32_t m) {
+                           return m < mesh.materials.size() && isAlphaMasked(mesh.materials[m]);
+                       });
 }
 
 namespace {

@@ -23,6 +23,7 @@
 #include <geometry/scene/Scene.h>
 
 #include <geometry/core/Error.h>
+#include <geometry/scene/AlphaMask.h>
 #include <geometry/scene/GltfLoader.h>
 #include <geometry/scene/LightCheck.h>
 #include <geometry/core/Limits.h>
@@ -543,10 +544,10 @@ Scene SceneParser::parse(const std::string& text) {
     }
     if (objects.empty()) fail("objects", "must contain at least one object");
     for (std::size_t i = 0; i < objects.size(); ++i) {
-        scene.objects.push_back(parseObject(objects[i], i));
+        SceneObject parsed = parseObject(objects[i], i);
         // Spheres and tori were checked before they were built, a glTF file is bounded by its
         // loader; the sum is bounded here.
-        const std::size_t n = scene.objects.back().mesh.triangles.size();
+        const std::size_t n = parsed.mesh.triangles.size();
         if (mTriangles + n > kMaxSceneTriangles) {
             fail("objects[" + std::to_string(i) + "]",
                  "its " + grouped(n) + " triangles would bring the scene to " +
@@ -554,14 +555,82 @@ Scene SceneParser::parse(const std::string& text) {
                      grouped(kMaxSceneTriangles) + " a scene may have");
         }
         mTriangles += n;
-        checkObjectCoordinates(scene.objects.back(), [&](const std::string&, const std::string& w) {
+        checkObjectCoordinates(parsed, [&](const std::string&, const std::string& w) {
             fail("objects[" + std::to_string(i) + "]", w);
         });
+        for (SceneObject& part : splitByAlphaTest(std::move(parsed)))
+            scene.objects.push_back(std::move(part));
     }
     return scene;
 }
 
 } // namespace
+
+std::vector<SceneObject> splitByAlphaTest(SceneObject object) {
+    const MeshData& mesh = object.mesh;
+    std::vector<SceneObject> out;
+    if (!hasAlphaMask(mesh)) {
+        out.push_back(std::move(object));
+        return out;
+    }
+    auto tested = [&](std::size_t t) {
+        const std::uint32_t m = mesh.triangleMaterial[t];
+        return m < mesh.materials.size() && isAlphaMasked(mesh.materials[m]);
+    };
+    std::size_t alphaTriangles = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) alphaTriangles += tested(t);
+    if (alphaTriangles == mesh.triangles.size()) {
+        out.push_back(std::move(object));
+        return out;
+    }
+    // One part: the triangles whose test is `alpha`, their vertices renumbered in first use.
+    auto part = [&](bool alpha) {
+        SceneObject o;
+        o.name = alpha ? object.name + kAlphaTestedSuffix : object.name;
+        o.method = object.method;
+        o.mesh.name = mesh.name;
+        // The materials its triangles use, and their textures, renumbered in first use.
+        std::vector<std::uint32_t> materialIndex(mesh.materials.size(), UINT32_MAX);
+        std::vector<int> textureIndex(mesh.textures.size(), -1);
+        auto material = [&](std::uint32_t m) {
+            if (materialIndex[m] == UINT32_MAX) {
+                materialIndex[m] = static_cast<std::uint32_t>(o.mesh.materials.size());
+                Material copy = mesh.materials[m];
+                const int t = copy.baseColorTexture;
+                if (t >= 0 && std::size_t(t) < mesh.textures.size()) {
+                    if (textureIndex[std::size_t(t)] < 0) {
+                        textureIndex[std::size_t(t)] = static_cast<int>(o.mesh.textures.size());
+                        o.mesh.textures.push_back(mesh.textures[std::size_t(t)]);
+                    }
+                    copy.baseColorTexture = textureIndex[std::size_t(t)];
+                }
+                o.mesh.materials.push_back(std::move(copy));
+            }
+            return materialIndex[m];
+        };
+        std::vector<std::uint32_t> index(mesh.positions.size(), UINT32_MAX);
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+            if (tested(t) != alpha) continue;
+            glm::uvec3 tri;
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t& v = index[mesh.triangles[t][k]];
+                if (v == UINT32_MAX) {
+                    v = static_cast<std::uint32_t>(o.mesh.positions.size());
+                    o.mesh.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
+                    if (!mesh.texcoords.empty())
+                        o.mesh.texcoords.push_back(mesh.texcoords[mesh.triangles[t][k]]);
+                }
+                tri[k] = v;
+            }
+            o.mesh.triangles.push_back(tri);
+            o.mesh.triangleMaterial.push_back(material(mesh.triangleMaterial[t]));
+        }
+        return o;
+    };
+    out.push_back(part(false));
+    out.push_back(part(true));
+    return out;
+}
 
 Aabb Scene::bounds() const {
     Aabb b;

@@ -41,8 +41,9 @@ struct MethodInfo {
     std::unique_ptr<VisibilityMethod> (*create)(const MethodResources&) = nullptr;
     std::span<const MethodParameter> parameters{}; // empty: the method takes none
     // Whether the method honours alpha-tested casters (glTF MASK/BLEND: leaf cards cut out by
-    // their texture, SceneGeometry / shaders/lib/Material.glsl). The renderer refuses a scene
-    // with alpha-tested casters for a method without it (it would shadow with whole cards).
+    // their texture, SceneGeometry / shaders/lib/Material.glsl). A method without it shadows
+    // only a scene's opaque objects; the renderer gives the alpha-tested ones to occlusion
+    // textures beside it (createAlphaComposite), as `auto` does.
     bool alphaMasks = false;
 
     bool implemented() const { return create != nullptr; }

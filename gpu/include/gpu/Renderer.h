@@ -179,8 +179,10 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     // Renders one frame with `settings` (resizes targets when the size changed). Throws
-    // geometry::InputError for settings or a scene the method cannot serve (alpha-tested casters
-    // with a method that does not honour alpha masks: MethodInfo::alphaMasks).
+    // geometry::InputError for bad settings. A method that does not honour alpha masks
+    // (MethodInfo::alphaMasks) on a scene with alpha-tested casters shadows the opaque objects
+    // only; occlusion textures shadow the alpha-tested ones, and FrameStats::objectChoices says
+    // which object went where.
     FrameStats renderFrame(const RenderSettings& settings);
 
     // Results of the last frame, rows top to bottom.

@@ -18,6 +18,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <geometry/scene/AlphaMask.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -105,27 +107,13 @@ glm::mat4 infiniteReversedZ(float fovYRad, float aspect, float zNear) {
     return p;
 }
 
-bool hasAlphaCutout(const geometry::MeshData& mesh) {
-    return std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                       [](const auto& m) { return m.alphaTested(); });
-}
-
-// Throws for scenes `method` cannot represent (before it draws anything).
-void checkRepresentable(const geometry::Scene& scene, const MethodInfo& method) {
-    if (method.alphaMasks) return;
-    std::string honouring;
-    for (const MethodInfo& m : methodTable())
-        if (m.alphaMasks && m.implemented()) honouring += (honouring.empty() ? "" : ", ") + std::string(m.name);
-    for (const auto& object : scene.objects) {
-        if (object.method != geometry::ShadowMethod::None && hasAlphaCutout(object.mesh))
-            throw geometry::InputError(
-                "object '" + object.name + "' has alpha-masked or blended materials, which method '" +
-                std::string(method.name) +
-                "' cannot shadow with (it would treat the cards as opaque); use a method that "
-                "honours alpha masks (" + honouring + (method.usesSamples ? "; the reference for "
-                "alpha-tested casters is raytrace, whose rays test the texture's alpha" : "") +
-                "), or give the object \"method\": \"none\" to render it unshadowing");
-    }
+// Whether a method that occludes with whole triangles needs occlusion textures beside it here
+// (createAlphaComposite): some casting object has alpha-tested triangles.
+bool needsAlphaComposite(const geometry::Scene& scene, const MethodInfo& method) {
+    if (method.alphaMasks) return false;
+    return std::any_of(scene.objects.begin(), scene.objects.end(), [](const auto& object) {
+        return object.method != geometry::ShadowMethod::None && geometry::hasAlphaMask(object.mesh);
+    });
 }
 
 // "11.8 GiB", "0.9 MiB", "244.1 KiB".
@@ -300,7 +288,9 @@ struct Renderer::Impl {
         auto it = methods.find(info.name);
         if (it == methods.end() || it->second.parameters != parameters) {
             if (it != methods.end()) methods.erase(it); // its targets go before the new ones come
-            auto created = info.create(MethodResources{shaders, scene, parameters});
+            const MethodResources resources{shaders, scene, parameters};
+            auto created = needsAlphaComposite(scene, info) ? createAlphaComposite(resources, info)
+                                                            : info.create(resources);
             if (targets.width > 0) created->resize(targets.width, targets.height);
             it = methods
                      .emplace(std::string(info.name),
@@ -372,7 +362,6 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     if (info.usesSamples && settings.samples < 1)
         throw geometry::InputError("samples must be at least 1");
     std::vector<ParameterValue> parameters = resolveParameters(info, settings.parameters);
-    checkRepresentable(mScene, info);
     debugViewInfo(settings.debugView); // a valid enumerator
     if (settings.debugView == DebugView::ErrorHeatMap) {
         if (settings.samples < 1) throw geometry::InputError("samples must be at least 1");

@@ -4,6 +4,10 @@
 // occlusion textures — run each on its own casters and composed in one frame as
 // V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path
 // is decided the first frame it is seen and then kept, so that a moving light never flips it.
+// The same composition serves a method asked for by name that occludes with whole triangles
+// (hard, reference, the wedge methods) on a scene with alpha-tested objects
+// (createAlphaComposite): that method shadows the opaque objects, occlusion textures — auto's
+// alpha path — the alpha-tested ones, and each object's choice says so.
 #include "engine/DebugViews.h"
 #include "engine/Method.h"
 #include "methods/MethodUtil.h"
@@ -27,12 +31,41 @@ std::unique_ptr<VisibilityMethod> createByName(const MethodResources& r, std::st
     return info.create(MethodResources{r.shaders, r.scene, defaults});
 }
 
+// "grate (MASK 0.50), flame (BLEND as MASK 0.50)": the alpha-tested materials the mesh uses.
+std::string alphaTestedMaterials(const geometry::MeshData& mesh) {
+    std::vector<bool> used(mesh.materials.size(), false);
+    for (const std::uint32_t m : mesh.triangleMaterial)
+        if (m < used.size()) used[m] = true;
+    std::string text;
+    for (std::size_t m = 0; m < mesh.materials.size(); ++m) {
+        const geometry::Material& material = mesh.materials[m];
+        if (!used[m] || !geometry::isAlphaMasked(material)) continue;
+        char cutoff[48];
+        std::snprintf(cutoff, sizeof(cutoff), "%s %.2f",
+                      material.alphaMode == geometry::AlphaMode::Blend ? "BLEND as MASK" : "MASK",
+                      geometry::effectiveAlphaCutoff(material));
+        text += (text.empty() ? "" : ", ") +
+                (material.name.empty() ? "material " + std::to_string(m) : material.name) + " (" +
+                cutoff + ")";
+    }
+    return text;
+}
+
 class AutoMethod final : public VisibilityMethod {
 public:
     explicit AutoMethod(const MethodResources& r)
         : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(autoOptions(r.parameters).wedgeMethod),
           mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState) {
         mWedges = createByName(r, mWedgeMethodName);
+    }
+
+    // The composition for `primary` (asked for by name, with its parameters) on a scene with
+    // alpha-tested objects: `primary` for every opaque object, occlusion textures for the rest.
+    AutoMethod(const MethodResources& r, const MethodInfo& primary)
+        : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(primary.name),
+          mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState),
+          mPrimaryAsked(true) {
+        mWedges = primary.create(r);
     }
 
     void resize(int width, int height) override {
@@ -58,11 +91,16 @@ public:
                                                                  : wedgeCasters)
                 .push_back(c);
         for (const std::uint32_t c : ctx.casterSubset)
-            ctx.stats.objectChoices.push_back({ctx.casters.sceneObject(c),
-                                               geometry::toString(mChoices[c].path),
-                                               mChoices[c].reason});
-        ctx.addCounter("auto_wedge_objects", static_cast<double>(wedgeCasters.size()));
-        ctx.addCounter("auto_occlusion_objects", static_cast<double>(occlusionCasters.size()));
+            ctx.stats.objectChoices.push_back(
+                {ctx.casters.sceneObject(c),
+                 mPrimaryAsked && mChoices[c].path == geometry::ShadowPath::Wedges
+                     ? mWedgeMethodName
+                     : geometry::toString(mChoices[c].path),
+                 mChoices[c].reason});
+        ctx.addCounter(mPrimaryAsked ? "opaque_objects" : "auto_wedge_objects",
+                       static_cast<double>(wedgeCasters.size()));
+        ctx.addCounter(mPrimaryAsked ? "alpha_tested_objects_by_occlusion" : "auto_occlusion_objects",
+                       static_cast<double>(occlusionCasters.size()));
 
         mWedgeCasters = wedgeCasters;
         if (occlusionCasters.empty()) {
@@ -94,7 +132,8 @@ public:
 
     // Wedge views are the wedge method's, on the casters it served this frame.
     bool drawDebug(DebugView view, const FrameContext& ctx, DebugViews& debug) override {
-        if (view != DebugView::WedgeWireframe && view != DebugView::GroupParts) return false;
+        if (!mPrimaryAsked && view != DebugView::WedgeWireframe && view != DebugView::GroupParts)
+            return false;
         if (mWedgeCasters.empty()) {
             debug.note = std::string(debugViewInfo(view).name) +
                          ": auto gave every caster to occlusion textures (no wedges); showing "
@@ -122,8 +161,23 @@ private:
             geometry::CasterFacts facts;
             facts.requested = object.method;
             facts.alphaMasked = geometry::hasAlphaMask(object.mesh);
+            if (facts.alphaMasked) facts.alphaMaterials = alphaTestedMaterials(object.mesh);
             facts.topology = ctx.casters.topology(c).stats();
             facts.silhouetteEdges = ctx.casters.frame(c).edges.size();
+            if (mPrimaryAsked) {
+                // Only the alpha test decides: the scene JSON's "method" is auto's to read.
+                mChoices.push_back(
+                    facts.alphaMasked
+                        ? geometry::ShadowPathChoice{
+                              geometry::ShadowPath::Occlusion,
+                              "alpha-tested materials: " + facts.alphaMaterials + "; " +
+                                  mWedgeMethodName +
+                                  " occludes with whole triangles, so occlusion textures (auto's "
+                                  "alpha path) shadow this object"}
+                        : geometry::ShadowPathChoice{geometry::ShadowPath::Wedges,
+                                                     "opaque: " + mWedgeMethodName});
+                continue;
+            }
             mChoices.push_back(geometry::chooseShadowPath(facts));
         }
     }
@@ -159,12 +213,18 @@ private:
     int mWidth = 0, mHeight = 0;
     std::vector<geometry::ShadowPathChoice> mChoices; // per caster
     std::vector<std::uint32_t> mWedgeCasters;         // this frame's, for the debug views
+    bool mPrimaryAsked = false; // createAlphaComposite: mWedges is the method asked for
 };
 
 } // namespace
 
 std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources& r) {
     return std::make_unique<AutoMethod>(r);
+}
+
+std::unique_ptr<VisibilityMethod> createAlphaComposite(const MethodResources& r,
+                                                       const MethodInfo& primary) {
+    return std::make_unique<AutoMethod>(r, primary);
 }
 
 } // namespace gpu

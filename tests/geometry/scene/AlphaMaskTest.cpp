@@ -1,6 +1,9 @@
 // Alpha-masked materials (geometry/scene/AlphaMask.h) and the ray tracer's alpha filter.
 #include <geometry/scene/AlphaMask.h>
+#include <geometry/reference/Framing.h>
 #include <geometry/reference/RayTracer.h>
+#include <geometry/scene/GltfLoader.h>
+#include <geometry/scene/Scene.h>
 
 #include <gtest/gtest.h>
 
@@ -150,3 +153,48 @@ TEST(AlphaMaskTest, RaytraceSeesThroughTheMaskedHalfOfACard) {
 }
 
 } // namespace
+
+// A level with a grate: loading splits it into its opaque triangles and its alpha-tested ones
+// (geometry::splitByAlphaTest), so that a shadow path is chosen per part. Together they are the
+// file's triangles, each once, at the same positions and with the same materials.
+TEST(AlphaMaskTest, TexturedLevelLoadsAsOpaqueAndAlphaTestedParts) {
+    const std::filesystem::path file =
+        std::filesystem::path(PENUMBRA_SHARED_DIR) / "levels" / "textured" / "kaos2.glb";
+    const geometry::MeshData whole = geometry::loadGltf(file);
+    const geometry::Scene scene = geometry::loadScene(file);
+    ASSERT_EQ(scene.objects.size(), 2u);
+    const geometry::SceneObject& opaque = scene.objects[0];
+    const geometry::SceneObject& tested = scene.objects[1];
+    EXPECT_EQ(opaque.name, "kaos2.glb");
+    EXPECT_EQ(tested.name, std::string("kaos2.glb") + geometry::kAlphaTestedSuffix);
+    EXPECT_FALSE(geometry::hasAlphaMask(opaque.mesh));
+    EXPECT_TRUE(geometry::hasAlphaMask(tested.mesh));
+    EXPECT_GT(tested.mesh.triangles.size(), 0u);
+    EXPECT_EQ(opaque.mesh.triangles.size() + tested.mesh.triangles.size(), whole.triangles.size());
+    EXPECT_EQ(opaque.mesh.texcoords.size(), opaque.mesh.positions.size());
+    // Walk the file's triangles in order: each is the next of the part its material says.
+    std::size_t next[2] = {0, 0};
+    for (std::size_t t = 0; t < whole.triangles.size(); ++t) {
+        const std::uint32_t m = whole.triangleMaterial[t];
+        const int side = geometry::isAlphaMasked(whole.materials[m]) ? 1 : 0;
+        const geometry::MeshData& part = scene.objects[side].mesh;
+        const std::size_t u = next[side]++;
+        ASSERT_LT(u, part.triangles.size());
+        const geometry::Material& a = part.materials[part.triangleMaterial[u]];
+        const geometry::Material& b = whole.materials[m];
+        EXPECT_EQ(a.name, b.name);
+        EXPECT_EQ(a.alphaMode, b.alphaMode);
+        ASSERT_EQ(a.baseColorTexture >= 0, b.baseColorTexture >= 0);
+        if (a.baseColorTexture >= 0)
+            EXPECT_EQ(part.textures[a.baseColorTexture].rgba8,
+                      whole.textures[b.baseColorTexture].rgba8);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(part.positions[part.triangles[u][k]], whole.positions[whole.triangles[t][k]]);
+            EXPECT_EQ(part.texcoords[part.triangles[u][k]], whole.texcoords[whole.triangles[t][k]]);
+        }
+    }
+    // Each part holds only its own materials: the grate's texture is not uploaded twice.
+    EXPECT_EQ(opaque.mesh.materials.size() + tested.mesh.materials.size(), whole.materials.size());
+    // The untextured file has no alpha-tested material: one object, as before.
+    EXPECT_EQ(geometry::loadScene(file.parent_path().parent_path() / "kaos2.glb").objects.size(), 1u);
+}

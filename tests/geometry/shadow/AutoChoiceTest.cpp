@@ -24,17 +24,22 @@ TEST(AutoChoiceTest, EachClauseInOrder) {
     // edges: a level stays with wedges.
     EXPECT_EQ(geometry::chooseShadowPath(facts(27831, 42829, 269, 10620)).path,
               ShadowPath::Wedges);
-    // A triangle soup of crossed cards: 10 % non-manifold edges.
+    // A triangle soup of crossed cards (10 % non-manifold edges) and a silhouette-dense mesh
+    // (0.8 edges per triangle) stay with wedges: the two-sided counts serve any topology, and
+    // the reason gives the counts.
     const auto soup = geometry::chooseShadowPath(facts(2000, 3000, 300, 100));
-    EXPECT_EQ(soup.path, ShadowPath::Occlusion);
-    EXPECT_NE(soup.reason.find("non-manifold"), std::string::npos) << soup.reason;
-    // Silhouette-dense: 0.8 edges per triangle over 400 edges; but not with 200 edges.
-    EXPECT_EQ(geometry::chooseShadowPath(facts(500, 800, 0, 400)).path, ShadowPath::Occlusion);
-    EXPECT_EQ(geometry::chooseShadowPath(facts(250, 400, 0, 200)).path, ShadowPath::Wedges);
+    EXPECT_EQ(soup.path, ShadowPath::Wedges);
+    EXPECT_NE(soup.reason.find("10.0 % non-manifold"), std::string::npos) << soup.reason;
+    const auto dense = geometry::chooseShadowPath(facts(500, 800, 0, 400));
+    EXPECT_EQ(dense.path, ShadowPath::Wedges);
+    EXPECT_NE(dense.reason.find("0.80 per triangle"), std::string::npos) << dense.reason;
     // Alpha masks win over everything the topology says.
     auto masked = facts(12, 18, 0, 6);
     masked.alphaMasked = true;
-    EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Occlusion);
+    masked.alphaMaterials = "grate (MASK 0.50)";
+    const auto grate = geometry::chooseShadowPath(masked);
+    EXPECT_EQ(grate.path, ShadowPath::Occlusion);
+    EXPECT_NE(grate.reason.find("grate (MASK 0.50)"), std::string::npos) << grate.reason;
     // The scene JSON wins over everything.
     masked.requested = geometry::ShadowMethod::Wedges;
     EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Wedges);

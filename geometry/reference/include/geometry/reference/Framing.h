@@ -39,4 +39,13 @@ std::optional<RectLight> hangLight(const Scene& scene, const RayTracer& tracer,
 std::optional<RectLight> lampAhead(const Scene& scene, const RayTracer& tracer,
                                    const Camera& camera);
 
+// How a .gltf/.glb seen from one of its glTF cameras is lit, the same in penumbra-render,
+// penumbra-bench and the viewer: the viewer's lamp for scene.camera (lampAhead) becomes
+// scene.light. Returns what lights the view, for reports: "lamp at the view" when hung; else
+// the reason the light was left as it was ("scene light (--scene-light)" with keepSceneLight,
+// "scene JSON" for a scene JSON, "framed" for a model seen from its framing, "framed: no
+// ceiling above the view to hang a lamp under" when lampAhead finds none). Builds a ray tracer
+// on the scene when it hangs a lamp.
+std::string lightAtView(Scene& scene, bool keepSceneLight);
+
 } // namespace geometry

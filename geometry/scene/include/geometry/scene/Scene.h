@@ -73,4 +73,14 @@ RectLight defaultLight(const Aabb& bounds);
 
 const char* toString(ShadowMethod m);
 
+// An object whose mesh mixes opaque and alpha-tested materials (a game level with a grate, a
+// tree with its bark and leaf cards) as two: the opaque triangles under the object's name, and
+// the alpha-tested ones under kAlphaTestedSuffix appended to it, each with the vertices,
+// materials and textures it uses (renumbered in first use), both with the object's "method".
+// Shadow paths are chosen per object (`auto`), and a method that occludes with whole triangles
+// can then serve the opaque part while one that honours alpha serves the other. An object of one
+// kind comes back alone, unchanged. parseScene and loadScene split every object this way.
+inline constexpr const char* kAlphaTestedSuffix = " (alpha-tested)";
+std::vector<SceneObject> splitByAlphaTest(SceneObject object);
+
 } // namespace geometry

@@ -6,17 +6,16 @@
 //
 // Rule, in order (the first that applies):
 //  1. the scene JSON names the path ("wedges" or "occlusion"): as named;
-//  2. alpha-masked materials (glTF MASK or BLEND; geometry/scene/AlphaMask.h): occlusion textures —
-//     shadow volumes and wedges occlude with whole triangles;
-//  3. non-manifold beyond repair: more than kMaxNonManifoldEdgeShare of the edges have three or
-//     more triangles (triangle soups, crossed cards): occlusion. Boundary edges and the few
-//     non-manifold edges of game levels (kaos2: 0.6 %) are served by the volumes' multiplicity
-//     rule and stay with wedges;
-//  4. silhouette-dense: more than kMaxSilhouetteEdgesPerTriangle directed silhouette edges per
-//     triangle from the light centre, and at least kMinDenseSilhouetteEdges of them (one wedge
-//     per edge: fur, grass, shredded geometry cost more in wedges than a slicing pass); a closed
-//     box (6 edges, 12 triangles) is not dense — too few edges to matter;
-//  5. otherwise wedges.
+//  2. alpha-tested materials (glTF MASK or BLEND; geometry/scene/AlphaMask.h): occlusion
+//     textures — shadow volumes and wedges occlude with whole triangles. Scene loading splits an
+//     object that mixes opaque and alpha-tested materials into two (splitByAlphaTest in
+//     geometry/scene/Scene.h), so a level's grate goes to occlusion and its walls stay with wedges;
+//  3. otherwise wedges. Open, non-manifold and silhouette-dense meshes included: the volumes'
+//     two-sided multiplicity rule counts every crossing of every triangle, so the wedge
+//     methods' counts are right on level geometry whatever its topology (an earlier rule sent
+//     meshes with more than 2 % non-manifold edges, or over 0.5 silhouette edges per triangle,
+//     to occlusion textures: oa_dm1 and oa_dm4 from their spawn points with the viewer's lamp,
+//     dark rooms drawn lit). The reason names the topology and silhouette counts, for cost.
 #pragma once
 
 #include <geometry/shadow/Topology.h>
@@ -26,10 +25,6 @@
 #include <string>
 
 namespace geometry {
-
-inline constexpr double kMaxNonManifoldEdgeShare = 0.02;
-inline constexpr double kMaxSilhouetteEdgesPerTriangle = 0.5;
-inline constexpr std::size_t kMinDenseSilhouetteEdges = 256;
 
 enum class ShadowPath { Wedges, Occlusion };
 
@@ -41,6 +36,7 @@ struct ShadowPathChoice {
 struct CasterFacts {
     ShadowMethod requested = ShadowMethod::Auto; // the scene JSON's "method" (not None)
     bool alphaMasked = false;
+    std::string alphaMaterials; // with alphaMasked: "grate (MASK 0.50), flame (BLEND as MASK 0.50)"
     TopologyStats topology;
     std::size_t silhouetteEdges = 0; // directed, from the light centre
 };
