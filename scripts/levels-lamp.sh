@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The shared levels as a player sees them: penumbra-viewer at spawn cameras (CAMERAS, default
 # "0 2": the first and third) with its lamp under the ceiling ahead (the viewer's default),
-# 320x180, against `raytrace` with TRUTH_SAMPLES (default 4096) light samples of the same view.
+# 320x180, against `raytrace` with TRUTH_SAMPLES (default 4096) light samples of the same view
+# (alpha-aware: it tests the textured levels' grates and flames). Both sets of levels: the
+# untextured ones and ../shared/levels/textured/ (the same triangles with their game materials).
 # Per method: mean |V - V_truth| over the pixels with a surface, the pixels off by more than
 # 0.05, and the frame (median of 4) over `hard`'s of the same view.
 # Writes docs/levels-lamp.md. Usage: bash scripts/levels-lamp.sh [build-dir]
@@ -15,20 +17,21 @@ OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 run=()
 if [[ -z ${DISPLAY:-} && -z ${WAYLAND_DISPLAY:-} ]]; then run=(xvfb-run -a -s "-screen 0 640x480x24"); fi
-methods=(hard wedges-blend wedges-bitmask auto)
+methods=(hard wedges-blend wedges-bitmask occlusion pcss auto)
 rows=()
+for set in "" textured/; do
 for level in kaos2 oa_dm1 oa_dm4 oa_dm5; do
   for camera in $CAMERAS; do
-    glb=../shared/levels/$level.glb
-    view=$level-$camera
-    echo "== $level camera $camera (raytrace N = $N)" >&2
+    glb=../shared/levels/$set$level.glb
+    view=${set%/}$level-$camera
+    echo "== $set$level camera $camera (raytrace N = $N)" >&2
     "${run[@]}" "$viewer" "$glb" --camera "$camera" --method raytrace --samples "$N" --size 320x180 \
         --frames 1 --hide-ui --visibility "$OUT/$view-truth.pfm" --report "$OUT/$view-truth.json" >/dev/null
     for m in "${methods[@]}"; do
         "${run[@]}" "$viewer" "$glb" --camera "$camera" --method "$m" --size 320x180 --frames 4 \
             --hide-ui --visibility "$OUT/$view-$m.pfm" --report "$OUT/$view-$m.json" >/dev/null
     done
-    rows+=("$(/usr/bin/python3 - "$OUT" "$view" "$level, camera $camera" "${methods[@]}" <<'PY'
+    rows+=("$(/usr/bin/python3 - "$OUT" "$view" "${set:+textured }$level, camera $camera" "${methods[@]}" <<'PY'
 import json, sys
 import numpy as np
 out, view, name, methods = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
@@ -55,14 +58,16 @@ PY
 )")
   done
 done
+done
 first=${CAMERAS%% *}
 renderer=$(/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['gl_renderer'] + ', CPU ' + d['cpu'])" "$OUT/kaos2-$first-hard.json")
 {
     echo "<!-- written by scripts/levels-lamp.sh; do not edit by hand -->"
     echo "The shared levels from spawn cameras (\`--camera N\`) with the viewer's lamp, 320×180: mean"
     echo "|V − V_truth| over the pixels with a surface (pixels off by > 0.05) / frame over \`hard\`'s"
-    echo "(median of 4 frames). Truth: \`raytrace\` N = $N of the same view. GL_RENDERER $renderer"
-    echo "($(nproc) cores)."
+    echo "(median of 4 frames). Truth: \`raytrace\` N = $N of the same view (alpha-aware). On the"
+    echo "textured levels a method that occludes with whole triangles shadows the opaque part and"
+    echo "occlusion textures the alpha-tested one. GL_RENDERER $renderer ($(nproc) cores)."
     echo
     echo "| view |$(printf ' %s |' "${methods[@]}")"
     echo "|---|$(printf -- '---|%.0s' "${methods[@]}")"
