@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The bench run of docs/benchmarks.md: every real-time method on the overlap scenes of data/,
-# the stability suite (data/stability/) and two OpenArena levels, against the GPU reference of
-# the same view, with flicker along a light sweep; then the foliage scene against raytrace (the
-# reference refuses alpha-tested casters). Prints the markdown tables of scripts/bench_table.py
+# the stability suite (data/stability/) and two OpenArena levels (from their first spawn camera
+# with the viewer's lamp, the bench's default), against the GPU reference of the same view, with
+# flicker along a light sweep; then the foliage scene against raytrace (the reference occludes
+# with whole triangles, so the bench refuses it as the truth of alpha-tested casters). Prints the markdown tables of scripts/bench_table.py
 # (also written to $OUT/tables.md); they go into docs/benchmarks.md, § Every method.
 # Usage: bash scripts/bench-readme.sh   (OUT defaults to out/bench-readme; SIZE to 256x256,
 # TRUTH_SAMPLES to 1024, FLICKER_STEPS to 6, FRAMES to 5). Takes ~1 h on 2 llvmpipe cores.

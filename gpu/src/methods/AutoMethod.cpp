@@ -135,9 +135,12 @@ public:
         if (!mPrimaryAsked && view != DebugView::WedgeWireframe && view != DebugView::GroupParts)
             return false;
         if (mWedgeCasters.empty()) {
-            debug.note = std::string(debugViewInfo(view).name) +
-                         ": auto gave every caster to occlusion textures (no wedges); showing "
-                         "the shaded image";
+            debug.note = std::string(debugViewInfo(view).name) + ": " +
+                         (mPrimaryAsked ? "every caster is alpha-tested and went to occlusion "
+                                          "textures (no " + mWedgeMethodName + " casters)"
+                                        : std::string("auto gave every caster to occlusion "
+                                                      "textures (no wedges)")) +
+                         "; showing the shaded image";
             return false;
         }
         return mWedges->drawDebug(view, subContext(ctx, mWedgeCasters), debug);

@@ -185,9 +185,10 @@ TEST(AlphaMaskTest, TexturedLevelLoadsAsOpaqueAndAlphaTestedParts) {
         EXPECT_EQ(a.name, b.name);
         EXPECT_EQ(a.alphaMode, b.alphaMode);
         ASSERT_EQ(a.baseColorTexture >= 0, b.baseColorTexture >= 0);
-        if (a.baseColorTexture >= 0)
+        if (a.baseColorTexture >= 0) {
             EXPECT_EQ(part.textures[a.baseColorTexture].rgba8,
                       whole.textures[b.baseColorTexture].rgba8);
+        }
         for (int k = 0; k < 3; ++k) {
             EXPECT_EQ(part.positions[part.triangles[u][k]], whole.positions[whole.triangles[t][k]]);
             EXPECT_EQ(part.texcoords[part.triangles[u][k]], whole.texcoords[whole.triangles[t][k]]);
