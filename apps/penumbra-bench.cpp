@@ -19,10 +19,10 @@
 #include <geometry/core/Error.h>
 #include <geometry/reference/ErrorImage.h>
 #include <geometry/reference/ErrorStats.h>
-#include <geometry/scene/AlphaMask.h>
 #include <geometry/scene/ImageIO.h>
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
+#include <geometry/reference/RayTracer.h>
 #include <gpu/gl/Context.h>
 #include <gpu/gl/Debug.h>
 #include <gpu/Renderer.h>
@@ -448,34 +448,44 @@ struct BenchView {
     std::string source; // camera and light, for the log
 };
 
+// The glTF cameras --cameras names for a scene ("framed", or a scene without cameras: none, one
+// framed view). Throws InputError for an index the file does not have.
+std::vector<int> cameraIndices(const fs::path& path, const geometry::Scene& scene,
+                               const std::string& cameras) {
+    std::vector<int> indices;
+    if (scene.cameras.empty() || cameras == "framed") return indices;
+    if (cameras == "all") {
+        for (std::size_t i = 0; i < scene.cameras.size(); ++i) indices.push_back(int(i));
+        return indices;
+    }
+    for (const std::string& item : splitList(cameras)) {
+        char* end = nullptr;
+        const long i = std::strtol(item.c_str(), &end, 10);
+        if (end == item.c_str() || *end || i < 0 || i >= long(scene.cameras.size()))
+            throw geometry::InputError(
+                "--cameras: '" + item + "' is not a glTF camera of " + path.string() + " (" +
+                std::to_string(scene.cameras.size()) + " cameras: 0 to " +
+                std::to_string(scene.cameras.size() - 1) + ")");
+        indices.push_back(int(i));
+    }
+    return indices;
+}
+
 std::vector<BenchView> benchViews(const fs::path& path, const geometry::Scene& loaded,
                                   const std::string& cameras) {
     std::vector<BenchView> views;
-    if (loaded.cameras.empty() || cameras == "framed") {
+    const std::vector<int> indices = cameraIndices(path, loaded, cameras);
+    if (indices.empty()) {
         geometry::Scene scene = loaded;
         if (!scene.cameras.empty()) geometry::selectFramedCamera(scene);
         views.push_back({path.string(), scene.camera, scene.light, scene.cameraSource});
         return views;
     }
-    std::vector<int> indices;
-    if (cameras == "all") {
-        for (std::size_t i = 0; i < loaded.cameras.size(); ++i) indices.push_back(int(i));
-    } else {
-        for (const std::string& item : splitList(cameras)) {
-            char* end = nullptr;
-            const long i = std::strtol(item.c_str(), &end, 10);
-            if (end == item.c_str() || *end || i < 0 || i >= long(loaded.cameras.size()))
-                throw geometry::InputError(
-                    "--cameras: '" + item + "' is not a glTF camera of " + path.string() + " (" +
-                    std::to_string(loaded.cameras.size()) + " cameras: 0 to " +
-                    std::to_string(loaded.cameras.size() - 1) + ")");
-            indices.push_back(int(i));
-        }
-    }
+    const geometry::RayTracer tracer(loaded); // one for every view's lamp
     for (const int i : indices) {
         geometry::Scene scene = loaded;
         geometry::selectCamera(scene, i);
-        const std::string light = geometry::lightAtView(scene, false);
+        const std::string light = geometry::lightAtView(scene, false, &tracer);
         views.push_back({path.string() + "@camera" + std::to_string(i), scene.camera, scene.light,
                          scene.cameraSource + ", " + light});
     }
@@ -495,9 +505,7 @@ void Bench::benchScene(const fs::path& path) {
                  views.size() == 1 ? "" : "s",
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     // The truth must see what the scene holds: `reference` occludes with whole triangles.
-    const bool alphaTested = std::any_of(scene.objects.begin(), scene.objects.end(), [](const auto& o) {
-        return o.method != geometry::ShadowMethod::None && geometry::hasAlphaMask(o.mesh);
-    });
+    const bool alphaTested = geometry::hasAlphaTestedCasters(scene);
     for (const BenchView& view : views) {
         std::fprintf(stderr, "view %s: %s\n", view.name.c_str(), view.source.c_str());
         mCamera = view.camera;
@@ -757,14 +765,7 @@ int run(const Options& opt) {
     for (const fs::path& p : scenes) { // parse errors now, not an hour into the run
         std::fprintf(stderr, "checking %s\n", p.string().c_str());
         const geometry::Scene scene = geometry::loadScene(p);
-        if (scene.cameras.empty() || opt.cameras == "framed")
-            views += 1;
-        else if (opt.cameras == "all")
-            views += scene.cameras.size();
-        else
-            views += splitList(opt.cameras).size();
-        if (opt.cameras != "framed" && opt.cameras != "all" && !scene.cameras.empty())
-            benchViews(p, scene, opt.cameras); // the indices exist (a lamp is hung later)
+        views += std::max<std::size_t>(1, cameraIndices(p, scene, opt.cameras).size());
     }
     if (!opt.noChart && access("/usr/bin/python3", X_OK) != 0)
         throw geometry::InputError("the chart needs /usr/bin/python3 with matplotlib (Debian: apt "

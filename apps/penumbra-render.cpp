@@ -1,7 +1,7 @@
 // penumbra-render: headless renderer (DESIGN.md §3 contract).
 // - loads a scene JSON (or a .gltf/.glb: seen from its first glTF camera, or --camera N, lit by
-//   the viewer's lamp for that view unless --scene-light; else framed automatically) and validates every flag first: bad input exits with code 2 and
-//   writes nothing;
+//   the viewer's lamp for that view unless --scene-light; else framed automatically) and
+//   validates every flag first: bad input exits with code 2 and writes nothing;
 // - renders --frames frames with --method on a surfaceless EGL context (llvmpipe in CI);
 // - writes image.png, visibility.pfm, position.pfm and report.json into --out;
 // - with --compare FILE (a visibility.pfm of the same view, e.g. from --method reference) also

@@ -204,12 +204,13 @@ std::optional<RectLight> lampAhead(const Scene& scene, const RayTracer& tracer,
     return hangLight(scene, tracer, bases);
 }
 
-std::string lightAtView(Scene& scene, bool keepSceneLight) {
+std::string lightAtView(Scene& scene, bool keepSceneLight, const RayTracer* tracer) {
     if (scene.cameras.empty()) return scene.cameraSource == "scene" ? "scene JSON" : "framed";
     if (keepSceneLight) return "scene light (--scene-light)";
     if (scene.cameraSource == "framed") return "framed";
-    const RayTracer tracer(scene);
-    const std::optional<RectLight> lamp = lampAhead(scene, tracer, scene.camera);
+    std::optional<RayTracer> own;
+    if (!tracer) tracer = &own.emplace(scene);
+    const std::optional<RectLight> lamp = lampAhead(scene, *tracer, scene.camera);
     if (!lamp) return "framed: no ceiling above the view to hang a lamp under";
     scene.light = *lamp;
     return "lamp at the view";

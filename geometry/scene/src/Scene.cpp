@@ -632,6 +632,12 @@ std::vector<SceneObject> splitByAlphaTest(SceneObject object) {
     return out;
 }
 
+bool hasAlphaTestedCasters(const Scene& scene) {
+    return std::any_of(scene.objects.begin(), scene.objects.end(), [](const SceneObject& o) {
+        return o.method != ShadowMethod::None && hasAlphaMask(o.mesh);
+    });
+}
+
 Aabb Scene::bounds() const {
     Aabb b;
     for (const auto& o : objects)

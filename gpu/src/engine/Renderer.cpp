@@ -18,8 +18,6 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <geometry/scene/AlphaMask.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -105,15 +103,6 @@ glm::mat4 infiniteReversedZ(float fovYRad, float aspect, float zNear) {
     p[2][3] = -1.0f;
     p[3][2] = zNear;
     return p;
-}
-
-// Whether a method that occludes with whole triangles needs occlusion textures beside it here
-// (createAlphaComposite): some casting object has alpha-tested triangles.
-bool needsAlphaComposite(const geometry::Scene& scene, const MethodInfo& method) {
-    if (method.alphaMasks) return false;
-    return std::any_of(scene.objects.begin(), scene.objects.end(), [](const auto& object) {
-        return object.method != geometry::ShadowMethod::None && geometry::hasAlphaMask(object.mesh);
-    });
 }
 
 // "11.8 GiB", "0.9 MiB", "244.1 KiB".
@@ -289,8 +278,11 @@ struct Renderer::Impl {
         if (it == methods.end() || it->second.parameters != parameters) {
             if (it != methods.end()) methods.erase(it); // its targets go before the new ones come
             const MethodResources resources{shaders, scene, parameters};
-            auto created = needsAlphaComposite(scene, info) ? createAlphaComposite(resources, info)
-                                                            : info.create(resources);
+            // A method that occludes with whole triangles gets occlusion textures beside it for
+            // the alpha-tested objects.
+            auto created = !info.alphaMasks && geometry::hasAlphaTestedCasters(scene)
+                               ? createAlphaComposite(resources, info)
+                               : info.create(resources);
             if (targets.width > 0) created->resize(targets.width, targets.height);
             it = methods
                      .emplace(std::string(info.name),

@@ -44,8 +44,8 @@ std::optional<RectLight> lampAhead(const Scene& scene, const RayTracer& tracer,
 // scene.light. Returns what lights the view, for reports: "lamp at the view" when hung; else
 // the reason the light was left as it was ("scene light (--scene-light)" with keepSceneLight,
 // "scene JSON" for a scene JSON, "framed" for a model seen from its framing, "framed: no
-// ceiling above the view to hang a lamp under" when lampAhead finds none). Builds a ray tracer
-// on the scene when it hangs a lamp.
-std::string lightAtView(Scene& scene, bool keepSceneLight);
+// ceiling above the view to hang a lamp under" when lampAhead finds none). `tracer`, when given,
+// is built on `scene` (several views of one scene share it); else one is built when needed.
+std::string lightAtView(Scene& scene, bool keepSceneLight, const RayTracer* tracer = nullptr);
 
 } // namespace geometry

@@ -82,5 +82,8 @@ const char* toString(ShadowMethod m);
 // kind comes back alone, unchanged. parseScene and loadScene split every object this way.
 inline constexpr const char* kAlphaTestedSuffix = " (alpha-tested)";
 std::vector<SceneObject> splitByAlphaTest(SceneObject object);
+// Whether some casting object (method not None) has alpha-tested triangles: what a method that
+// occludes with whole triangles cannot shadow alone.
+bool hasAlphaTestedCasters(const Scene& scene);
 
 } // namespace geometry
