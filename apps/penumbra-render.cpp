@@ -96,6 +96,22 @@ int run(const Options& opt) {
                            ? std::max(opt.frames, (opt.samples + perFrame - 1) / perFrame)
                            : opt.frames;
 
+    std::optional<geometry::FloatImage> compareTo;
+    if (!opt.comparePath.empty()) {
+        try {
+            compareTo = geometry::readPfm(opt.comparePath);
+        } catch (const geometry::InputError& e) {
+            throw geometry::InputError(std::string("--compare: ") + e.what());
+        }
+        if (compareTo->width != width || compareTo->height != height || compareTo->channels != 1)
+            throw geometry::InputError("--compare: " + opt.comparePath + " is " +
+                                       std::to_string(compareTo->width) + "x" +
+                                       std::to_string(compareTo->height) + "x" +
+                                       std::to_string(compareTo->channels) +
+                                       ", expected a 1-channel " + std::to_string(width) + "x" +
+                                           std::to_string(height) + " visibility map");
+    }
+
     auto t0 = std::chrono::steady_clock::now();
     geometry::Scene scene = geometry::loadScene(opt.scenePath);
     if (opt.camera) {
@@ -109,17 +125,6 @@ int run(const Options& opt) {
     const std::string lightSource = geometry::lightAtView(scene, opt.sceneLight);
     const double loadMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-
-    std::optional<geometry::FloatImage> compareTo;
-    if (!opt.comparePath.empty()) {
-        compareTo = geometry::readPfm(opt.comparePath);
-        if (compareTo->width != width || compareTo->height != height || compareTo->channels != 1)
-            throw geometry::InputError("--compare: " + opt.comparePath + " is " +
-                                       std::to_string(compareTo->width) + "x" +
-                                       std::to_string(compareTo->height) + "x" +
-                                       std::to_string(compareTo->channels) +
-                                       ", expected a 1-channel " + opt.size + " visibility map");
-    }
 
     gpu::EglContext context;
     const gpu::ContextInfo info = context.info();

@@ -7,7 +7,10 @@ gltf seeds: small valid models (triangle, cube; .gltf with base64 buffers and .g
 fans, sparse accessors, a camera, an alpha-masked texture, the glTF files of data/stability)
 and malformed variants of them: truncated, huge counts, out-of-range indices, cyclic and doubly
 listed nodes, deep node chains, NaN/Inf, bad base64, wrong GLB chunk lengths, bad magic, float
-index accessors, huge byteStride, deep JSON nesting, external URIs.
+index accessors, huge byteStride, deep JSON nesting, external URIs; images (PNG and JPEG, in
+GLB buffer views and data: URIs) and their hostile variants: views past their buffer, headers
+claiming past the texture limits, negative offsets, values infinite as float, malformed material
+keys, required extensions.
 scene_json seeds: every data/*.json and data/stability/*.json, and malformed variants.
 Standard library only; the output is deterministic.
 """
@@ -102,6 +105,23 @@ def png(width, height, rgba):
             + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 
 
+# A 4 x 2 baseline JPEG of one colour (200, 100, 50), as stb_image_write writes it at quality 50.
+JPEG_4X2 = bytes.fromhex(
+    "ffd8ffe000104a46494600010100000100010000ffdb008400100b0c0e0c0a100e0d0e1211101318281a181616"
+    "183123251d283a333d3c3933383740485c4e404457453738506d51575f626768673e4d71797064785c65676301"
+    "1112121815182f1a1a2f6342384263636363636363636363636363636363636363636363636363636363636363"
+    "63636363636363636363636363636363636363ffc00011080002000403012200021101031101ffc401a2000001"
+    "0501010101010100000000000000000102030405060708090a0b100002010303020403050504040000017d0102"
+    "0300041105122131410613516107227114328191a1082342b1c11552d1f02433627282090a161718191a252627"
+    "28292a3435363738393a434445464748494a535455565758595a636465666768696a737475767778797a838485"
+    "868788898a92939495969798999aa2a3a4a5a6a7a8a9aab2b3b4b5b6b7b8b9bac2c3c4c5c6c7c8c9cad2d3d4d5"
+    "d6d7d8d9dae1e2e3e4e5e6e7e8e9eaf1f2f3f4f5f6f7f8f9fa0100030101010101010101010000000000000102"
+    "030405060708090a0b110002010204040304070504040001027700010203110405213106124151076171132232"
+    "8108144291a1b1c109233352f0156272d10a162434e125f11718191a262728292a35363738393a434445464748"
+    "494a535455565758595a636465666768696a737475767778797a82838485868788898a92939495969798999aa2"
+    "a3a4a5a6a7a8a9aab2b3b4b5b6b7b8b9bac2c3c4c5c6c7c8c9cad2d3d4d5d6d7d8d9dae2e3e4e5e6e7e8e9eaf2"
+    "f3f4f5f6f7f8f9faffda000c03010002110311003f006d14515e59ec9fffd9")
+
 TRI = [0, 0, 0, 1, 0, 0, 0, 1, 0]
 CUBE = [x for i in range(8) for x in ((i & 1) * 1.0, (i >> 1 & 1) * 1.0, (i >> 2 & 1) * 1.0)]
 CUBE_IDX = [0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
@@ -190,6 +210,21 @@ def gltf_seeds():
         extensionsUsed=["KHR_texture_transform"])
     seeds["alpha-texture.gltf"] = m.gltf()
     textured = m
+
+    # The same triangle with its image inside the buffer (as levels come: images in the GLB's
+    # BIN chunk), as PNG and as JPEG, and a JPEG data: URI.
+    def with_image_view(raw, mime):
+        m2 = edited(textured, lambda d: None)
+        v = m2.view(raw)
+        m2.doc["images"] = [{"bufferView": v, "mimeType": mime}]
+        return m2
+    textured_png_view = with_image_view(image, "image/png")
+    seeds["alpha-texture-png.glb"] = textured_png_view.glb()
+    textured_jpeg_view = with_image_view(JPEG_4X2, "image/jpeg")
+    seeds["alpha-texture-jpeg.glb"] = textured_jpeg_view.glb()
+    m = edited(textured, lambda d: d["images"][0].update(
+        uri="data:image/jpeg;base64," + base64.b64encode(JPEG_4X2).decode()))
+    seeds["alpha-texture-jpeg.gltf"] = m.gltf()
 
     for f in sorted((ROOT / "data").rglob("*.gltf")) + sorted((ROOT / "data").rglob("*.glb")):
         seeds["data-" + f.name] = f.read_bytes()
@@ -310,6 +345,40 @@ def gltf_seeds():
     huge_png = png(1, 1, b"\0\0\0\0").replace(struct.pack(">II", 1, 1), struct.pack(">II", 1 << 24, 1 << 24))
     bad["image-huge-dimensions.gltf"] = raw_doc(textured, lambda d: d["images"][0].update(
         uri="data:image/png;base64," + base64.b64encode(huge_png).decode()))
+    # Images in buffer views out of range, header claims past the texture limits, values finite
+    # as double only, malformed material keys, required extensions (tests/geometry/scene/
+    # TextureHardeningTest.cpp has each as a regression test).
+    pv = textured_png_view
+    last = len(pv.doc["bufferViews"]) - 1
+    for name, edit in [
+        ("image-view-past-buffer", lambda d: d["bufferViews"][last].update(byteOffset=1 << 30)),
+        ("image-view-long", lambda d: d["bufferViews"][last].update(byteLength=1 << 30)),
+        ("image-view-missing", lambda d: d["images"][0].update(bufferView=99)),
+        ("view-offset-negative", lambda d: d["bufferViews"][0].update(byteOffset=-12)),
+        ("accessor-offset-negative", lambda d: d["accessors"][0].update(byteOffset=-4)),
+        ("cutoff-negative", lambda d: d["materials"][0].update(alphaCutoff=-0.5)),
+        ("factor-float-inf", lambda d: d["materials"][0]["pbrMetallicRoughness"].update(
+            baseColorFactor=[1, 1, 1, 1e39])),
+        ("transform-float-inf", lambda d: d["materials"][0]["pbrMetallicRoughness"]
+         ["baseColorTexture"]["extensions"]["KHR_texture_transform"].update(scale=[1e39, 1])),
+        ("pbr-factor-short", lambda d: d["materials"][0]["pbrMetallicRoughness"].update(
+            baseColorFactor=[1, 1, 1])),
+        ("draco-required", lambda d: d.update(extensionsRequired=["KHR_draco_mesh_compression"])),
+        ("basisu-required", lambda d: (d.update(extensionsRequired=["KHR_texture_basisu"]),
+                                       d["images"][0].update(mimeType="image/ktx2"))),
+    ]:
+        bad[name + ".glb"] = edited(pv, edit).glb()
+    big_png = bytearray(image)
+    big_png[16:24] = struct.pack(">II", 16385, 1)
+    bad["image-png-wide.glb"] = with_image_view(bytes(big_png), "image/png").glb()
+    giga_jpeg = bytes.fromhex("ffd8ffc0001108fde8fde803011100021101031101ffd9")
+    bad["image-jpeg-gigapixel.glb"] = with_image_view(giga_jpeg, "image/jpeg").glb()
+    bad["image-jpeg-gigapixel.gltf"] = raw_doc(textured, lambda d: d["images"][0].update(
+        uri="data:image/jpeg;base64," + base64.b64encode(giga_jpeg).decode()))
+    bad["image-jpeg-truncated.glb"] = with_image_view(JPEG_4X2[:200], "image/jpeg").glb()
+    bad["uri-plus.gltf"] = raw_doc(textured, lambda d: d["images"][0].update(uri="leaf+1.png"))
+    bad["uri-escape-malformed.gltf"] = raw_doc(textured, lambda d: d["images"][0].update(
+        uri="leaf%2.png"))
     for name, uri in (("uri-parent", "../secret.bin"), ("uri-absolute", "/etc/passwd"),
                       ("uri-url", "http://example.invalid/a.bin"), ("uri-escape", "%2e%2e/x.bin"),
                       ("uri-device", "/dev/zero"), ("uri-local", "model.bin")):

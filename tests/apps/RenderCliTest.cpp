@@ -333,6 +333,51 @@ TEST_F(RenderCli, OutputThatIsAFileIsBadInput) {
     EXPECT_EQ(text, "a file");
 }
 
+// --out through a symbolic link to nothing (itself, or a folder on the way) is found before
+// the work: it was an internal error from creating the folder after the rendering.
+TEST_F(RenderCli, OutputThroughADanglingLinkIsBadInput) {
+    const fs::path scene = write("s.json", kValidScene);
+    const fs::path link = mDir / "dangling";
+    fs::create_symlink(mDir / "nowhere", link);
+    for (const fs::path& out : {link, link / "sub"}) {
+        const RunResult r =
+            run("--scene '" + scene.string() + "' --method hard --out '" + out.string() + "'");
+        EXPECT_EQ(r.exitCode, 2) << r.output;
+        EXPECT_NE(r.output.find("penumbra-render: error: --out: '" + out.string() +
+                                "' cannot be created: '" + link.string() +
+                                "' is a symbolic link to '" + (mDir / "nowhere").string() +
+                                "', which does not exist"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    }
+    EXPECT_FALSE(fs::exists(mDir / "nowhere"));
+}
+
+// --compare given a device (read forever before) or a file far larger than its header says
+// (read whole before: 3 GB, 33 s) is refused before the scene is loaded, nothing written.
+TEST_F(RenderCli, CompareWithADeviceOrAnOversizedFileIsBadInput) {
+    const fs::path scene = write("s.json", kValidScene);
+    const fs::path out = mDir / "out";
+    RunResult r = run("--scene '" + scene.string() + "' --method hard --size 64x64 --out '" +
+                      out.string() + "' --compare /dev/zero");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("error: --compare: /dev/zero: not a regular file"), std::string::npos)
+        << r.output;
+    // A sparse file: 64x64 in its header, 1 GiB on the file system's word, no disk used.
+    const fs::path big = write("big.pfm", "Pf\n64 64\n-1.0\n");
+    fs::resize_file(big, std::uintmax_t(1) << 30);
+    r = run("--scene '" + (mDir / "missing.json").string() + "' --method hard --size 64x64 " +
+            "--out '" + out.string() + "' --compare '" + big.string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--compare: " + big.string() + ": malformed PFM: " +
+                            std::to_string((std::uintmax_t(1) << 30) - 14 - 64 * 64 * 4) +
+                            " unexpected bytes after the data"),
+              std::string::npos)
+        << "checked from the header, before the scene: " << r.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 // Command-line errors read like every other error, and say what is wrong.
 TEST_F(RenderCli, FlagErrorsCarryThePrefixAndTheRange) {
     const fs::path scene = write("s.json", kValidScene);

@@ -7,6 +7,7 @@
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/Framing.h>
+#include <geometry/scene/Primitives.h>
 
 #include <epoxy/gl.h>
 
@@ -55,6 +56,46 @@ TEST_F(ImageSize, BeyondTheGlLimitsIsRefused) {
     s.width = 32;
     s.height = 32;
     EXPECT_EQ(refusal(renderer, s), "");
+}
+
+// A material texture wider than GL_MAX_TEXTURE_SIZE (a scene built in code; the glTF loader
+// refuses any over geometry::kMaxTextureSide first) is bad input naming the limit, not a GL
+// error inside the upload.
+TEST_F(ImageSize, TextureBeyondTheGlLimitIsRefused) {
+    GLint maxTexture = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+    geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
+    geometry::MeshData card = geometry::makeQuad({0, 1, 0}, {1, 0, 0}, {0, 0, 1});
+    card.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    geometry::TextureImage texture;
+    texture.width = maxTexture + 1;
+    texture.height = 1;
+    texture.rgba8.assign(std::size_t(texture.width) * 4, 255);
+    card.textures.push_back(std::move(texture));
+    geometry::Material leaf;
+    leaf.name = "leaf";
+    leaf.alphaMode = geometry::AlphaMode::Mask;
+    leaf.baseColorTexture = 0;
+    card.materials.push_back(leaf);
+    card.triangleMaterial.assign(card.triangles.size(), 0);
+    scene.objects.push_back({"wide card", geometry::ShadowMethod::Auto, std::move(card)});
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    try {
+        gpu::Renderer renderer(scene, shaders);
+        gpu::RenderSettings s;
+        s.width = s.height = 32;
+        renderer.renderFrame(s);
+        ADD_FAILURE() << "a texture past GL_MAX_TEXTURE_SIZE rendered";
+    } catch (const geometry::InputError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("object 'wide card': texture 0 is " + std::to_string(maxTexture + 1) +
+                           "x1 pixels; this GL implementation's textures are " +
+                           std::to_string(maxTexture) +
+                           " pixels on a side at most (GL_MAX_TEXTURE_SIZE)"),
+                  std::string::npos)
+            << msg;
+    }
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 // The budget covers the method's own targets: 64x64 fits hard's 56 bytes a pixel (the frame's

@@ -22,8 +22,15 @@ void checkOutputFolder(const char* flag, const std::filesystem::path& folder) {
     if (fs::exists(folder, ec) && !fs::is_directory(folder, ec))
         throw geometry::InputError(name + " exists and is not a folder");
     fs::path existing = fs::absolute(folder, ec);
-    while (!existing.empty() && !fs::exists(existing, ec) && existing.has_relative_path())
+    while (!existing.empty() && !fs::exists(existing, ec) && existing.has_relative_path()) {
+        // A symbolic link to nothing: creating the folder would fail, after the work.
+        if (fs::is_symlink(fs::symlink_status(existing, ec)))
+            throw geometry::InputError(name + " cannot be created: '" + existing.string() +
+                                       "' is a symbolic link to '" +
+                                       fs::read_symlink(existing, ec).string() +
+                                       "', which does not exist");
         existing = existing.parent_path();
+    }
     if (!fs::is_directory(existing, ec))
         throw geometry::InputError(name + " cannot be created: '" + existing.string() +
                                    "' is not a folder");

@@ -14,6 +14,7 @@
 #include <geometry/core/Error.h>
 #include <geometry/core/Limits.h>
 
+#include "GltfChecks.h"
 #include "JsonDepth.h"
 
 #include <tiny_gltf.h>
@@ -34,6 +35,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <regex>
 #include <span>
 #include <sstream>
@@ -745,7 +747,7 @@ glm::mat3 Loader::textureTransform(const tinygltf::Value& ext, const std::string
     auto number = [&](const tinygltf::Value& v, const char* key) {
         if (!v.IsNumber()) fail(what + ": " + key + " must be a number");
         const double x = v.GetNumberAsDouble();
-        if (!std::isfinite(x)) fail(what + ": " + key + " is not finite");
+        if (!std::isfinite(float(x))) fail(what + ": " + key + " is not finite in single precision");
         return float(x);
     };
     auto pair = [&](const char* key, glm::vec2 fallback) {
@@ -807,8 +809,10 @@ int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool 
         img.image.size() < std::size_t(img.width) * img.height * comps * bytesPer) {
         return missing(
             "image " + std::to_string(source) +
-            (img.uri.empty() || img.uri.rfind("data:", 0) == 0 ? "" : " (" + img.uri + ")") +
-            " could not be decoded");
+            (img.uri.empty() || img.uri.rfind("data:", 0) == 0
+                 ? std::string(" could not be decoded")
+                 // Our decoder refuses undecodable images: an external one was not read.
+                 : " (" + img.uri + ") could not be read (no such file beside the model?)"));
     }
 
     TextureImage tex;
@@ -852,13 +856,7 @@ int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool 
 }
 
 GltfContents Loader::load(const glm::mat4& transform) {
-    for (const auto& ext : mModel.extensionsRequired) {
-        // Extensions that only change shading are harmless here; anything touching geometry
-        // (Draco, meshopt, quantization) would silently produce wrong shadows.
-        const bool harmless = ext.rfind("KHR_materials_", 0) == 0 ||
-                              ext == "KHR_texture_transform" || ext == "KHR_lights_punctual";
-        if (!harmless) fail("requires unsupported glTF extension " + ext);
-    }
+    // extensionsRequired was checked on the JSON (detail::checkGltfDocument), before tinygltf.
     if (mReadMeshes && mModel.meshes.empty()) fail("no meshes");
 
     mMesh.name = mPath.stem().string();
@@ -907,7 +905,7 @@ GltfContents Loader::load(const glm::mat4& transform) {
 // (in-memory input without one) contains nothing: every external file is refused.
 class ModelFolder {
 public:
-    explicit ModelFolder(const std::filesystem::path& folder) {
+    explicit ModelFolder(const std::filesystem::path& folder) : mBase(folder.string()) {
         if (!folder.empty()) mRoot = resolve(folder);
     }
     const std::filesystem::path& root() const { return mRoot; }
@@ -937,10 +935,15 @@ public:
     // looks for a file missing beside the model in the working directory; that is refused too.
     tinygltf::FsCallbacks callbacks() {
         return {.FileExists = &fileExists,
-                .ExpandFilePath = &tinygltf::ExpandFilePath,
+                .ExpandFilePath = &expandFilePath,
                 .ReadWholeFile = &readWholeFile,
                 .WriteWholeFile = nullptr,
                 .user_data = this};
+    }
+    // tinygltf reads '+' in a URI as a space (form encoding); glTF's URIs are RFC 3986, where it
+    // is a plus sign. `uri` as tinygltf decodes it is read as `decoded` instead.
+    void readAs(const std::string& tinygltfName, const std::string& decoded) {
+        mRenamed[tinygltfName] = decoded;
     }
     // The first file refused (resolved), empty when none was; `refusedWhy` says why.
     const std::filesystem::path& refused() const { return mRefused; }
@@ -955,6 +958,21 @@ private:
     std::string outsideWhy() const {
         return mRoot.empty() ? "no external file may be read (the glTF data has no folder)"
                              : "outside the model's folder " + mRoot.string();
+    }
+    // tinygltf asks for JoinPath(folder, name) and then JoinPath(".", name): the same joins,
+    // with the name as RFC 3986 decodes it.
+    static std::string join(const std::string& folder, const std::string& name) {
+        if (folder.empty()) return name;
+        return folder.back() == '/' ? folder + name : folder + "/" + name;
+    }
+    static std::string expandFilePath(const std::string& file, void* self) {
+        const auto& folder = *static_cast<const ModelFolder*>(self);
+        for (const auto& [tinygltfName, decoded] : folder.mRenamed) {
+            for (const std::string& base : {folder.mBase, std::string(".")}) {
+                if (file == join(base, tinygltfName)) return join(base, decoded);
+            }
+        }
+        return file;
     }
     static bool fileExists(const std::string& file, void* self) {
         auto& folder = *static_cast<ModelFolder*>(self);
@@ -987,39 +1005,19 @@ private:
         return tinygltf::ReadWholeFile(out, err, file, nullptr);
     }
 
+    std::string mBase; // the folder as tinygltf is given it
     std::filesystem::path mRoot;
+    std::map<std::string, std::string> mRenamed; // tinygltf's decoding -> RFC 3986's
     std::filesystem::path mRefused;
     std::string mRefusedWhy;
 };
 
-// The decoding tinygltf applies to a URI before using it as a path: %XX escapes, '+' as space.
-std::string decodeUri(const std::string& uri) {
-    auto hex = [](char c) -> int {
-        if (c >= '0' && c <= '9') return c - '0';
-        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-        return 0;
-    };
-    std::string out;
-    for (std::size_t i = 0; i < uri.size(); ++i) {
-        if (uri[i] == '+') {
-            out += ' ';
-        } else if (uri[i] == '%' && i + 2 < uri.size()) {
-            out += char(hex(uri[i + 1]) << 4 | hex(uri[i + 2]));
-            i += 2;
-        } else {
-            out += uri[i];
-        }
-    }
-    return out;
-}
-
 // Every buffer and image URI of the glTF JSON is a data: URI or a relative path to a regular
 // file that stays in `folder`; an InputError naming the key otherwise. JSON that does not parse
-// is left to tinygltf, whose error is better (the file callbacks still guard it).
-void checkUris(const std::string& origin, const std::string& json, const ModelFolder& folder) {
-    const nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
-    if (!doc.is_object()) return;
+// is left to tinygltf, whose error is better (the file callbacks still guard it). Registers
+// with `folder` the URIs tinygltf would decode differently (a '+').
+void checkUris(const std::string& origin, const nlohmann::json& doc, ModelFolder& folder) {
+    std::map<std::string, std::string> tinygltfNames; // tinygltf's decoding -> the URI
     for (const char* list : {"buffers", "images"}) {
         const auto it = doc.find(list);
         if (it == doc.end() || !it->is_array()) continue;
@@ -1035,8 +1033,22 @@ void checkUris(const std::string& origin, const std::string& json, const ModelFo
                                  ": a glTF file may read only files in its own folder or below "
                                  "it, and data: URIs");
             };
-            const std::string decoded = decodeUri(uri);
+            const std::optional<std::string> rfc = detail::percentDecode(uri);
+            if (!rfc) {
+                throw InputError(origin + ": " + key +
+                                 " has a malformed escape ('%' must be followed by two hex "
+                                 "digits)");
+            }
+            const std::string& decoded = *rfc;
             if (decoded.empty()) continue; // tinygltf reports it
+            const std::string tinygltfName = detail::tinygltfDecode(uri);
+            if (const auto [it, fresh] = tinygltfNames.emplace(tinygltfName, uri);
+                !fresh && detail::percentDecode(it->second) != rfc) {
+                throw InputError(origin + ": " + key + " and the URI '" + it->second +
+                                 "' differ only by '+' against a space or %20; such names are "
+                                 "not supported together");
+            }
+            if (tinygltfName != decoded) folder.readAs(tinygltfName, decoded);
             static const std::regex scheme(R"(^[A-Za-z][A-Za-z0-9+.\-]*:.*)");
             if (std::regex_match(decoded, scheme)) refuse("is a URL, not a relative path");
             if (decoded.front() == '/' || decoded.front() == '\\') refuse("is an absolute path");
@@ -1165,10 +1177,18 @@ GltfContents parseBytes(std::span<const unsigned char> bytes, const std::filesys
                : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     checkJsonDepth(origin, json);
     ModelFolder modelFolder(folder);
-    checkUris(origin, std::string(json), modelFolder);
+    // JSON that does not parse, or is not an object, is left to tinygltf, whose message says
+    // where.
+    const nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
+    if (doc.is_object()) {
+        detail::checkGltfDocument(origin, doc);
+        checkUris(origin, doc, modelFolder);
+    }
 
     tinygltf::TinyGLTF gltf;
     gltf.SetFsCallbacks(modelFolder.callbacks());
+    detail::ImageDecoder images;
+    gltf.SetImageLoader(&detail::ImageDecoder::decode, &images);
     tinygltf::Model model;
     std::string err, warn;
     const std::string baseDir = folder.string();
@@ -1184,6 +1204,7 @@ GltfContents parseBytes(std::span<const unsigned char> bytes, const std::filesys
                          ": a glTF file may read only files in its own folder or below it, and "
                          "data: URIs");
     }
+    if (!images.refusal().empty()) throw InputError(origin + ": " + images.refusal());
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r'))
             err.pop_back();

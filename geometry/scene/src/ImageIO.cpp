@@ -12,7 +12,10 @@
 #include <bit>
 #include <cctype>
 #include <cmath>
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -73,10 +76,31 @@ void writePfm(const std::filesystem::path& path, const FloatImage& image) {
     if (!out) throw std::runtime_error("writePfm: failed writing " + path.string());
 }
 
+// The size of the regular file at `path`; an InputError for anything else (a device or FIFO
+// would be read forever, a folder cannot be).
+std::uintmax_t regularFileSize(const std::filesystem::path& path, const char* what) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(status))
+        throw InputError(path.string() + ": " + what + " file not found");
+    if (!std::filesystem::is_regular_file(status))
+        throw InputError(path.string() + ": not a regular file (a device, FIFO, socket or " +
+                         "folder); a " + what + " must be a file");
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw InputError(path.string() + ": cannot read the size of the " + what + " file");
+    return size;
+}
+
 FloatImage readPfm(const std::filesystem::path& path) {
+    const std::uintmax_t fileSize = regularFileSize(path, "PFM");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path.string() + ": cannot open PFM file");
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The header first: the raster is read only once the header's dimensions account for every
+    // byte of the file (a file of gigabytes after a 64 x 64 header is refused unread).
+    constexpr std::uintmax_t kHeaderBytes = 4096;
+    std::string bytes(std::size_t(std::min(fileSize, kHeaderBytes)), '\0');
+    in.read(bytes.data(), std::streamsize(bytes.size()));
+    if (!in) throw InputError(path.string() + ": cannot read PFM file");
     auto fail = [&](const std::string& what) {
         return InputError(path.string() + ": malformed PFM: " + what);
     };
@@ -123,7 +147,7 @@ FloatImage readPfm(const std::filesystem::path& path) {
     const std::size_t rowFloats = std::size_t(image.width) * image.channels;
     const std::size_t count = rowFloats * std::size_t(image.height);
     const std::size_t expected = count * sizeof(float);
-    const std::size_t available = bytes.size() - pos;
+    const std::uintmax_t available = fileSize - pos;
     if (available < expected) {
         throw fail("truncated data: expected " + std::to_string(expected) + " bytes for " +
                    std::to_string(image.width) + "x" + std::to_string(image.height) + ", got " +
@@ -132,6 +156,11 @@ FloatImage readPfm(const std::filesystem::path& path) {
     if (available > expected) {
         throw fail(std::to_string(available - expected) + " unexpected bytes after the data");
     }
+    const std::size_t headerRead = bytes.size();
+    bytes.resize(std::size_t(fileSize));
+    in.read(bytes.data() + headerRead, std::streamsize(bytes.size() - headerRead));
+    if (!in && bytes.size() > headerRead)
+        throw InputError(path.string() + ": cannot read PFM file");
 
     const bool fileLittle = scale < 0.0;
     const bool swap = fileLittle != (std::endian::native == std::endian::little);
@@ -175,6 +204,7 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
 }
 
 Rgba8Image readPng(const std::filesystem::path& path) {
+    regularFileSize(path, "PNG");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path.string() + ": cannot open PNG");
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -2,6 +2,8 @@
 
 #include "engine/ShaderBindings.h"
 
+#include <geometry/core/Error.h>
+
 #include <cstddef>
 #include <cstdio>
 
@@ -41,11 +43,29 @@ SceneGeometry::SceneGeometry(const geometry::Scene& scene) : mVao("scene") {
     vertices.reserve(3 * scene.triangleCount());
     mRanges.resize(scene.objects.size());
     mObjectAlpha.assign(scene.objects.size(), false);
+    GLint maxTextureSide = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSide);
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
         const geometry::SceneObject& object = scene.objects[o];
         const geometry::MeshData& mesh = object.mesh;
         const int textureBase = static_cast<int>(mTextures.size());
         for (const geometry::TextureImage& image : mesh.textures) {
+            // The loader caps sides at geometry::kMaxTextureSide, the least GL 4.5 offers; an
+            // implementation may still offer less, or a scene may be built in code.
+            if (image.width <= 0 || image.height <= 0 || image.width > maxTextureSide ||
+                image.height > maxTextureSide)
+                throw geometry::InputError(
+                    "object '" + object.name + "': texture " +
+                    std::to_string(&image - mesh.textures.data()) + " is " +
+                    std::to_string(image.width) + "x" + std::to_string(image.height) +
+                    " pixels; this GL implementation's textures are " +
+                    std::to_string(maxTextureSide) + " pixels on a side at most "
+                    "(GL_MAX_TEXTURE_SIZE)");
+            if (image.rgba8.size() != std::size_t(image.width) * std::size_t(image.height) * 4)
+                throw geometry::InputError("object '" + object.name + "': texture " +
+                                           std::to_string(&image - mesh.textures.data()) +
+                                           " holds " + std::to_string(image.rgba8.size()) +
+                                           " bytes, not width x height x 4");
             Texture& t = mTextures.emplace_back(TextureDesc{
                 .width = image.width, .height = image.height, .format = GL_SRGB8_ALPHA8,
                 .levels = mipLevels(image.width, image.height),

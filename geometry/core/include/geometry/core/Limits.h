@@ -26,4 +26,16 @@ inline constexpr std::size_t kMaxObjectTriangles = std::size_t(1) << 21;
 // seconds of preparation by the figures above; the largest level shipped here has 67k.
 inline constexpr std::size_t kMaxSceneTriangles = std::size_t(1) << 22;
 
+// Largest side of a texture image: 16384, the GL_MAX_TEXTURE_SIZE every OpenGL 4.5
+// implementation offers at least (the GPU side still checks its own limit when uploading).
+// Checked from the PNG or JPEG header, before a pixel is decoded: a JPEG of a few hundred bytes
+// can claim 65535 x 65535 pixels.
+inline constexpr int kMaxTextureSide = 16384;
+
+// Pixels all the textures of one glTF file may have together: 2^26 (64 Mpixels, 256 MiB as
+// RGBA8, twice that while decoding), e.g. sixteen 2048 x 2048 textures; the textured levels
+// shipped here have 2.3 Mpixels at most
+// (kaos2).
+inline constexpr std::size_t kMaxTexturePixels = std::size_t(1) << 26;
+
 } // namespace geometry
