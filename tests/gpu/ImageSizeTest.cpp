@@ -4,6 +4,7 @@
 // renderer as it was.
 #include "GlTestEnv.h"
 #include "RenderTestUtil.h"
+#include "TestErrors.h"
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/Framing.h>
@@ -80,21 +81,19 @@ TEST_F(ImageSize, TextureBeyondTheGlLimitIsRefused) {
     card.triangleMaterial.assign(card.triangles.size(), 0);
     scene.objects.push_back({"wide card", geometry::ShadowMethod::Auto, std::move(card)});
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    try {
+    const auto msg = testutil::errorOf<geometry::InputError>([&] {
         gpu::Renderer renderer(scene, shaders);
         gpu::RenderSettings s;
         s.width = s.height = 32;
         renderer.renderFrame(s);
-        ADD_FAILURE() << "a texture past GL_MAX_TEXTURE_SIZE rendered";
-    } catch (const geometry::InputError& e) {
-        const std::string msg = e.what();
-        EXPECT_NE(msg.find("object 'wide card': texture 0 is " + std::to_string(maxTexture + 1) +
-                           "x1 pixels; this GL implementation's textures are " +
-                           std::to_string(maxTexture) +
-                           " pixels on a side at most (GL_MAX_TEXTURE_SIZE)"),
-                  std::string::npos)
-            << msg;
-    }
+    });
+    ASSERT_TRUE(msg) << "a texture past GL_MAX_TEXTURE_SIZE rendered";
+    EXPECT_NE(msg->find("object 'wide card': texture 0 is " + std::to_string(maxTexture + 1) +
+                        "x1 pixels; this GL implementation's textures are " +
+                        std::to_string(maxTexture) +
+                        " pixels on a side at most (GL_MAX_TEXTURE_SIZE)"),
+              std::string::npos)
+        << *msg;
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 

@@ -4,6 +4,8 @@
 // required extensions, and URIs with a '+'. Each must load correctly or end in an InputError
 // naming the key, before a pixel of a refused image is decoded (the fuzz build runs the same
 // inputs under ASan/UBSan).
+#include "TestErrors.h"
+
 #include <geometry/core/Error.h>
 #include <geometry/core/Limits.h>
 #include <geometry/scene/GltfLoader.h>
@@ -179,15 +181,11 @@ geometry::GltfContents parse(const std::string& data, const std::string& name) {
 // parseGltf of `data` must throw an InputError starting "NAME: " and containing every needle.
 void expectRefused(const std::string& data, const std::string& name,
                    std::initializer_list<std::string> needles) {
-    try {
-        parse(data, name);
-        ADD_FAILURE() << "expected an InputError containing \"" << *needles.begin() << "\"";
-    } catch (const geometry::InputError& e) {
-        const std::string msg = e.what();
-        EXPECT_EQ(msg.rfind(name + ": ", 0), 0u) << msg;
-        for (const std::string& n : needles)
-            EXPECT_NE(msg.find(n), std::string::npos) << "missing \"" << n << "\" in: " << msg;
-    }
+    const auto msg = testutil::errorOf<geometry::InputError>([&] { parse(data, name); });
+    ASSERT_TRUE(msg) << "expected an InputError containing \"" << *needles.begin() << "\"";
+    EXPECT_EQ(msg->rfind(name + ": ", 0), 0u) << *msg;
+    for (const std::string& n : needles)
+        EXPECT_NE(msg->find(n), std::string::npos) << "missing \"" << n << "\" in: " << *msg;
 }
 
 // Both containers of the model after `edit`: GLB (images in buffer views) and .gltf (data:
@@ -202,6 +200,12 @@ TexturedTriangle edited(const std::vector<std::string>& images,
     TexturedTriangle m(images);
     edit(m.doc);
     return m;
+}
+
+// The model with `edit` applied to its material's pbrMetallicRoughness.
+TexturedTriangle pbrEdited(const std::function<void(Json&)>& edit) {
+    return edited({png(2, 2, 4, 255)},
+                  [&](Json& d) { edit(d["materials"][0]["pbrMetallicRoughness"]); });
 }
 
 TEST(TextureHardening, PngAndJpegLoadFromBufferViewsAndDataUris) {
@@ -303,25 +307,16 @@ TEST(TextureHardening, ImagesThatAreNotPngOrJpegAreRefused) {
 // or colour factor); they are bad input naming the key.
 TEST(TextureHardening, ValuesMustBeFiniteInSinglePrecision) {
     const std::string image = png(2, 2, 4, 255);
-    expectBothRefused(edited({image},
-                             [](Json& d) {
-                                 d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
-                                  ["extensions"]["KHR_texture_transform"]["scale"] = {1e39, 1};
-                             }),
+    expectBothRefused(pbrEdited([](Json& p) {
+                          p["baseColorTexture"]["extensions"]["KHR_texture_transform"]["scale"] = {
+                              1e39, 1};
+                      }),
                       {"materials[0].pbrMetallicRoughness.baseColorTexture.extensions."
                        "KHR_texture_transform.scale[0] is 1e+39 (not finite in single precision)"});
-    expectBothRefused(edited({image},
-                             [](Json& d) {
-                                 d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {
-                                     1, 1, 1, 1e39};
-                             }),
+    expectBothRefused(pbrEdited([](Json& p) { p["baseColorFactor"] = {1, 1, 1, 1e39}; }),
                       {"materials[0].pbrMetallicRoughness.baseColorFactor[3] is 1e+39 (not "
                        "finite in single precision)"});
-    expectBothRefused(edited({image},
-                             [](Json& d) {
-                                 d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {
-                                     1, 1.5, 1, 1};
-                             }),
+    expectBothRefused(pbrEdited([](Json& p) { p["baseColorFactor"] = {1, 1.5, 1, 1}; }),
                       {"baseColorFactor[1] is 1.5 (must lie in [0, 1])"});
     expectBothRefused(edited({image}, [](Json& d) { d["materials"][0]["alphaCutoff"] = 1e39; }),
                       {"materials[0].alphaCutoff is 1e+39 (not finite in single precision)"});
@@ -337,9 +332,7 @@ TEST(TextureHardening, AlphaCutoffBelowZeroIsRefused) {
 // malformed: the masked triangle loaded opaque. Each such key is bad input.
 TEST(TextureHardening, MalformedPbrKeysAreRefusedNotDropped) {
     const std::string image = png(2, 2, 4, 255);
-    auto pbr = [&](const std::function<void(Json&)>& edit) {
-        return edited({image}, [&](Json& d) { edit(d["materials"][0]["pbrMetallicRoughness"]); });
-    };
+    const auto& pbr = pbrEdited;
     expectBothRefused(pbr([](Json& p) { p["baseColorFactor"] = {1, 1, 1}; }),
                       {"materials[0].pbrMetallicRoughness.baseColorFactor must be an array of 4 "
                        "numbers"});
@@ -427,14 +420,11 @@ TEST(TextureHardening, PlusInAUriIsAPlus) {
     EXPECT_EQ(s.textures[0].rgba8[7], 77);
     d["images"][0] = {{"uri", "leaf%2.png"}};
     write(dir / "bad.gltf", d.dump());
-    try {
-        geometry::loadGltf(dir / "bad.gltf");
-        ADD_FAILURE() << "a malformed escape loaded";
-    } catch (const geometry::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("images[0].uri 'leaf%2.png' has a malformed escape"),
-                  std::string::npos)
-            << e.what();
-    }
+    const auto bad =
+        testutil::errorOf<geometry::InputError>([&] { geometry::loadGltf(dir / "bad.gltf"); });
+    ASSERT_TRUE(bad) << "a malformed escape loaded";
+    EXPECT_NE(bad->find("images[0].uri 'leaf%2.png' has a malformed escape"), std::string::npos)
+        << *bad;
     fs::remove_all(dir);
 }
 
