@@ -29,6 +29,7 @@
 #include <cmath>
 #include <cctype>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
@@ -791,6 +792,9 @@ int Loader::textureIndex(int gltfTexture, const std::string& materialName, bool 
     if (auto it = mTextureMap.find(gltfTexture); it != mTextureMap.end()) return it->second;
     auto missing = [&](const std::string& why) {
         if (required) fail("material \"" + materialName + "\": base colour texture " + why);
+        // An opaque material's texture only colours the image: drawn without it, but said.
+        std::fprintf(stderr, "warning: %s: material \"%s\": base colour texture %s; drawn without it\n",
+                     mPath.string().c_str(), materialName.c_str(), why.c_str());
         mTextureMap[gltfTexture] = -1;
         return -1;
     };

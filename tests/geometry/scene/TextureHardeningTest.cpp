@@ -381,6 +381,36 @@ TEST(TextureHardening, RequiredExtensionsAreNamed) {
     EXPECT_EQ(parse(shading.glb(), "unlit.glb").mesh.triangles.size(), 1u);
 }
 
+// An opaque material whose image file is missing loads without its texture (it only colours
+// the image), and says so; an alpha-tested one is refused (its mask is its shape).
+TEST(TextureHardening, MissingImageFileIsAWarningForOpaqueAndAnErrorForMasked) {
+    std::random_device rd;
+    const fs::path dir = fs::temp_directory_path() / ("penumbra-missing-" + std::to_string(rd()));
+    fs::create_directories(dir);
+    TexturedTriangle model({png(2, 2, 4, 255)});
+    std::ofstream(dir / "tri.bin", std::ios::binary) << model.bin;
+    Json d = model.doc;
+    d["buffers"][0]["uri"] = "tri.bin";
+    d["images"][0] = {{"uri", "gone.png"}};
+    std::ofstream(dir / "masked.gltf") << d.dump();
+    const auto masked =
+        testutil::errorOf<geometry::InputError>([&] { geometry::loadGltf(dir / "masked.gltf"); });
+    ASSERT_TRUE(masked);
+    EXPECT_NE(masked->find("image 0 (gone.png) could not be read"), std::string::npos) << *masked;
+    d["materials"][0]["alphaMode"] = "OPAQUE";
+    std::ofstream(dir / "opaque.gltf") << d.dump();
+    testing::internal::CaptureStderr();
+    const geometry::MeshData m = geometry::loadGltf(dir / "opaque.gltf");
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(m.materials[0].baseColorTexture, -1);
+    EXPECT_NE(err.find("warning: " + (dir / "opaque.gltf").string() +
+                       ": material \"grate\": base colour texture image 0 (gone.png) could not "
+                       "be read (no such file beside the model?); drawn without it"),
+              std::string::npos)
+        << err;
+    fs::remove_all(dir);
+}
+
 // glTF URIs are RFC 3986 references: '+' is a plus sign (tinygltf read it as a space, the form
 // encoding), "%20" a space; a malformed escape is bad input.
 TEST(TextureHardening, PlusInAUriIsAPlus) {
