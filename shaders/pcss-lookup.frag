@@ -1,12 +1,15 @@
 // Percentage-closer soft shadows (Fernando 2005), per G-buffer point P, in the shadow map of
-// P's side of the light (geometry/shadow/PcssFrame.h: map coordinates m = lateral / depth z):
-// 1. blocker search over the light seen from P through the casters' near plane: half extent
-//    halfSize (1/zSearch - 1/zP) in m per light axis (the paper's searchWidth =
-//    lightSize (zP - near) / zP, a rectangle for a rectangular light); texels in front of P
-//    (below) are blockers, their depths averaged;
-// 2. penumbra estimate: w = lightSize (zP - zBlocker) / zBlocker on the receiver, per axis; in
-//    m, half extent halfSize (1/zBlocker - 1/zP);
-// 3. percentage-closer filtering over that rectangle: V = the share of samples not in front.
+// P's face of the cube around the light's centre (geometry/shadow/PcssFrame.h: faceOf picks it;
+// map coordinates m = lateral / depth z in the face's axes):
+// 1. blocker search over the light seen from P through the casters' near plane: the search
+//    pattern's points on the light, each where its segment to P crosses depth zSearch
+//    (throughLight; on the front faces the paper's rectangle of half extent
+//    halfSize (1/zSearch - 1/zP), searchWidth = lightSize (zP - near) / zP); texels in front of
+//    P (below) are blockers, their depths averaged;
+// 2. penumbra estimate: the light seen through the blockers' mean depth zBlocker (on the front
+//    faces half extent halfSize (1/zBlocker - 1/zP), the paper's
+//    w = lightSize (zP - zBlocker) / zBlocker per axis);
+// 3. percentage-closer filtering over it: V = the share of the filter's points not in front.
 // Each sample reads the 2 × 2 texels around it (one textureGather) weighted bilinearly, so V is
 // continuous as P moves. The two patterns are fixed (PcssUniforms::pattern,
 // geometry::scrambledNet): no noise, the same every frame and pixel.
@@ -23,14 +26,13 @@
 // HORIZON (not in the paper): V is also multiplied by the share of the light in front of P's
 // plane; a shadow map cannot see that a surface hides part of the light from itself, so curved
 // surfaces near their terminator would be lit, or self-shadowed in facet-wide stripes.
-// Receivers outside the map (beyond the frustum's cap) or in the light's plane get V = 1 and
-// are counted.
+// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted.
 #include "lib/Bindings.h"
 #include "lib/Horizon.glsl"
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
-layout(binding = TEXUNIT_PCSS) uniform sampler2DArray tShadow; // zNear / z; 0: nothing
+layout(binding = TEXUNIT_PCSS) uniform sampler2DArray tShadow; // per face zNear / z; 0: nothing
 
 layout(std430, binding = BINDING_PCSS_STATS) buffer PcssStats {
     uint outside;
@@ -48,62 +50,122 @@ layout(location = 0) out float oVisibility;
 #define SEARCH_DEPTH_RATIO (1.0 / 16.0)
 
 struct Receiver {
-    int layer;
+    int face;
+    vec3 p;       // P in the face's coordinates: lateral, then depth
     vec2 m;       // P's map coordinates
-    vec2 lo, inv; // the side's map extent: uv = (m - lo) * inv
+    vec2 lo, inv; // the face's map extent: uv = (m - lo) * inv
     float z;      // P's depth
     vec3 plane;   // P's (offset) plane along the ray through m: 1 / z = dot(plane, (m, 1))
+    vec3 lu, lv;  // the light's half axes in the face's coordinates
+    vec3 N;       // P's normal, facing the light's centre
+    float np;     // dot(N, P - c) moved by the offset (< 0; 0 at the centre)
 };
 
-// d = zNear / z of P's plane along the ray from the light's centre through m (0 where the ray
-// does not meet the plane in front of the light: every surface there is in front of P).
-float planeDepth(Receiver r, vec2 m) {
-    return max(pcss.normal.w * dot(r.plane, vec3(m, 1.0)), 0.0);
+// Where the segment from P to the light's point s (in [-1, 1]^2 over its half axes) crosses
+// depth z, in map coordinates (geometry::throughLight, its CPU twin).
+vec2 throughLight(Receiver r, vec2 s, float z) {
+    vec3 l = s.x * r.lu + s.y * r.lv;
+    float t = clamp((r.p.z - z) / (r.p.z - l.z), 0.0, 1.0);
+    vec3 q = mix(r.p, l, t);
+    return q.xy / q.z;
 }
 
-// The 2 × 2 texels around map point m: their stored depths and the centres' coordinates.
+// d = zNear / z of P's plane (`plane`, in a face's coordinates) along the ray from the light's
+// centre through m (0 where the ray does not meet the plane in front of the light: every
+// surface there is in front of P).
+float planeDepth(vec3 plane, vec2 m) {
+    return max(pcss.normal.w * dot(plane, vec3(m, 1.0)), 0.0);
+}
+
+// The face a direction from the light's centre falls in (faceOf without the zNear test).
+int faceOfDirection(vec3 d) {
+    float x = dot(d, pcss.basisU.xyz), y = dot(d, pcss.basisV.xyz), z = dot(d, pcss.normal.xyz);
+    float a = max(abs(x), abs(y));
+    if (a <= pcss.basisU.w * abs(z)) return z > 0.0 ? 0 : 1;
+    if (abs(x) >= abs(y)) return x >= 0.0 ? 2 : 3;
+    return y >= 0.0 ? 4 : 5;
+}
+
+// P's offset plane in face g's coordinates: 1 / z = dot(plane, (m, 1)).
+vec3 planeIn(Receiver r, int g) {
+    return r.np == 0.0 ? vec3(0.0)
+                       : vec3(dot(r.N, pcss.faceB1[g].xyz), dot(r.N, pcss.faceB2[g].xyz),
+                              dot(r.N, pcss.faceAxis[g].xyz)) / r.np;
+}
+
+// The 2 × 2 texels around a sample, map point m of P's face, read in the face its direction
+// falls in (the maps form one cube): their stored depths, the centres' coordinates in that
+// face, P's plane there, and the factor from that face's depths to P's face's.
 struct Texels {
-    vec4 d;      // textureGather order: (0, 1), (1, 1), (1, 0), (0, 0)
-    vec2 m0, m1; // centres of column / row 0 and of column / row 1, in m
+    vec4 d;      // textureGather order: (0, 1), (1, 1), (1, 0), (0, 0); 0: nothing
+    vec2 m0, m1; // centres of column / row 0 and of column / row 1, in the face's m
     vec4 weight; // bilinear
+    vec3 plane;  // P's plane in the face's coordinates
+    float scale; // depth along P's face's axis per depth along this face's
 };
 
 Texels texelsAround(Receiver r, vec2 m) {
+    Texels x;
+    int g = r.face;
+    x.plane = r.plane;
+    x.scale = 1.0;
+    vec3 dir = m.x * pcss.faceB1[g].xyz + m.y * pcss.faceB2[g].xyz + pcss.faceAxis[g].xyz;
+    int h = faceOfDirection(dir);
+    if (h != g) {
+        float ah = dot(dir, pcss.faceAxis[h].xyz);
+        m = vec2(dot(dir, pcss.faceB1[h].xyz), dot(dir, pcss.faceB2[h].xyz)) / ah;
+        x.scale = 1.0 / ah;
+        x.plane = planeIn(r, h);
+        g = h;
+    }
+    vec2 lo = pcss.extent[g].xy, inv = pcss.extent[g].zw;
     float R = pcss.params.z;
-    vec2 t = (m - r.lo) * r.inv * R - 0.5;
+    vec2 t = (m - lo) * inv * R - 0.5;
     vec2 base = floor(t);
     vec2 f = t - base;
-    Texels x;
-    // Gathered at the four texels' shared corner, so that no rounding can pick other ones.
-    x.d = textureGather(tShadow, vec3((base + 1.0) * pcss.params.w, float(r.layer)));
-    x.m0 = r.lo + (base + 0.5) * pcss.params.w / r.inv;
-    x.m1 = r.lo + (base + 1.5) * pcss.params.w / r.inv;
+    // Gathered at the four texels' shared corner, so that no rounding can pick other ones. A
+    // face whose map is not drawn holds nothing.
+    x.d = pcss.faceB1[g].w >= 2.0
+              ? textureGather(tShadow, vec3((base + 1.0) * pcss.params.w, float(g)))
+              : vec4(0.0);
+    x.m0 = lo + (base + 0.5) * pcss.params.w / inv;
+    x.m1 = lo + (base + 1.5) * pcss.params.w / inv;
     x.weight = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
     return x;
 }
 
 // 1 where the texel's surface is in front of P.
-vec4 inFront(Receiver r, Texels x) {
-    vec4 plane = vec4(planeDepth(r, vec2(x.m0.x, x.m1.y)), planeDepth(r, x.m1),
-                      planeDepth(r, vec2(x.m1.x, x.m0.y)), planeDepth(r, x.m0));
+vec4 inFront(Texels x) {
+    vec4 plane = vec4(planeDepth(x.plane, vec2(x.m0.x, x.m1.y)), planeDepth(x.plane, x.m1),
+                      planeDepth(x.plane, vec2(x.m1.x, x.m0.y)), planeDepth(x.plane, x.m0));
     return vec4(greaterThan(x.d, plane * (1.0 + DEPTH_BIAS)));
 }
 
-// V from the shadow map alone (1 where P is outside it, counted).
+// The face whose map holds P (geometry::PcssFrame::faceOf), -1 within zNear of the centre.
+int faceOf(vec3 toP) {
+    float x = dot(toP, pcss.basisU.xyz), y = dot(toP, pcss.basisV.xyz);
+    float z = dot(toP, pcss.normal.xyz);
+    float a = max(abs(x), abs(y));
+    if (a <= pcss.basisU.w * abs(z)) return abs(z) > pcss.normal.w ? (z > 0.0 ? 0 : 1) : -1;
+    if (a <= pcss.normal.w) return -1;
+    if (abs(x) >= abs(y)) return x >= 0.0 ? 2 : 3;
+    return y >= 0.0 ? 4 : 5;
+}
+
+// V from the shadow map alone (1 where P is in no map, counted).
 float shadowMapVisibility(vec3 position, vec3 N) {
-    vec3 n = pcss.normal.xyz;
     vec3 toP = position - frame.lightCenter.xyz;
-    float signedDepth = dot(toP, n);
     Receiver r;
-    r.layer = signedDepth >= 0.0 ? 0 : 1;
-    r.z = abs(signedDepth);
-    vec3 axis = r.layer == 0 ? n : -n;
-    float zNear = pcss.normal.w;
-    bool inMap = pcss.sides[r.layer] != 0.0 && r.z > zNear;
+    r.face = faceOf(toP);
+    bool inMap = r.face >= 0 && mod(pcss.faceB1[max(r.face, 0)].w, 2.0) != 0.0; // present
+    vec3 b1 = pcss.faceB1[max(r.face, 0)].xyz, b2 = pcss.faceB2[max(r.face, 0)].xyz;
+    vec3 axis = pcss.faceAxis[max(r.face, 0)].xyz;
     if (inMap) {
-        r.m = vec2(dot(toP, pcss.basisU.xyz), dot(toP, pcss.basisV.xyz)) / r.z;
-        r.lo = pcss.extent[r.layer].xy;
-        r.inv = pcss.extent[r.layer].zw;
+        r.p = vec3(dot(toP, b1), dot(toP, b2), dot(toP, axis));
+        r.z = r.p.z;
+        r.m = r.p.xy / r.z;
+        r.lo = pcss.extent[r.face].xy;
+        r.inv = pcss.extent[r.face].zw;
         vec2 uv = (r.m - r.lo) * r.inv;
         inMap = all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
     }
@@ -111,12 +173,19 @@ float shadowMapVisibility(vec3 position, vec3 N) {
         atomicAdd(stats.outside, 1u);
         return 1.0;
     }
-    float casterNear = pcss.sides[2 + r.layer];
-    float zSearch = max(casterNear, SEARCH_DEPTH_RATIO * r.z);
-    if (casterNear == 0.0 || zSearch >= r.z) return 1.0; // no caster between P and the light
+    float zNear = pcss.normal.w;
+    float casterNear = pcss.faceB2[r.face].w;
+    // Blockers are searched no nearer than the light reaches along the face's axis (on the
+    // side faces the light lies across the depth range, seen edge-on).
+    float lightDepth = pcss.faceAxis[r.face].w;
+    float zSearch = max(max(casterNear, SEARCH_DEPTH_RATIO * r.z), 1.01 * lightDepth);
+    // No caster between P and the light: none in any map, or none in P's face nearer than P.
+    if (pcss.basisV.w == 0.0 || zSearch >= r.z) return 1.0;
+    r.lu = pcss.lightU[r.face].xyz;
+    r.lv = pcss.lightV[r.face].xyz;
 
-    // P's plane, moved towards the light: points c + z (m.x eu + m.y ev + axis) with
-    // dot(N, . - P) = offset, so 1 / z = dot(N, (eu, ev, axis) (m, 1)) / (dot(N, P - c) + offset)
+    // P's plane, moved towards the light: points c + z (m.x b1 + m.y b2 + axis) with
+    // dot(N, . - P) = offset, so 1 / z = dot(N, (b1, b2, axis) (m, 1)) / (dot(N, P - c) + offset)
     // for N facing the light's centre (dot(N, P - c) < 0). Never past the light's centre.
     float np = dot(N, toP);
     if (np > 0.0) {
@@ -124,20 +193,17 @@ float shadowMapVisibility(vec3 position, vec3 N) {
         np = -np;
     }
     float texelWorld = r.z * pcss.params.w / min(r.inv.x, r.inv.y);
-    np = min(np + NORMAL_OFFSET * texelWorld, 0.5 * np);
-    r.plane = np == 0.0
-                  ? vec3(0.0)
-                  : vec3(dot(N, pcss.basisU.xyz), dot(N, pcss.basisV.xyz), dot(N, axis)) / np;
-    vec2 halfSize = vec2(pcss.basisU.w, pcss.basisV.w);
+    r.N = N;
+    r.np = min(np + NORMAL_OFFSET * texelWorld, 0.5 * np);
+    r.plane = planeIn(r, r.face);
 
     // 1. Blocker search.
-    vec2 searchHalf = halfSize * (1.0 / zSearch - 1.0 / r.z);
     float blockerDepth = 0.0, blockerWeight = 0.0;
     int searchSamples = int(pcss.params.x);
     for (int i = 0; i < searchSamples; ++i) {
-        Texels x = texelsAround(r, r.m + pcss.pattern[i].zw * searchHalf);
-        vec4 w = x.weight * inFront(r, x);
-        blockerDepth += dot(w, zNear / max(x.d, 1e-30));
+        Texels x = texelsAround(r, throughLight(r, pcss.pattern[i].zw, zSearch));
+        vec4 w = x.weight * inFront(x);
+        blockerDepth += dot(w, x.scale * zNear / max(x.d, 1e-30));
         blockerWeight += dot(w, vec4(1.0));
     }
     if (blockerWeight == 0.0) return 1.0;
@@ -145,15 +211,14 @@ float shadowMapVisibility(vec3 position, vec3 N) {
     // the usual shortcut (V unchanged on the parallel square, overlap, the demo and the
     // spheres; the lookup 20-50% faster there).
     if (blockerWeight >= float(searchSamples) * (1.0 - 1e-6)) return 0.0;
-    float zBlocker = blockerDepth / blockerWeight;
+    float zBlocker = max(blockerDepth / blockerWeight, 1.01 * lightDepth);
 
     // 2. Penumbra width; 3. filtering.
-    vec2 filterHalf = halfSize * max(1.0 / zBlocker - 1.0 / r.z, 0.0);
     int filterSamples = int(pcss.params.y);
     float lit = 0.0;
     for (int i = 0; i < filterSamples; ++i) {
-        Texels x = texelsAround(r, r.m + pcss.pattern[i].xy * filterHalf);
-        lit += dot(x.weight, vec4(1.0) - inFront(r, x));
+        Texels x = texelsAround(r, throughLight(r, pcss.pattern[i].xy, zBlocker));
+        lit += dot(x.weight, vec4(1.0) - inFront(x));
     }
     return lit / float(filterSamples);
 }

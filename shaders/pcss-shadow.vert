@@ -1,5 +1,5 @@
-// PCSS, shadow pass: the casters from the light's centre, into the map of one side of the light
-// (depth zNear / z along that side's axis; geometry::PcssFrame::projection).
+// PCSS, shadow pass: the casters from the light's centre, into the map of one face of the cube
+// around it (depth zNear / z along that face's axis; geometry::PcssFrame::projection).
 #include "lib/Bindings.h"
 
 layout(location = 0) in vec3 aPosition;

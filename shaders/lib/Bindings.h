@@ -44,7 +44,7 @@
 #define UNIFORM_MATERIAL_UV 1   // lib/Material.glsl: mat3 (locations 1..3)
 #define UNIFORM_SLICE_LEAKFIX 4 // occlusion-slice.frag: int, 1 = also write the next slice
 #define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter compute: int (N-buffer level, SAT pass)
-#define UNIFORM_PCSS_SIDE 6      // pcss-shadow.vert: int, the side of the light drawn (0: along n)
+#define UNIFORM_PCSS_SIDE 6      // pcss-shadow.vert: int, the face drawn (PcssFrame::faces)
 
 // GpuWedge::kind
 #define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)
@@ -72,7 +72,7 @@
                              // targets at 8 bits, 4 at 16); the resolve: set k's vCoef at 13 + k
 #define TEXUNIT_MATERIAL 17  // the drawn material's base-colour texture (G-buffer, slicing)
 #define TEXUNIT_OCCLUSION 18 // occlusion: the prefiltered slices (N-buffers, mipmaps or SAT)
-#define TEXUNIT_PCSS 19      // pcss: the shadow maps, one layer per side of the light
+#define TEXUNIT_PCSS 19      // pcss: the shadow maps, one layer per face
 #define TEXUNIT_DEBUG0 20    // debug views: their own inputs (reference, part visibility)
 #define TEXUNIT_STENCIL 22   // wedges-bitmask combine=counts: the frame's stencil (STENCIL_INDEX view)
 
@@ -115,14 +115,20 @@ PENUMBRA_UBO_BEGIN(OcclusionUniforms, BINDING_OCCLUSION_UBO)
     vec4 texels;    // x: resolution R, y: 1 / R, z: top prefilter level built, w: unused
 PENUMBRA_UBO_END(OcclusionUniforms, occlusion)
 
-// The pcss method's frame (geometry/shadow/PcssFrame.h) and sample pattern.
+// The pcss method's frame (geometry/shadow/PcssFrame.h) and sample pattern: six faces around
+// the light's centre (0: along n, 1: along -n, 2..5: along eu, -eu, ev, -ev).
 PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
-    mat4 shadowProj[2]; // world -> clip of each side's shadow pass (PcssFrame::projection)
-    vec4 basisU;        // xyz: lateral axis eu, w: the light's half extent along it
-    vec4 basisV;        // xyz: lateral axis ev, w: the light's half extent along it
-    vec4 normal;        // xyz: the light's unit normal n (side 0 looks along it), w: zNear
-    vec4 extent[2];     // per side: xy the map's lower corner lo in m = (x, y) / z, zw 1 / (hi - lo)
-    vec4 sides;         // xy: 1 if side 0 / 1 is drawn; zw: its casters' least depth (0: none)
+    mat4 shadowProj[6]; // world -> clip of each face's shadow pass (PcssFrame::projection)
+    vec4 faceB1[6];     // xyz: the face's first lateral axis, w: 1 if receivers lie in it, + 2
+                        // if its map is drawn
+    vec4 faceB2[6];     // xyz: its second lateral axis, w: its casters' least depth (0: none)
+    vec4 faceAxis[6];   // xyz: its depth axis, w: the light's greatest depth along it
+    vec4 extent[6];     // per face: xy the map's lower corner lo in m = (x, y) / z, zw 1 / (hi - lo)
+    vec4 lightU[6];     // xyz: the light's half axis along eu (halfSize.x eu) in face coordinates
+    vec4 lightV[6];     // xyz: the same along ev
+    vec4 basisU;        // xyz: the light's lateral axis eu, w: the front faces' cap maxTan
+    vec4 basisV;        // xyz: the light's lateral axis ev, w: the maps drawn
+    vec4 normal;        // xyz: the light's unit normal n, w: zNear
     vec4 params;        // x: blocker-search samples, y: filter samples, z: resolution R, w: 1 / R
     vec4 pattern[PCSS_MAX_SAMPLES]; // xy: filter pattern point i, zw: search point i, in [-1, 1]^2
 PENUMBRA_UBO_END(PcssUniforms, pcss)
@@ -168,7 +174,7 @@ static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
-static_assert(sizeof(PcssUniforms) == 2 * 64 + (7 + PCSS_MAX_SAMPLES) * 16,
+static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader
 #endif

@@ -28,28 +28,52 @@ Polygon clip(const Polygon& in, const glm::vec3& w, float w0) {
     return out;
 }
 
-// The triangle in a side's local coordinates (x, y, z): lateral, then depth.
-Polygon local(const PcssFrame& f, int side, const glm::vec3& a, const glm::vec3& b,
+// The triangle in a face's local coordinates (x, y, z): lateral, then depth.
+Polygon local(const PcssFrame& f, int face, const glm::vec3& a, const glm::vec3& b,
               const glm::vec3& c) {
     Polygon t;
     for (const glm::vec3& q : {a, b, c})
-        t.p[t.count++] = glm::vec3(f.lateral(q), f.depth(q, side));
+        t.p[t.count++] = f.local(q, face);
     return t;
+}
+
+// The part of a local polygon inside a face's frustum: z >= zNear and lo z <= (x, y) <= hi z.
+Polygon clipToFrustum(Polygon p, const PcssFace& s, float zNear) {
+    p = clip(p, {0.0f, 0.0f, 1.0f}, -zNear);
+    p = clip(p, {1.0f, 0.0f, -s.lo.x}, 0.0f);
+    p = clip(p, {-1.0f, 0.0f, s.hi.x}, 0.0f);
+    p = clip(p, {0.0f, 1.0f, -s.lo.y}, 0.0f);
+    p = clip(p, {0.0f, -1.0f, s.hi.y}, 0.0f);
+    return p;
+}
+
+glm::vec3 inFace(const PcssFace& s, const glm::vec3& w) {
+    return {glm::dot(w, s.b1), glm::dot(w, s.b2), glm::dot(w, s.axis)};
 }
 
 } // namespace
 
-glm::vec2 PcssFrame::textureCoord(const glm::vec3& q, int side) const {
-    const PcssSide& s = sides[side];
-    return (lateral(q) / depth(q, side) - s.lo) / (s.hi - s.lo);
+int PcssFrame::faceOf(const glm::vec3& q) const {
+    const glm::vec3 d = q - center;
+    const float x = glm::dot(d, eu), y = glm::dot(d, ev), z = glm::dot(d, normal);
+    const float a = std::max(std::abs(x), std::abs(y));
+    if (a <= maxTan * std::abs(z)) return std::abs(z) > zNear ? (z > 0.0f ? 0 : 1) : -1;
+    if (a <= zNear) return -1;
+    if (std::abs(x) >= std::abs(y)) return x >= 0.0f ? 2 : 3;
+    return y >= 0.0f ? 4 : 5;
 }
 
-glm::mat4 PcssFrame::projection(int side) const {
+glm::vec2 PcssFrame::textureCoord(const glm::vec3& q, int face) const {
+    const PcssFace& s = faces[face];
+    return (lateral(q, face) / depth(q, face) - s.lo) / (s.hi - s.lo);
+}
+
+glm::mat4 PcssFrame::projection(int face) const {
     // Rows, each affine in q (glm is column-major: m[column][row]).
-    const PcssSide& s = sides[side];
-    const glm::vec3 a = axis(side);
-    const glm::vec3 rx = (2.0f * eu - (s.lo.x + s.hi.x) * a) / (s.hi.x - s.lo.x);
-    const glm::vec3 ry = (2.0f * ev - (s.lo.y + s.hi.y) * a) / (s.hi.y - s.lo.y);
+    const PcssFace& s = faces[face];
+    const glm::vec3 a = s.axis;
+    const glm::vec3 rx = (2.0f * s.b1 - (s.lo.x + s.hi.x) * a) / (s.hi.x - s.lo.x);
+    const glm::vec3 ry = (2.0f * s.b2 - (s.lo.y + s.hi.y) * a) / (s.hi.y - s.lo.y);
     const glm::vec4 rows[4] = {
         glm::vec4(rx, -glm::dot(rx, center)), glm::vec4(ry, -glm::dot(ry, center)),
         glm::vec4(0.0f, 0.0f, 0.0f, zNear), glm::vec4(a, -glm::dot(a, center))};
@@ -58,6 +82,15 @@ glm::mat4 PcssFrame::projection(int side) const {
         for (int c = 0; c < 4; ++c)
             m[c][r] = rows[r][c];
     return m;
+}
+
+glm::vec3 PcssFrame::lightU(int face) const { return inFace(faces[face], halfSize.x * eu); }
+glm::vec3 PcssFrame::lightV(int face) const { return inFace(faces[face], halfSize.y * ev); }
+
+glm::vec2 throughLight(const glm::vec3& p, const glm::vec3& l, float z) {
+    const float t = glm::clamp((p.z - z) / (p.z - l.z), 0.0f, 1.0f);
+    const glm::vec3 q = p + t * (l - p);
+    return glm::vec2(q) / q.z;
 }
 
 PcssFrame fitPcssFrame(const Scene& scene, std::span<const std::size_t> casterObjects,
@@ -80,31 +113,54 @@ PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     f.zNear = std::max(settings.zNearFraction * diagonal, 1e-6f);
     const float T = settings.maxTan;
+    f.maxTan = T;
+    const glm::vec3 axes[kPcssFaces][3] = {
+        {f.normal, f.eu, f.ev}, {-f.normal, f.eu, f.ev}, {f.eu, f.ev, f.normal},
+        {-f.eu, f.ev, f.normal}, {f.ev, f.eu, f.normal}, {-f.ev, f.eu, f.normal}};
+    for (int k = 0; k < kPcssFaces; ++k) {
+        f.faces[k].axis = axes[k][0];
+        f.faces[k].b1 = axes[k][1];
+        f.faces[k].b2 = axes[k][2];
+    }
+    // The side faces' fixed extents (faceOf: beyond the front faces' cap, |z| / |x| < 1 / T),
+    // with a margin of a thousandth.
+    for (int k = 2; k < kPcssFaces; ++k) {
+        const glm::vec2 half(1.0f, 1.0f / T);
+        f.faces[k].lo = -1.001f * half;
+        f.faces[k].hi = 1.001f * half;
+    }
 
-    // Receivers: the box of m over every triangle's part deeper than zNear (a projective map
-    // takes the clipped convex polygon to the convex hull of its vertices' images).
+    // Receivers: the front faces' box of m over every triangle's part deeper than zNear (a
+    // projective map takes the clipped convex polygon to the convex hull of its vertices'
+    // images), clamped to the cap; a side face is present when a triangle reaches its frustum.
     const float inf = std::numeric_limits<float>::infinity();
     glm::vec2 lo[2] = {glm::vec2(inf), glm::vec2(inf)}, hi[2] = {glm::vec2(-inf), glm::vec2(-inf)};
     for (const SceneObject& o : scene.objects) {
         const MeshData& mesh = o.mesh;
-        for (const glm::uvec3& tri : mesh.triangles)
+        for (const glm::uvec3& tri : mesh.triangles) {
+            const glm::vec3& a = mesh.positions[tri[0]];
+            const glm::vec3& b = mesh.positions[tri[1]];
+            const glm::vec3& c = mesh.positions[tri[2]];
             for (int side = 0; side < 2; ++side) {
-                const Polygon p = clip(local(f, side, mesh.positions[tri[0]],
-                                             mesh.positions[tri[1]], mesh.positions[tri[2]]),
-                                       {0.0f, 0.0f, 1.0f}, -f.zNear);
+                PcssFace& s = f.faces[side];
+                const Polygon p = clip(local(f, side, a, b, c), {0.0f, 0.0f, 1.0f}, -f.zNear);
                 for (int i = 0; i < p.count; ++i) {
                     const glm::vec2 m = glm::vec2(p.p[i]) / p.p[i].z;
-                    f.sides[side].clamped = f.sides[side].clamped ||
-                                            glm::any(glm::greaterThan(glm::abs(m), glm::vec2(T)));
+                    s.clamped = s.clamped || glm::any(glm::greaterThan(glm::abs(m), glm::vec2(T)));
                     const glm::vec2 mc = glm::clamp(m, -T, T);
                     lo[side] = glm::min(lo[side], mc);
                     hi[side] = glm::max(hi[side], mc);
-                    f.sides[side].present = true;
+                    s.present = true;
                 }
             }
+            for (int k = 2; k < kPcssFaces; ++k)
+                if (!f.faces[k].present)
+                    f.faces[k].present =
+                        clipToFrustum(local(f, k, a, b, c), f.faces[k], f.zNear).count > 0;
+        }
     }
     for (int side = 0; side < 2; ++side) {
-        PcssSide& s = f.sides[side];
+        PcssFace& s = f.faces[side];
         if (!s.present) continue;
         // A margin of a thousandth of the extent (at least 1e-3 of the cap, so that a receiver
         // seen as a point still gets a map): receivers on the boundary keep their texels.
@@ -113,25 +169,36 @@ PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
         s.hi = hi[side] + pad;
     }
 
-    // Casters: the least depth of their triangles clipped to the frustum (z >= zNear and the
-    // four side planes lo z <= x <= hi z, lo z <= y <= hi z).
+    // A front face without receivers still holds the casters its neighbours' kernels reach:
+    // its whole cap.
+    for (int side = 0; side < 2; ++side)
+        if (!f.faces[side].present) {
+            f.faces[side].lo = glm::vec2(-T);
+            f.faces[side].hi = glm::vec2(T);
+        }
+
+    // Casters: the least depth of their triangles clipped to each face's frustum.
     for (const std::size_t i : casterObjects) {
         const MeshData& mesh = scene.objects.at(i).mesh;
         for (const glm::uvec3& tri : mesh.triangles)
-            for (int side = 0; side < 2; ++side) {
-                PcssSide& s = f.sides[side];
-                if (!s.present) continue;
-                Polygon p = local(f, side, mesh.positions[tri[0]], mesh.positions[tri[1]],
-                                  mesh.positions[tri[2]]);
-                p = clip(p, {0.0f, 0.0f, 1.0f}, -f.zNear);
-                p = clip(p, {1.0f, 0.0f, -s.lo.x}, 0.0f);
-                p = clip(p, {-1.0f, 0.0f, s.hi.x}, 0.0f);
-                p = clip(p, {0.0f, 1.0f, -s.lo.y}, 0.0f);
-                p = clip(p, {0.0f, -1.0f, s.hi.y}, 0.0f);
-                for (int k = 0; k < p.count; ++k)
+            for (int k = 0; k < kPcssFaces; ++k) {
+                PcssFace& s = f.faces[k];
+                const Polygon p = clipToFrustum(local(f, k, mesh.positions[tri[0]],
+                                                      mesh.positions[tri[1]],
+                                                      mesh.positions[tri[2]]),
+                                                s, f.zNear);
+                for (int v = 0; v < p.count; ++v)
                     s.casterNear =
-                        s.casterNear == 0.0f ? p.p[k].z : std::min(s.casterNear, p.p[k].z);
+                        s.casterNear == 0.0f ? p.p[v].z : std::min(s.casterNear, p.p[v].z);
             }
+    }
+    // Drawn: casters in the face, and receivers in it or in a face beside it (a kernel near a
+    // face's edge reads on in the next face).
+    for (int k = 0; k < kPcssFaces; ++k) {
+        bool neighbour = false;
+        for (int j = 0; j < kPcssFaces; ++j)
+            neighbour = neighbour || (f.faces[j].present && j != k && (j ^ 1) != k);
+        f.faces[k].drawn = f.faces[k].casterNear > 0.0f && (f.faces[k].present || neighbour);
     }
     return f;
 }

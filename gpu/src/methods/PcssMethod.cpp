@@ -1,14 +1,15 @@
 // pcss: percentage-closer soft shadows (Fernando 2005), the shadow-map baseline:
-// - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change): one
-//   perspective map per side of the light that has receivers, from the light's centre along
-//   ±n, fitted to the receivers (capped at a 71.6° half-angle), and the casters' near depth;
+// - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change): the faces
+//   of a cube around the light's centre that have receivers: along ±n fitted to the receivers
+//   within a 71.6° half-angle, along the light's lateral axes for every receiver beyond it
+//   (walls reaching the light's plane), and the casters' near depth in each;
 // - shadow pass (passes/PcssShadowPass): the casters into the maps, alpha-tested ones cut out;
 // - lookup (pcss-lookup.frag): per G-buffer point, blocker search, penumbra width
 //   w = lightSize (zReceiver - zBlocker) / zBlocker per light axis, percentage-closer filtering
 //   over that rectangle; depth compared with the receiver's plane moved `bias` texels towards
 //   the light; V times the light's share in front of the surface (`horizon`, as occlusion's).
 //   V is written at every pixel.
-// Receivers beyond the maps' cap (walls reaching the light's plane) get V = 1 and are counted
+// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted
 // (`pcss_pixels_outside`).
 #include "engine/Method.h"
 #include "engine/MethodOptions.h"
@@ -19,6 +20,7 @@
 #include <geometry/shadow/PcssFrame.h>
 #include <geometry/core/Sampling.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -49,13 +51,13 @@ public:
         mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
                          .width = mResolution,
                          .height = mResolution,
-                         .layers = 2,
+                         .layers = geometry::kPcssFaces,
                          .format = GL_DEPTH_COMPONENT32F,
                          .wrap = GL_CLAMP_TO_BORDER,
                          .label = "pcss-shadow-maps"});
-        for (int side = 0; side < 2; ++side)
-            mSideFbo[side] = Framebuffer(
-                {.attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, side}}, .label = "pcss-side"});
+        for (int face = 0; face < geometry::kPcssFaces; ++face)
+            mFaceFbo[face] = Framebuffer(
+                {.attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, face}}, .label = "pcss-face"});
         const std::vector<glm::vec2> filter =
             geometry::scrambledNet(mFilterSamples, kFilterPatternSeed);
         const std::vector<glm::vec2> search =
@@ -69,16 +71,26 @@ public:
         updateFrame(ctx);
         const geometry::PcssFrame& f = mFrame;
         shader::PcssUniforms u{};
-        for (int side = 0; side < 2; ++side) {
-            const geometry::PcssSide& s = f.sides[side];
-            u.shadowProj[side] = s.present ? f.projection(side) : glm::mat4(1.0f);
-            u.extent[side] = glm::vec4(s.lo, 1.0f / (s.hi - s.lo));
+        for (int face = 0; face < geometry::kPcssFaces; ++face) {
+            const geometry::PcssFace& s = f.faces[face];
+            u.shadowProj[face] = s.present ? f.projection(face) : glm::mat4(1.0f);
+            // w: 1 if receivers lie in the face, + 2 if its map is drawn.
+            u.faceB1[face] = glm::vec4(s.b1, (s.present ? 1.0f : 0.0f) + (s.drawn ? 2.0f : 0.0f));
+            u.faceB2[face] = glm::vec4(s.b2, s.casterNear);
+            const glm::vec3 lu = f.lightU(face), lv = f.lightV(face);
+            u.faceAxis[face] = glm::vec4(s.axis, std::abs(lu.z) + std::abs(lv.z));
+            u.extent[face] = glm::vec4(s.lo, 1.0f / (s.hi - s.lo));
+            u.lightU[face] = glm::vec4(lu, 0.0f);
+            u.lightV[face] = glm::vec4(lv, 0.0f);
         }
-        u.basisU = glm::vec4(f.eu, f.halfSize.x);
-        u.basisV = glm::vec4(f.ev, f.halfSize.y);
+        u.basisU = glm::vec4(f.eu, f.maxTan);
+        int maps = 0, sideMaps = 0;
+        for (int face = 0; face < geometry::kPcssFaces; ++face) {
+            maps += drawn(face) ? 1 : 0;
+            sideMaps += face >= 2 && drawn(face) ? 1 : 0;
+        }
+        u.basisV = glm::vec4(f.ev, static_cast<float>(maps));
         u.normal = glm::vec4(f.normal, f.zNear);
-        u.sides = glm::vec4(f.sides[0].present ? 1.0f : 0.0f, f.sides[1].present ? 1.0f : 0.0f,
-                            f.sides[0].casterNear, f.sides[1].casterNear);
         u.params =
             glm::vec4(static_cast<float>(mSearchSamples), static_cast<float>(mFilterSamples),
                       static_cast<float>(mResolution), 1.0f / static_cast<float>(mResolution));
@@ -89,9 +101,9 @@ public:
 
         {
             ScopedPass pass(&ctx.timers, "pcss-shadow");
-            for (int side = 0; side < 2; ++side)
-                if (drawn(side))
-                    mShadowPass.execute(mSideFbo[side], side, mResolution, ctx.sceneGeometry,
+            for (int face = 0; face < geometry::kPcssFaces; ++face)
+                if (drawn(face))
+                    mShadowPass.execute(mFaceFbo[face], face, mResolution, ctx.sceneGeometry,
                                         mObjects);
         }
         const std::uint32_t zero = 0;
@@ -109,21 +121,20 @@ public:
         glGetNamedBufferSubData(mStats.id(), 0, sizeof(outside), &outside);
 
         ctx.addCounter("pcss_resolution", mResolution);
-        ctx.addCounter("pcss_sides", static_cast<double>(drawn(0)) + static_cast<double>(drawn(1)));
+        ctx.addCounter("pcss_sides", maps);
+        ctx.addCounter("pcss_side_maps", sideMaps);
         ctx.addCounter("pcss_pixels_outside", outside);
         ctx.addCounter("pcss_frustum_clamped",
-                       static_cast<double>(f.sides[0].clamped || f.sides[1].clamped));
+                       static_cast<double>(f.faces[0].clamped || f.faces[1].clamped));
         ctx.addCounter("pcss_caster_near",
-                       f.sides[0].present ? f.sides[0].casterNear : f.sides[1].casterNear);
+                       f.faces[0].present ? f.faces[0].casterNear : f.faces[1].casterNear);
         ctx.addCounter("pcss_casters", static_cast<double>(mObjects.size()));
     }
 
 private:
-    // A side's map is drawn when receivers lie on it and casters reach into its frustum (the
-    // lookup reads no map where casterNear is 0).
-    bool drawn(int side) const {
-        return mFrame.sides[side].present && mFrame.sides[side].casterNear > 0.0f;
-    }
+    // A face's map is drawn when casters reach into its frustum and receivers lie in it or in
+    // a face beside it (geometry::PcssFace::drawn).
+    bool drawn(int face) const { return mFrame.faces[face].drawn; }
 
     void updateFrame(const FrameContext& ctx) {
         const geometry::RectLight& light = ctx.light;
@@ -145,7 +156,7 @@ private:
     PcssShadowPass mShadowPass;
     FullscreenPass mLookup;
     Texture mMaps;
-    Framebuffer mSideFbo[2];
+    Framebuffer mFaceFbo[geometry::kPcssFaces];
     glm::vec4 mPattern[PCSS_MAX_SAMPLES];
     Buffer mUniforms{{.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}};
     Buffer mStats{{.size = sizeof(std::uint32_t), .label = "pcss-stats"}};

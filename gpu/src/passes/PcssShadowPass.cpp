@@ -22,7 +22,7 @@ Program loadShadowProgram(const ShaderLoader& shaders, bool alphaTested) {
 PcssShadowPass::PcssShadowPass(const ShaderLoader& shaders)
     : mOpaque(loadShadowProgram(shaders, false)), mAlphaTested(loadShadowProgram(shaders, true)) {}
 
-void PcssShadowPass::execute(const Framebuffer& target, int side, int resolution,
+void PcssShadowPass::execute(const Framebuffer& target, int face, int resolution,
                              const SceneGeometry& geometry,
                              std::span<const std::size_t> objects) const {
     applyState(kState);
@@ -31,7 +31,7 @@ void PcssShadowPass::execute(const Framebuffer& target, int side, int resolution
     const float nothing = 0.0f; // depth 0: infinitely far
     glClearNamedFramebufferfv(target.id(), GL_DEPTH, 0, &nothing);
     for (const Program* p : {&mOpaque, &mAlphaTested})
-        glProgramUniform1i(p->id(), UNIFORM_PCSS_SIDE, side);
+        glProgramUniform1i(p->id(), UNIFORM_PCSS_SIDE, face);
     // The opaque variant reads no material (its uniforms are optimised out).
     const SceneGeometry::Programs programs{mOpaque, mAlphaTested, false};
     for (const std::size_t object : objects)

@@ -1,4 +1,4 @@
-// PCSS, shadow pass: the casters from the light's centre into one side's shadow map (a layer of
+// PCSS, shadow pass: the casters from the light's centre into one face's shadow map (a layer of
 // a depth-array texture), with geometry::PcssFrame::projection in PcssUniforms::shadowProj.
 // - Depth only, zNear / z, reversed: cleared to 0 (nothing), GREATER keeps the nearest surface.
 // - No culling: every triangle occludes from both sides (open meshes, cards, level geometry).
@@ -25,9 +25,9 @@ public:
     };
 
     explicit PcssShadowPass(const ShaderLoader& shaders);
-    // Clears `target` (a depth-only framebuffer of one side's layer) and draws the objects into
+    // Clears `target` (a depth-only framebuffer of one face's layer) and draws the objects into
     // it; PcssUniforms must be bound.
-    void execute(const Framebuffer& target, int side, int resolution, const SceneGeometry& geometry,
+    void execute(const Framebuffer& target, int face, int resolution, const SceneGeometry& geometry,
                  std::span<const std::size_t> objects) const;
 
 private:

@@ -1,10 +1,11 @@
 // The PCSS shadow maps' frame (geometry/shadow/PcssFrame.h):
-// - every receiver vertex deeper than zNear lands inside its side's map, and the shadow pass's
+// - every receiver vertex lands inside the map of its face (faceOf), and the shadow pass's
 //   projection puts it where textureCoord says, at depth zNear / z;
 // - casterNear is the least caster depth inside the frustum (the occluder's, not the floor's);
-// - receivers beyond the light's plane get the second side, receivers reaching the light's
-//   plane clamp the frustum at maxTan (and say so);
-// - the light's half extents along its axes are |u| and |v|.
+// - receivers beyond the light's plane get the second front face; receivers reaching the light's
+//   plane clamp the front faces at maxTan (and say so) and go to the side faces;
+// - the light's half extents along its axes are |u| and |v|; throughLight is the paper's
+//   rectangle on the front faces and the light seen edge-on on the side faces.
 #include <geometry/shadow/PcssFrame.h>
 #include <geometry/scene/Primitives.h>
 #include <geometry/scene/Scene.h>
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 namespace {
@@ -27,25 +29,27 @@ std::vector<std::size_t> allObjects(const geometry::Scene& scene) {
     return all;
 }
 
-// Every vertex deeper than zNear on a side: inside that side's map, and the projection agrees.
+// Every vertex in a face (all but those within zNear of the centre): inside that face's map,
+// and the projection agrees.
 void expectReceiversInside(const geometry::Scene& scene, const geometry::PcssFrame& f) {
     for (const auto& o : scene.objects)
-        for (const glm::vec3& q : o.mesh.positions)
-            for (int side = 0; side < 2; ++side) {
-                const float z = f.depth(q, side);
-                if (z <= f.zNear) continue;
-                ASSERT_TRUE(f.sides[side].present);
-                const glm::vec2 uv = f.textureCoord(q, side);
-                EXPECT_GE(uv.x, 0.0f);
-                EXPECT_LE(uv.x, 1.0f);
-                EXPECT_GE(uv.y, 0.0f);
-                EXPECT_LE(uv.y, 1.0f);
-                const glm::vec4 clip = f.projection(side) * glm::vec4(q, 1.0f);
-                EXPECT_NEAR(clip.w, z, 1e-4f * (1.0f + z));
-                EXPECT_NEAR(0.5f * clip.x / clip.w + 0.5f, uv.x, 1e-5f);
-                EXPECT_NEAR(0.5f * clip.y / clip.w + 0.5f, uv.y, 1e-5f);
-                EXPECT_NEAR(clip.z / clip.w, f.zNear / z, 1e-6f);
-            }
+        for (const glm::vec3& q : o.mesh.positions) {
+            const int face = f.faceOf(q);
+            if (face < 0) continue;
+            const float z = f.depth(q, face);
+            ASSERT_GT(z, f.zNear);
+            ASSERT_TRUE(f.faces[face].present) << o.name << " face " << face;
+            const glm::vec2 uv = f.textureCoord(q, face);
+            EXPECT_GE(uv.x, 0.0f) << o.name << " face " << face;
+            EXPECT_LE(uv.x, 1.0f) << o.name << " face " << face;
+            EXPECT_GE(uv.y, 0.0f) << o.name << " face " << face;
+            EXPECT_LE(uv.y, 1.0f) << o.name << " face " << face;
+            const glm::vec4 clip = f.projection(face) * glm::vec4(q, 1.0f);
+            EXPECT_NEAR(clip.w, z, 1e-4f * (1.0f + z));
+            EXPECT_NEAR(0.5f * clip.x / clip.w + 0.5f, uv.x, 1e-5f);
+            EXPECT_NEAR(0.5f * clip.y / clip.w + 0.5f, uv.y, 1e-5f);
+            EXPECT_NEAR(clip.z / clip.w, f.zNear / z, 1e-6f);
+        }
 }
 
 } // namespace
@@ -53,21 +57,23 @@ void expectReceiversInside(const geometry::Scene& scene, const geometry::PcssFra
 TEST(PcssFrame, ParallelSquare) {
     const geometry::Scene scene = loadData("parallel-square.json");
     const geometry::PcssFrame f = geometry::fitPcssFrame(scene, allObjects(scene));
-    EXPECT_TRUE(f.sides[0].present); // the light faces down (u × v = -y)
-    EXPECT_FALSE(f.sides[1].present);
-    EXPECT_FALSE(f.sides[0].clamped);
+    EXPECT_TRUE(f.faces[0].present); // the light faces down (u × v = -y)
+    EXPECT_FALSE(f.faces[1].present);
+    EXPECT_FALSE(f.faces[0].clamped);
+    for (int face = 2; face < geometry::kPcssFaces; ++face)
+        EXPECT_FALSE(f.faces[face].present) << face; // nothing reaches the light's plane
     EXPECT_NEAR(f.normal.y, -1.0f, 1e-6f);
     EXPECT_NEAR(f.halfSize.x, 0.5f, 1e-6f);
     EXPECT_NEAR(f.halfSize.y, 0.5f, 1e-6f);
     // The floor (3 m half-width at depth 3) spans m in [-1, 1], plus the small margin.
-    EXPECT_NEAR(f.sides[0].lo.x, -1.0f, 0.01f);
-    EXPECT_NEAR(f.sides[0].hi.y, 1.0f, 0.01f);
+    EXPECT_NEAR(f.faces[0].lo.x, -1.0f, 0.01f);
+    EXPECT_NEAR(f.faces[0].hi.y, 1.0f, 0.01f);
     // The occluder at y = 1, depth 2; the floor is deeper.
-    EXPECT_NEAR(f.sides[0].casterNear, 2.0f, 1e-5f);
+    EXPECT_NEAR(f.faces[0].casterNear, 2.0f, 1e-5f);
     expectReceiversInside(scene, f);
     // Only the floor casting: its depth.
     const std::size_t floorOnly[] = {0};
-    EXPECT_NEAR(geometry::fitPcssFrame(scene, floorOnly).sides[0].casterNear, 3.0f, 1e-5f);
+    EXPECT_NEAR(geometry::fitPcssFrame(scene, floorOnly).faces[0].casterNear, 3.0f, 1e-5f);
 }
 
 TEST(PcssFrame, RectangularLightHalfExtents) {
@@ -77,19 +83,83 @@ TEST(PcssFrame, RectangularLightHalfExtents) {
     EXPECT_NEAR(f.halfSize.y, 0.4f, 1e-6f);
     EXPECT_NEAR(glm::dot(f.eu, f.ev), 0.0f, 1e-6f);
     EXPECT_NEAR(glm::dot(f.eu, f.normal), 0.0f, 1e-6f);
-    // The walls reach 0.2 m below the light, 4 m beside it: the frustum is capped.
-    EXPECT_TRUE(f.sides[0].clamped);
-    EXPECT_NEAR(f.sides[0].lo.x, -geometry::PcssFitSettings{}.maxTan, 0.01f);
-    EXPECT_FALSE(f.sides[1].present);
-    // Receivers within the cap are in the map (the walls' upper parts are not: not checked).
+    // The walls reach 0.2 m below the light, 4 m beside it: the front face is capped, and the
+    // walls' upper parts go to the side faces (those that have a wall).
+    EXPECT_TRUE(f.faces[0].clamped);
+    EXPECT_NEAR(f.faces[0].lo.x, -geometry::PcssFitSettings{}.maxTan, 0.01f);
+    EXPECT_FALSE(f.faces[1].present);
+    int inSideFaces = 0;
     for (const auto& o : scene.objects)
-        for (const glm::vec3& q : o.mesh.positions) {
-            const float z = f.depth(q, 0);
-            const glm::vec2 m = f.lateral(q) / z;
-            if (z <= f.zNear || std::max(std::abs(m.x), std::abs(m.y)) > 2.9f) continue;
-            const glm::vec2 uv = f.textureCoord(q, 0);
-            EXPECT_TRUE(uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f) << o.name;
+        for (const glm::vec3& q : o.mesh.positions)
+            inSideFaces += f.faceOf(q) >= 2 ? 1 : 0;
+    EXPECT_GT(inSideFaces, 0);
+    int sideFaces = 0;
+    for (int face = 2; face < geometry::kPcssFaces; ++face)
+        if (f.faces[face].present) {
+            ++sideFaces;
+            EXPECT_GT(f.faces[face].casterNear, 0.0f) << face; // the walls cast
         }
+    EXPECT_GE(sideFaces, 1);
+    expectReceiversInside(scene, f); // and every face a vertex lands in is present
+}
+
+TEST(PcssFrame, FacesCoverEveryDirectionOnce) {
+    geometry::Scene scene = loadData("demo.json");
+    const geometry::PcssFrame f = geometry::fitPcssFrame(scene, allObjects(scene));
+    // The cube's faces are orthonormal frames, and a direction's face has it deepest among the
+    // candidates: the front faces within the cap, a side face whose axis is the largest lateral
+    // component beyond it.
+    for (int face = 0; face < geometry::kPcssFaces; ++face) {
+        const geometry::PcssFace& s = f.faces[face];
+        EXPECT_NEAR(glm::dot(s.b1, s.b2), 0.0f, 1e-6f);
+        EXPECT_NEAR(glm::dot(s.b1, s.axis), 0.0f, 1e-6f);
+        EXPECT_NEAR(glm::length(s.axis), 1.0f, 1e-6f);
+    }
+    const float T = f.maxTan;
+    const glm::vec3 c = f.center;
+    EXPECT_EQ(f.faceOf(c + 0.99f * T * f.eu + f.normal), 0); // inside the cap: the front face
+    EXPECT_EQ(f.faceOf(c + 1.01f * T * f.eu + f.normal), 2); // beyond it: the side face
+    EXPECT_EQ(f.faceOf(c - 1.01f * T * f.ev - f.normal), 5);
+    EXPECT_EQ(f.faceOf(c - f.eu), 3);                        // in the light's plane
+    EXPECT_EQ(f.faceOf(c + 0.1f * f.zNear * f.normal), -1);  // at the centre
+    // Beyond the cap a point's side-face coordinates lie within the fixed extent.
+    for (const glm::vec3& d : {1.01f * T * f.eu + f.normal, -f.ev + 0.2f * f.normal,
+                                f.eu - 0.999f * f.ev - 0.33f * f.normal}) {
+        const int face = f.faceOf(c + d);
+        ASSERT_GE(face, 2);
+        const glm::vec2 uv = f.textureCoord(c + d, face);
+        EXPECT_TRUE(uv.x > 0.0f && uv.x < 1.0f && uv.y > 0.0f && uv.y < 1.0f)
+            << face << " " << uv.x << " " << uv.y;
+    }
+}
+
+TEST(PcssFrame, ThroughLightIsThePapersRectangleOnTheFrontFaces) {
+    geometry::Scene scene = loadData("demo.json"); // u = 0.6 x, v = 0.4 z
+    const geometry::PcssFrame f = geometry::fitPcssFrame(scene, allObjects(scene));
+    // On face 0 the light lies at depth 0: the segment from P to the light's point s crosses
+    // depth z at m_P + s halfSize (1 / z - 1 / z_P).
+    const glm::vec3 p(0.7f, -0.3f, 2.5f);
+    for (const glm::vec2 s : {glm::vec2(1.0f, 1.0f), glm::vec2(-0.5f, 0.25f)})
+        for (const float z : {0.5f, 1.2f, 2.4f}) {
+            const glm::vec3 l = s.x * f.lightU(0) + s.y * f.lightV(0);
+            EXPECT_NEAR(l.z, 0.0f, 1e-6f);
+            const glm::vec2 expected =
+                glm::vec2(p) / p.z + s * f.halfSize * (1.0f / z - 1.0f / p.z);
+            const glm::vec2 m = geometry::throughLight(p, l, z);
+            EXPECT_NEAR(m.x, expected.x, 1e-5f);
+            EXPECT_NEAR(m.y, expected.y, 1e-5f);
+        }
+    // On the side face along eu the light is seen edge-on: its u half axis lies along the depth,
+    // its v half axis across, and a point of the light's edge is its own map position.
+    const glm::vec3 lu = f.lightU(2), lv = f.lightV(2);
+    EXPECT_NEAR(lu.z, f.halfSize.x, 1e-6f);
+    EXPECT_NEAR(glm::length(glm::vec2(lu)), 0.0f, 1e-6f);
+    EXPECT_NEAR(std::abs(lv.x), f.halfSize.y, 1e-6f);
+    EXPECT_NEAR(lv.z, 0.0f, 1e-6f);
+    const glm::vec3 q(0.1f, 0.05f, 4.0f), edge = lu + lv;
+    const glm::vec2 atEdge = geometry::throughLight(q, edge, edge.z);
+    EXPECT_NEAR(atEdge.x, edge.x / edge.z, 1e-5f);
+    EXPECT_NEAR(atEdge.y, edge.y / edge.z, 1e-5f);
 }
 
 TEST(PcssFrame, ReceiversAboveTheLightGetTheSecondSide) {
@@ -100,10 +170,10 @@ TEST(PcssFrame, ReceiversAboveTheLightGetTheSecondSide) {
     scene.objects.push_back({"upper plate", geometry::ShadowMethod::Auto,
                              geometry::makeQuad({0.2f, 4, 0}, {0.4f, 0, 0}, {0, 0, 0.4f})});
     const geometry::PcssFrame f = geometry::fitPcssFrame(scene, allObjects(scene));
-    EXPECT_TRUE(f.sides[0].present);
-    EXPECT_TRUE(f.sides[1].present);
-    EXPECT_NEAR(f.sides[0].casterNear, 2.0f, 1e-5f);
-    EXPECT_NEAR(f.sides[1].casterNear, 1.0f, 1e-5f);
-    EXPECT_NEAR(f.sides[1].hi.x, 1.5f, 0.01f); // the ceiling: 3 m half-width at depth 2
+    EXPECT_TRUE(f.faces[0].present);
+    EXPECT_TRUE(f.faces[1].present);
+    EXPECT_NEAR(f.faces[0].casterNear, 2.0f, 1e-5f);
+    EXPECT_NEAR(f.faces[1].casterNear, 1.0f, 1e-5f);
+    EXPECT_NEAR(f.faces[1].hi.x, 1.5f, 0.01f); // the ceiling: 3 m half-width at depth 2
     expectReceiversInside(scene, f);
 }

@@ -1,19 +1,28 @@
 // Percentage-closer soft shadows (Fernando 2005), the CPU side: the frame of the shadow maps.
 // shaders/pcss-lookup.frag does the per-pixel blocker search and filtering in it.
 //
-// - One perspective shadow map per side of the light, from the light's centre looking along its
-//   normal n (side 0) or along -n (side 1): the rectangular light emits to both sides (DESIGN.md
-//   §2 has no facing term), and a room's ceiling above a light hung under it is lit. A side is
-//   drawn only when some receiver lies on it.
-// - Map coordinates m = (x, y) / z: x, y along the orthonormal lateral axes eu = u / |u| and
-//   ev = n × eu, z the depth along the side's axis. Each side's map covers the box [lo, hi] of
-//   m over every receiver triangle clipped to z >= zNear, clamped to |m| <= maxTan (a room whose
-//   walls reach the light's plane would otherwise need a 180° frustum; receivers beyond it get
-//   no shadow, and the lookup counts their pixels).
+// - Up to six perspective shadow maps from the light's centre, the faces of a cube around it
+//   (the rectangular light emits to both sides, DESIGN.md §2 has no facing term, and a lamp hung
+//   in a room lights every wall, ceiling and floor around it):
+//   - faces 0 and 1 look along the light's normal n and along -n, each fitted to the receivers
+//     on its side within |m| <= maxTan (71.6° off the axis);
+//   - faces 2..5 look along ±eu and ±ev, in the light's plane, and take every receiver beyond
+//     that cap (walls reaching the light's plane): each covers the directions whose largest
+//     lateral component is its axis, |m| <= 1 across and |m| <= 1 / maxTan towards ±n.
+//   faceOf() is the rule that picks a point's face; the lookup applies the same one, to P and
+//   to every search and filter sample (a kernel crossing a face's edge reads on in the next
+//   face: the maps form one cube). A face is drawn when casters lie in it and receivers lie in
+//   it or beside it.
+// - Map coordinates m = (x, y) / z in a face's own axes (b1, b2, axis): x, y lateral, z the depth
+//   along its axis. The front faces' lateral axes are the light's, eu = u / |u| and ev = n × eu.
 // - Depth zNear / z (reversed, float: precise far from the light; 0 = nothing drawn), written
-//   by projection(side) with glClipControl(LOWER_LEFT, ZERO_TO_ONE), which the renderer sets.
-// - casterNear: the least depth of caster geometry inside a side's frustum (triangles clipped to
+//   by projection(face) with glClipControl(LOWER_LEFT, ZERO_TO_ONE), which the renderer sets.
+// - casterNear: the least depth of caster geometry inside a face's frustum (triangles clipped to
 //   it): the near plane that sizes the blocker search (the paper's "near plane").
+// - lightU / lightV: the light's half axes halfSize.x eu and halfSize.y ev in a face's
+//   coordinates. The search and filter regions are the light seen from P through a plane of the
+//   face, sample by sample (throughLight): on the front faces the paper's rectangle
+//   halfSize (1/z - 1/zP), on the side faces the light seen edge-on.
 #pragma once
 
 #include <geometry/scene/Scene.h>
@@ -25,11 +34,19 @@
 
 namespace geometry {
 
-struct PcssSide {
-    bool present = false;          // a receiver lies on this side, deeper than zNear
+inline constexpr int kPcssFaces = 6;
+
+struct PcssFace {
+    glm::vec3 axis{0.0f, -1.0f, 0.0f}; // unit depth axis
+    glm::vec3 b1{1.0f, 0.0f, 0.0f};    // unit lateral axes, orthogonal to it and each other
+    glm::vec3 b2{0.0f, 0.0f, 1.0f};
+    bool present = false;          // a receiver lies in this face, deeper than zNear
     glm::vec2 lo{-1.0f}, hi{1.0f}; // the map's extent in m
     float casterNear = 0.0f;       // least caster depth inside the frustum; 0: no caster in it
-    bool clamped = false;          // receivers reach beyond |m| = maxTan (not in the map)
+    bool drawn = false;            // its map is drawn: casters in it, and receivers in it or
+                                   // in a face beside it (whose kernels read on into it)
+    bool clamped = false;          // front faces: receivers reach beyond |m| = maxTan (they go
+                                   // to the side faces)
 };
 
 struct PcssFrame {
@@ -42,22 +59,38 @@ struct PcssFrame {
     // not discs); for a parallelogram light, its bounding rectangle in (eu, ev).
     glm::vec2 halfSize{0.5f};
     float zNear = 1e-3f;
-    PcssSide sides[2]; // 0: the side n points to, 1: the other
+    float maxTan = 3.0f;
+    PcssFace faces[kPcssFaces]; // 0: along n, 1: along -n, 2..5: along eu, -eu, ev, -ev
 
-    glm::vec3 axis(int side) const { return side == 0 ? normal : -normal; }
-    float depth(const glm::vec3& q, int side) const { return glm::dot(q - center, axis(side)); }
-    glm::vec2 lateral(const glm::vec3& q) const {
-        return {glm::dot(q - center, eu), glm::dot(q - center, ev)};
+    float depth(const glm::vec3& q, int face) const {
+        return glm::dot(q - center, faces[face].axis);
     }
-    // Where q lands in side's map ([0, 1]^2 over [lo, hi]); q must be deeper than 0.
-    glm::vec2 textureCoord(const glm::vec3& q, int side) const;
-    // World -> clip of side's shadow pass: clip = ((2m - lo - hi) / (hi - lo) * z, zNear, z):
+    glm::vec2 lateral(const glm::vec3& q, int face) const {
+        return {glm::dot(q - center, faces[face].b1), glm::dot(q - center, faces[face].b2)};
+    }
+    // q - center in face's coordinates (b1, b2, axis).
+    glm::vec3 local(const glm::vec3& q, int face) const {
+        return {lateral(q, face), depth(q, face)};
+    }
+    // The face whose map holds q, or -1 for points within zNear of the centre (counted, V = 1).
+    int faceOf(const glm::vec3& q) const;
+    // Where q lands in face's map ([0, 1]^2 over [lo, hi]); q must be deeper than 0.
+    glm::vec2 textureCoord(const glm::vec3& q, int face) const;
+    // World -> clip of face's shadow pass: clip = ((2m - lo - hi) / (hi - lo) * z, zNear, z):
     // depth zNear / z, clipped where z < zNear.
-    glm::mat4 projection(int side) const;
+    glm::mat4 projection(int face) const;
+    // The light's half axes halfSize.x eu, halfSize.y ev in face's coordinates.
+    glm::vec3 lightU(int face) const;
+    glm::vec3 lightV(int face) const;
 };
 
+// Where the segment from P (face coordinates p, depth p.z) to a point L of the light (face
+// coordinates l) crosses depth z, in map coordinates: the texel a blocker at depth z between
+// them covers. The share along the segment is clamped to it (z beyond P or behind L).
+glm::vec2 throughLight(const glm::vec3& p, const glm::vec3& l, float z);
+
 struct PcssFitSettings {
-    float maxTan = 3.0f;         // the frustum's half-angle cap, tan (71.6°)
+    float maxTan = 3.0f;         // the front faces' half-angle cap, tan (71.6°)
     float zNearFraction = 1e-4f; // zNear = this × the scene's bounding diagonal
 };
 
