@@ -143,7 +143,8 @@ MaskComparison compareMasks(const geometry::Scene& scene, const gpu::LightMasks&
 }
 
 // Three overlapping groups (plates-three: three plates and the floor; diamonds: rotated
-// squares) and a curved one (torus), every sample count, both patterns: the GPU's final masks
+// squares) and a curved one (torus), both patterns, every sample count on plates-three and the
+// least and the most on the others (the CPU model is the test's cost): the GPU's final masks
 // are the model's OR of parities, bit for bit, wherever float arithmetic cannot decide
 // otherwise (samples within 1e-4 of a projected edge or ray; pixels whose light centre is
 // within kCentreTolerance of one, where the rasterised volume decides the centre: counted).
@@ -154,6 +155,7 @@ TEST_F(BitmaskWedges, MasksEqualTheCpuModelBitForBit) {
         gpu::ShaderLoader shaders(gpu::defaultShaderDir());
         gpu::Renderer renderer(scene, shaders);
         for (const int n : {32, 64, 128, 256}) {
+            if (file != "plates-three.json" && (n == 64 || n == 128)) continue;
             for (const bool rotated : {false, true}) {
               for (const bool counts : {false, true}) {
                 if (rotated && counts) continue; // the shift is the same code in both modes
@@ -185,8 +187,9 @@ TEST_F(BitmaskWedges, MasksEqualTheCpuModelBitForBit) {
                     EXPECT_EQ(c.countDiffers, 0u); // planar plates: nothing folds
                 } else {
                     // The torus's projection folds where its near and far sides overlap seen
-                    // from the receiver: there signed counts and parity disagree. Measured: 15,
-                    // 26, 42, 88 samples of ~4000 pixels x N (fixed pattern), under 0.01 %.
+                    // from the receiver: there signed counts and parity disagree. Measured: 15
+                    // and 88 samples of ~4000 pixels x N (N = 32, 256; fixed pattern; 26 and 42
+                    // at 64 and 128), under 0.01 %.
                     EXPECT_LE(c.countDiffers, std::size_t(n / 2 + 8));
                 }
                 // V is the popcount.
