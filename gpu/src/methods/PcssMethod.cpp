@@ -1,171 +1,21 @@
-// pcss: percentage-closer soft shadows (Fernando 2005), the shadow-map baseline:
-// - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change): the faces
-//   of a cube around the light's centre that have receivers: along ±n fitted to the receivers
-//   within a 71.6° half-angle, along the light's lateral axes for every receiver beyond it
-//   (walls reaching the light's plane), and the casters' near depth in each;
-// - shadow pass (passes/PcssShadowPass): the casters into the maps, alpha-tested ones cut out;
-// - lookup (pcss-lookup.frag): per G-buffer point, blocker search, penumbra width
-//   w = lightSize (zReceiver - zBlocker) / zBlocker per light axis, percentage-closer filtering
-//   over that rectangle; depth compared with the receiver's plane moved `bias` texels towards
-//   the light; V times the light's share in front of the surface (`horizon`, as occlusion's).
-//   V is written at every pixel.
-// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted
-// (`pcss_pixels_outside`).
+// pcss: percentage-closer soft shadows (Fernando 2005), the shadow-map baseline: the shadow
+// maps and lookup of methods/PcssShadow.h over every pixel.
 #include "engine/Method.h"
 #include "engine/MethodOptions.h"
-#include "engine/ShaderBindings.h"
-#include "passes/FullscreenPass.h"
-#include "passes/PcssShadowPass.h"
-
-#include <geometry/shadow/PcssFrame.h>
-#include <geometry/core/Sampling.h>
-
-#include <cmath>
-#include <string>
-#include <vector>
+#include "methods/PcssShadow.h"
 
 namespace gpu {
 
 namespace {
 
-// Fixed seeds of the two sample patterns (geometry::scrambledNet): the same pattern every frame.
-constexpr std::uint32_t kFilterPatternSeed = 0x5CC5u;
-constexpr std::uint32_t kSearchPatternSeed = 0xB10Cu;
-
-std::vector<std::string> lookupDefines(const PcssOptions& o) {
-    std::vector<std::string> d = {"NORMAL_OFFSET " + o.bias};
-    if (o.horizon) d.push_back("HORIZON");
-    return d;
-}
-
 class PcssMethod final : public VisibilityMethod {
 public:
-    explicit PcssMethod(const MethodResources& r) : PcssMethod(r, pcssOptions(r.parameters)) {}
+    explicit PcssMethod(const MethodResources& r) : mShadow(r, pcssOptions(r.parameters)) {}
 
-    PcssMethod(const MethodResources& r, const PcssOptions& o)
-        : mResolution(o.resolution), mSearchSamples(o.blockerSamples),
-          mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
-          mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o)) {
-        // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
-        // kernels reaching past the map find no blockers there.
-        mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
-                         .width = mResolution,
-                         .height = mResolution,
-                         .layers = geometry::kPcssFaces,
-                         .format = GL_DEPTH_COMPONENT32F,
-                         .wrap = GL_CLAMP_TO_BORDER,
-                         .label = "pcss-shadow-maps"});
-        for (int face = 0; face < geometry::kPcssFaces; ++face)
-            mFaceFbo[face] = Framebuffer(
-                {.attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, face}}, .label = "pcss-face"});
-        const std::vector<glm::vec2> filter =
-            geometry::scrambledNet(mFilterSamples, kFilterPatternSeed);
-        const std::vector<glm::vec2> search =
-            geometry::scrambledNet(mSearchSamples, kSearchPatternSeed);
-        for (int i = 0; i < PCSS_MAX_SAMPLES; ++i)
-            mPattern[i] = glm::vec4(i < mFilterSamples ? filter[i] : glm::vec2(0.0f),
-                                    i < mSearchSamples ? search[i] : glm::vec2(0.0f));
-    }
-
-    void execute(const FrameContext& ctx) override {
-        updateFrame(ctx);
-        const geometry::PcssFrame& f = mFrame;
-        shader::PcssUniforms u{};
-        for (int face = 0; face < geometry::kPcssFaces; ++face) {
-            const geometry::PcssFace& s = f.faces[face];
-            u.shadowProj[face] = s.present ? f.projection(face) : glm::mat4(1.0f);
-            // w: 1 if receivers lie in the face, + 2 if its map is drawn.
-            u.faceB1[face] = glm::vec4(s.b1, (s.present ? 1.0f : 0.0f) + (s.drawn ? 2.0f : 0.0f));
-            u.faceB2[face] = glm::vec4(s.b2, s.casterNear);
-            const glm::vec3 lu = f.lightU(face), lv = f.lightV(face);
-            u.faceAxis[face] = glm::vec4(s.axis, std::abs(lu.z) + std::abs(lv.z));
-            u.extent[face] = glm::vec4(s.lo, 1.0f / (s.hi - s.lo));
-            u.lightU[face] = glm::vec4(lu, 0.0f);
-            u.lightV[face] = glm::vec4(lv, 0.0f);
-        }
-        u.basisU = glm::vec4(f.eu, f.maxTan);
-        int maps = 0, sideMaps = 0;
-        for (int face = 0; face < geometry::kPcssFaces; ++face) {
-            maps += drawn(face) ? 1 : 0;
-            sideMaps += face >= 2 && drawn(face) ? 1 : 0;
-        }
-        u.basisV = glm::vec4(f.ev, static_cast<float>(maps));
-        u.normal = glm::vec4(f.normal, f.zNear);
-        u.params =
-            glm::vec4(static_cast<float>(mSearchSamples), static_cast<float>(mFilterSamples),
-                      static_cast<float>(mResolution), 1.0f / static_cast<float>(mResolution));
-        for (int i = 0; i < PCSS_MAX_SAMPLES; ++i)
-            u.pattern[i] = mPattern[i];
-        mUniforms.upload(&u, sizeof(u));
-        glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_PCSS_UBO, mUniforms.id());
-
-        {
-            ScopedPass pass(&ctx.timers, "pcss-shadow");
-            for (int face = 0; face < geometry::kPcssFaces; ++face)
-                if (drawn(face))
-                    mShadowPass.execute(mFaceFbo[face], face, mResolution, ctx.sceneGeometry,
-                                        mObjects);
-        }
-        const std::uint32_t zero = 0;
-        glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-        {
-            ScopedPass pass(&ctx.timers, "pcss-lookup");
-            glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
-            glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
-            glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
-            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
-        }
-        std::uint32_t outside = 0;
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
-        glGetNamedBufferSubData(mStats.id(), 0, sizeof(outside), &outside);
-
-        ctx.addCounter("pcss_resolution", mResolution);
-        ctx.addCounter("pcss_sides", maps);
-        ctx.addCounter("pcss_side_maps", sideMaps);
-        ctx.addCounter("pcss_pixels_outside", outside);
-        ctx.addCounter("pcss_frustum_clamped",
-                       static_cast<double>(f.faces[0].clamped || f.faces[1].clamped));
-        ctx.addCounter("pcss_caster_near",
-                       f.faces[0].present ? f.faces[0].casterNear : f.faces[1].casterNear);
-        ctx.addCounter("pcss_casters", static_cast<double>(mObjects.size()));
-    }
+    void execute(const FrameContext& ctx) override { mShadow.execute(ctx); }
 
 private:
-    // A face's map is drawn when casters reach into its frustum and receivers lie in it or in
-    // a face beside it (geometry::PcssFace::drawn).
-    bool drawn(int face) const { return mFrame.faces[face].drawn; }
-
-    void updateFrame(const FrameContext& ctx) {
-        const geometry::RectLight& light = ctx.light;
-        std::vector<std::uint32_t> subset(ctx.casterSubset.begin(), ctx.casterSubset.end());
-        if (mFitted && light == mLight && subset == mSubset)
-            return;
-        const auto t0 = Clock::now();
-        mObjects.clear();
-        for (const std::uint32_t c : subset)
-            mObjects.push_back(ctx.casters.sceneObject(c));
-        mFrame = geometry::fitPcssFrame(ctx.scene, light, mObjects);
-        mLight = light;
-        mSubset = std::move(subset);
-        mFitted = true;
-        ctx.addCpuTime("pcss-fit", msSince(t0));
-    }
-
-    int mResolution, mSearchSamples, mFilterSamples;
-    PcssShadowPass mShadowPass;
-    FullscreenPass mLookup;
-    Texture mMaps;
-    Framebuffer mFaceFbo[geometry::kPcssFaces];
-    glm::vec4 mPattern[PCSS_MAX_SAMPLES];
-    Buffer mUniforms{{.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}};
-    Buffer mStats{{.size = sizeof(std::uint32_t), .label = "pcss-stats"}};
-
-    bool mFitted = false;
-    geometry::RectLight mLight;
-    std::vector<std::uint32_t> mSubset;
-    std::vector<std::size_t> mObjects;
-    geometry::PcssFrame mFrame;
+    PcssShadow mShadow;
 };
 
 } // namespace

@@ -1,0 +1,59 @@
+// The pcss method's shadow maps and lookup (Fernando 2005), as one piece the methods share:
+// - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change): the faces
+//   of a cube around the light's centre that have receivers: along ±n fitted to the receivers
+//   within a 71.6° half-angle, along the light's lateral axes for every receiver beyond it
+//   (walls reaching the light's plane), and the casters' near depth in each;
+// - shadow pass (passes/PcssShadowPass): the casters into the maps, alpha-tested ones cut out;
+// - lookup (pcss-lookup.frag): per G-buffer point, blocker search, penumbra width
+//   w = lightSize (zReceiver - zBlocker) / zBlocker per light axis, percentage-closer filtering
+//   over that rectangle; depth compared with the receiver's plane moved `bias` texels towards
+//   the light; V times the light's share in front of the surface (`horizon`, as occlusion's).
+//   V is written at every pixel.
+// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted
+// (`pcss_pixels_outside`).
+#pragma once
+
+#include "engine/Method.h"
+#include "engine/MethodOptions.h"
+#include "engine/ShaderBindings.h"
+#include "passes/FullscreenPass.h"
+#include "passes/PcssShadowPass.h"
+
+#include <geometry/shadow/PcssFrame.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace gpu {
+
+class PcssShadow {
+public:
+    PcssShadow(const MethodResources& r, const PcssOptions& o);
+
+    // Fits the frame if the light or the casters changed, draws the maps and writes V of every
+    // pixel into the visibility target; adds the pcss_* counters.
+    void execute(const FrameContext& ctx);
+
+private:
+    // A face's map is drawn when casters reach into its frustum and receivers lie in it or in
+    // a face beside it (geometry::PcssFace::drawn).
+    bool drawn(int face) const { return mFrame.faces[face].drawn; }
+    void updateFrame(const FrameContext& ctx);
+
+    int mResolution, mSearchSamples, mFilterSamples;
+    PcssShadowPass mShadowPass;
+    FullscreenPass mLookup;
+    Texture mMaps;
+    Framebuffer mFaceFbo[geometry::kPcssFaces];
+    glm::vec4 mPattern[PCSS_MAX_SAMPLES];
+    Buffer mUniforms;
+    Buffer mStats;
+
+    bool mFitted = false;
+    geometry::RectLight mLight;
+    std::vector<std::uint32_t> mSubset;
+    std::vector<std::size_t> mObjects;
+    geometry::PcssFrame mFrame;
+};
+
+} // namespace gpu
