@@ -27,15 +27,23 @@
 // plane; a shadow map cannot see that a surface hides part of the light from itself, so curved
 // surfaces near their terminator would be lit, or self-shadowed in facet-wide stripes.
 // Receivers within zNear of the light's centre (in no face) get V = 1 and are counted.
+//
+// OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
+// not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are
+// written, and counted; the others keep the occlusion textures' V.
 #include "lib/Bindings.h"
 #include "lib/Horizon.glsl"
+#ifdef OUTSIDE_OCCLUSION
+#include "lib/Occlusion.glsl"
+#endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 layout(binding = TEXUNIT_PCSS) uniform sampler2DArray tShadow; // per face zNear / z; 0: nothing
 
 layout(std430, binding = BINDING_PCSS_STATS) buffer PcssStats {
-    uint outside;
+    uint outside;  // pixels in no face
+    uint fallback; // OUTSIDE_OCCLUSION: pixels written
 } stats;
 
 layout(location = 0) out float oVisibility;
@@ -230,6 +238,10 @@ void main() {
         oVisibility = 1.0; // no surface
         return;
     }
+#ifdef OUTSIDE_OCCLUSION
+    if (occlusionCovers(position.xyz)) discard;
+    atomicAdd(stats.fallback, 1u);
+#endif
     vec3 N = texelFetch(tNormal, px, 0).xyz;
 #ifdef HORIZON
     float horizon = horizonFraction(position.xyz, N);

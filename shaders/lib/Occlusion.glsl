@@ -5,6 +5,10 @@
 
 #include "Horizon.glsl" // horizonFraction, which the lookup multiplies V by (horizon=on)
 
+// Relative margin of occlusionCovers (geometry::kOcclusionCoverMargin): the vertex that fits the
+// frustum lies on its side plane, up to rounding.
+#define OCCLUSION_COVER_MARGIN 1e-4
+
 // Depth of q below the light's plane, along the sliced side's axis.
 float occlusionDepth(vec3 q) {
     return dot(q - frame.lightCenter.xyz, occlusion.axis.xyz);
@@ -14,6 +18,15 @@ float occlusionDepth(vec3 q) {
 vec2 occlusionLateral(vec3 q) {
     vec3 d = q - frame.lightCenter.xyz;
     return vec2(dot(d, frame.lightUStar.xyz), dot(d, frame.lightVStar.xyz));
+}
+
+// q lies in the slicing frustum, in front of the light (geometry::OcclusionFrame::covers, with
+// the same relative margin): its lookup reads sliced texels only.
+bool occlusionCovers(vec3 q) {
+    float z = occlusionDepth(q);
+    if (!(z > 0.0)) return false;
+    vec2 st = abs(occlusionLateral(q));
+    return max(st.x, st.y) <= (1.0 + z / occlusion.axis.w) * (1.0 + OCCLUSION_COVER_MARGIN);
 }
 
 // Slice k's share in V(P) (geometry::sliceLookup): the weight (0: not looked up; the slice

@@ -32,12 +32,7 @@ using testutil::Rendered;
 
 class PcssMethod : public GlTest {};
 
-double counter(const gpu::FrameStats& stats, const std::string& name) {
-    for (const auto& c : stats.counters)
-        if (c.name == name) return c.value;
-    ADD_FAILURE() << "no counter " << name;
-    return -1.0;
-}
+using testutil::counter;
 
 struct RangeCheck {
     std::size_t surface = 0;       // pixels with a surface
@@ -118,10 +113,7 @@ TEST_F(PcssMethod, RunsOnALevel) {
 TEST_F(PcssMethod, LampInARoomShadowsEveryDirection) {
     for (const auto& [level, camera] : {std::pair{"oa_dm1.glb", 2}, std::pair{"kaos2.glb", 2}}) {
         SCOPED_TRACE(level);
-        geometry::Scene scene =
-            geometry::loadScene(testutil::sharedPath(std::string("levels/") + level));
-        geometry::selectCamera(scene, camera);
-        ASSERT_EQ(geometry::lightAtView(scene, false), "lamp at the view");
+        const geometry::Scene scene = testutil::levelWithLamp(level, camera);
         const Rendered r = testutil::render(scene, "pcss", 128, 72, 1);
         const Rendered hard = testutil::render(scene, "hard", 128, 72, 1);
         const Rendered ref = testutil::render(scene, "reference", 128, 72, 256);

@@ -10,7 +10,6 @@
 #include <geometry/models/MaskModel.h>
 #include <geometry/reference/ErrorStats.h>
 #include <geometry/reference/Framing.h>
-#include <geometry/reference/RayTracer.h>
 #include <geometry/shadow/LightMask.h>
 #include <geometry/shadow/PotentialSilhouettes.h>
 #include <geometry/shadow/Topology.h>
@@ -100,16 +99,6 @@ Comparison compare(const geometry::Scene& scene, const gpu::LightMasks& masks,
     return c;
 }
 
-geometry::Scene levelWithLamp(const char* level, int camera) {
-    geometry::Scene scene = geometry::loadScene(testutil::sharedPath(std::string("levels/") + level));
-    geometry::selectCamera(scene, camera);
-    const geometry::RayTracer tracer(scene);
-    const std::optional<geometry::RectLight> lamp = geometry::lampAhead(scene, tracer, scene.camera);
-    if (!lamp) throw std::runtime_error(std::string(level) + ": no lamp fits at the camera");
-    scene.light = *lamp;
-    return scene;
-}
-
 // Curved casters, a light large next to its occluder, a light grazing a plate, and a level from
 // a spawn camera with the viewer's lamp: the masks against the definition, away from float ties.
 // Not bit for bit: measured at 64², 0.3-1.5 % of the compared pixels hold wrong bits (sphere 22-53
@@ -133,7 +122,7 @@ TEST_F(PotentialSilhouettes, MasksEqualTheDefinitionBitForBit) {
         cases.push_back({f, geometry::loadScene(testutil::dataPath(std::string("stability/") + f))});
     const auto kaos2 = testutil::sharedPath("levels/kaos2.glb");
     ASSERT_TRUE(std::filesystem::exists(kaos2)) << kaos2;
-    cases.push_back({"kaos2 spawn 3 + lamp", levelWithLamp("kaos2.glb", 3)});
+    cases.push_back({"kaos2 spawn 3 + lamp", testutil::levelWithLamp("kaos2.glb", 3)});
     for (const Case& k : cases) {
         gpu::ShaderLoader shaders(gpu::defaultShaderDir());
         gpu::Renderer renderer(k.scene, shaders);

@@ -105,6 +105,24 @@ inline geometry::FloatImage renderOverridden(const geometry::Scene& scene,
     return sr.renderer.visibility();
 }
 
+// A shared level seen from its glTF camera `camera`, lit as the three programs light it there:
+// the viewer's lamp (geometry::lightAtView). Fails the test if no lamp fits.
+inline geometry::Scene levelWithLamp(const std::string& level, int camera) {
+    geometry::Scene scene = geometry::loadScene(sharedPath("levels/" + level));
+    geometry::selectCamera(scene, camera);
+    const std::string light = geometry::lightAtView(scene, false);
+    EXPECT_EQ(light, "lamp at the view") << level << " camera " << camera;
+    return scene;
+}
+
+// The value of a method's counter in a frame's stats; a failure if it has none.
+inline double counter(const gpu::FrameStats& stats, const std::string& name) {
+    for (const auto& c : stats.counters)
+        if (c.name == name) return c.value;
+    ADD_FAILURE() << "no counter " << name;
+    return -1.0;
+}
+
 // A player's first view of a shared level: the glTF camera of one spawn point (eye and yaw
 // copied from the node `spawn N` of the .glb; yaw 0 looks along -z, glTF's camera axis), with
 // a small square light `ahead` metres in front of the eye and `up` metres above it.

@@ -11,6 +11,13 @@ int OcclusionFrame::sliceOf(float z) const {
     return std::clamp(static_cast<int>(std::floor(u)), 0, slices - 1);
 }
 
+bool OcclusionFrame::covers(const glm::vec3& q) const {
+    const float z = depth(q);
+    if (!(z > 0.0f)) return false;
+    const glm::vec2 st = glm::abs(lateral(q));
+    return std::max(st.x, st.y) <= magnification(z) * (1.0f + kOcclusionCoverMargin);
+}
+
 glm::vec2 OcclusionFrame::textureCoord(const glm::vec3& q) const {
     return 0.5f + 0.5f * lateral(q) / magnification(depth(q));
 }
@@ -54,7 +61,10 @@ OcclusionFrame fitOcclusionFrame(const Scene& scene, const RectLight& light,
         }
     f.axis = above > below ? -n : n;
     const float zMax = std::max(below, above);
-    if (!(zMax > 0.0f)) return f; // everything in the light's plane: nothing to slice
+    if (!(zMax > 0.0f)) { // everything in the light's plane: nothing to slice
+        f.receiversOutside = true;
+        return f;
+    }
 
     // d: the largest keeping every receiver vertex in front of the light inside the frustum
     // (max(|s|, |t|) <= 1 + z / d), within [dMin, dMax].
@@ -71,6 +81,11 @@ OcclusionFrame fitOcclusionFrame(const Scene& scene, const RectLight& light,
             if (m > 1.0f) d = std::min(d, z / (m - 1.0f));
         }
     f.copDistance = std::clamp(d, dMin, dMax);
+    // Receivers the frustum does not hold (behind or in the light's plane, or beyond the
+    // capped frustum): the method shadows them another way (OcclusionFrame::covers).
+    for (const SceneObject& o : scene.objects)
+        for (const glm::vec3& q : o.mesh.positions)
+            f.receiversOutside = f.receiversOutside || !f.covers(q);
 
     // The casters' depth range inside the frustum: every triangle not wholly outside one of its
     // side planes (s d - z - d <= 0 and the three others) or behind the light, clipped to z >= 0.

@@ -45,6 +45,7 @@ struct OcclusionOptions {
     OcclusionLeakFix leakFix = OcclusionLeakFix::Auto;
     int resolution = 0; // side of the occlusion textures in texels
     bool horizon = false;
+    bool outsidePcss = false; // receivers the frustum cannot hold: from pcss's maps (else lit)
 };
 OcclusionOptions occlusionOptions(std::span<const ParameterValue> given);
 

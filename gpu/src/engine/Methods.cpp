@@ -60,6 +60,7 @@ constexpr std::string_view kOcclusionPrefilter[] = {"nbuffers", "sat", "mipmaps"
 constexpr std::string_view kOcclusionLeakFix[] = {"auto", "on", "off", "paper"};
 constexpr std::string_view kOcclusionResolution[] = {"256", "512", "1024"};
 constexpr std::string_view kOcclusionHorizon[] = {"on", "off"};
+constexpr std::string_view kOcclusionOutside[] = {"pcss", "lit"};
 constexpr MethodParameter kOcclusionParameters[] = {
     {"slices", kOcclusionSlices, "8",
      "binary slices parallel to the light over the casters' depth range (4 per RGBA target)"},
@@ -74,6 +75,10 @@ constexpr MethodParameter kOcclusionParameters[] = {
     {"horizon", kOcclusionHorizon, "on",
      "V times the fraction of the light in front of the surface (not in the paper, which leaves "
      "surfaces turned from the light to the diffuse term)"},
+    {"outside", kOcclusionOutside, "pcss",
+     "receivers the slicing frustum cannot hold (behind or in the light's plane, beyond the "
+     "capped frustum: the walls and ceiling of a room around a lamp): pcss (shadowed from pcss's "
+     "shadow maps, its defaults; counted as occlusion_pixels_outside) or lit (the paper's V = 1)"},
 };
 
 // pcss (Fernando 2005): shadow-map size and the samples of its two steps.
@@ -261,7 +266,8 @@ OcclusionOptions occlusionOptions(std::span<const ParameterValue> given) {
                        : leakFix == "paper" ? OcclusionLeakFix::Paper
                                             : OcclusionLeakFix::Auto,
             .resolution = intValue(r, "resolution"),
-            .horizon = parameterValue(r, "horizon") == "on"};
+            .horizon = parameterValue(r, "horizon") == "on",
+            .outsidePcss = parameterValue(r, "outside") == "pcss"};
 }
 
 PcssOptions pcssOptions(std::span<const ParameterValue> given) {

@@ -10,7 +10,11 @@
 // - prefilter (passes/OcclusionPrefilter): N-buffers (default), summed-area tables or mipmaps;
 // - lookup (occlusion-lookup.frag): per G-buffer point, V = Π (1 - w_k I_k) over the slices in
 //   front of it (geometry/shadow/OcclusionSlices.h explains the kernel and the fade), times the share
-//   of the light in front of the surface (horizon=on; not in the paper).
+//   of the light in front of the surface (horizon=on; not in the paper);
+// - outside=pcss (default): the receivers the slicing frustum cannot hold (behind or in the
+//   light's plane, beyond the capped frustum: a room's walls and ceiling around a lamp, which
+//   the paper would draw lit) are shadowed from pcss's shadow maps (methods/PcssShadow, its
+//   default parameters), only when the frame finds such receivers, and counted.
 // V is written (not multiplied) at every pixel; casters outside the subset are not sliced.
 #include "engine/Method.h"
 #include "engine/MethodOptions.h"
@@ -18,6 +22,7 @@
 #include "passes/FullscreenPass.h"
 #include "passes/OcclusionPrefilter.h"
 #include "passes/OcclusionSlicePass.h"
+#include "methods/PcssShadow.h"
 
 #include <geometry/shadow/OcclusionSlices.h>
 
@@ -50,6 +55,8 @@ public:
           mSlicePass(r.shaders, mSlices),
           mLookup(r.shaders, "occlusion-lookup.frag", "occlusion-lookup", PipelineState{},
                   lookupDefines()) {
+        if (o.outsidePcss)
+            mOutside.emplace(r, pcssOptions({}), PcssShadow::Pixels::OutsideOcclusion);
         const int R = mResolution;
         switch (mPrefilter) {
         case Prefilter::NBuffers:
@@ -132,6 +139,15 @@ public:
                               mPrefilter == Prefilter::Sat ? mSat.id() : mLevels.id());
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
+        // The receivers the frustum cannot hold: from pcss's maps, over the pixels not covered.
+        if (mOutside) {
+            if (f.receiversOutside) {
+                mOutside->execute(ctx);
+            } else {
+                ctx.addCounter("occlusion_pixels_outside", 0.0);
+                ctx.addCounter("occlusion_outside_maps", 0.0);
+            }
+        }
 
         ctx.addCounter("occlusion_slices", mSlices);
         ctx.addCounter("occlusion_resolution", mResolution);
@@ -207,6 +223,7 @@ private:
     Texture mLevels, mSat;
     Framebuffer mSliceFbo;
     Buffer mUniforms{{.size = sizeof(shader::OcclusionUniforms), .label = "occlusion-uniforms"}};
+    std::optional<PcssShadow> mOutside; // outside=pcss
 
     bool mFitted = false;
     geometry::RectLight mLight;

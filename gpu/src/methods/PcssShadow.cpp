@@ -17,20 +17,21 @@ namespace {
 constexpr std::uint32_t kFilterPatternSeed = 0x5CC5u;
 constexpr std::uint32_t kSearchPatternSeed = 0xB10Cu;
 
-std::vector<std::string> lookupDefines(const PcssOptions& o) {
+std::vector<std::string> lookupDefines(const PcssOptions& o, PcssShadow::Pixels pixels) {
     std::vector<std::string> d = {"NORMAL_OFFSET " + o.bias};
     if (o.horizon) d.push_back("HORIZON");
+    if (pixels == PcssShadow::Pixels::OutsideOcclusion) d.push_back("OUTSIDE_OCCLUSION");
     return d;
 }
 
 } // namespace
 
-PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o)
-    : mResolution(o.resolution), mSearchSamples(o.blockerSamples),
+PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels)
+    : mPixels(pixels), mResolution(o.resolution), mSearchSamples(o.blockerSamples),
       mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
-      mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o)),
+      mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o, pixels)),
       mUniforms({.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}),
-      mStats({.size = sizeof(std::uint32_t), .label = "pcss-stats"}) {
+      mStats({.size = 2 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
     // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
     // kernels reaching past the map find no blockers there.
     mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
@@ -58,7 +59,7 @@ void PcssShadow::execute(const FrameContext& ctx) {
     shader::PcssUniforms u{};
     for (int face = 0; face < geometry::kPcssFaces; ++face) {
         const geometry::PcssFace& s = f.faces[face];
-        u.shadowProj[face] = s.present ? f.projection(face) : glm::mat4(1.0f);
+        u.shadowProj[face] = f.projection(face);
         // w: 1 if receivers lie in the face, + 2 if its map is drawn.
         u.faceB1[face] = glm::vec4(s.b1, (s.present ? 1.0f : 0.0f) + (s.drawn ? 2.0f : 0.0f));
         u.faceB2[face] = glm::vec4(s.b2, s.casterNear);
@@ -94,21 +95,26 @@ void PcssShadow::execute(const FrameContext& ctx) {
     const std::uint32_t zero = 0;
     glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     {
-        ScopedPass pass(&ctx.timers, "pcss-lookup");
+        ScopedPass pass(&ctx.timers, mPixels == Pixels::All ? "pcss-lookup" : "occlusion-outside");
         glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
         glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
         glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
         mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
     }
-    std::uint32_t outside = 0;
+    std::uint32_t stats[2] = {0, 0}; // pixels in no face, pixels shaded (OUTSIDE_OCCLUSION)
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
-    glGetNamedBufferSubData(mStats.id(), 0, sizeof(outside), &outside);
+    glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
 
+    if (mPixels == Pixels::OutsideOcclusion) {
+        ctx.addCounter("occlusion_pixels_outside", stats[1]);
+        ctx.addCounter("occlusion_outside_maps", maps);
+        return;
+    }
     ctx.addCounter("pcss_resolution", mResolution);
     ctx.addCounter("pcss_sides", maps);
     ctx.addCounter("pcss_side_maps", sideMaps);
-    ctx.addCounter("pcss_pixels_outside", outside);
+    ctx.addCounter("pcss_pixels_outside", stats[0]);
     ctx.addCounter("pcss_frustum_clamped",
                    static_cast<double>(f.faces[0].clamped || f.faces[1].clamped));
     ctx.addCounter("pcss_caster_near",

@@ -10,7 +10,8 @@
 //   the light; V times the light's share in front of the surface (`horizon`, as occlusion's).
 //   V is written at every pixel.
 // Receivers within zNear of the light's centre (in no face) get V = 1 and are counted
-// (`pcss_pixels_outside`).
+// (`pcss_pixels_outside`). The occlusion method owns one for the receivers its slicing frustum
+// cannot cover (Pixels::OutsideOcclusion).
 #pragma once
 
 #include "engine/Method.h"
@@ -28,10 +29,16 @@ namespace gpu {
 
 class PcssShadow {
 public:
-    PcssShadow(const MethodResources& r, const PcssOptions& o);
+    // Which pixels the lookup writes: every one (the pcss method), or those the occlusion
+    // method's slicing frustum does not cover (geometry::OcclusionFrame::covers; its uniforms
+    // bound), which it would otherwise draw lit.
+    enum class Pixels { All, OutsideOcclusion };
 
-    // Fits the frame if the light or the casters changed, draws the maps and writes V of every
-    // pixel into the visibility target; adds the pcss_* counters.
+    PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels = Pixels::All);
+
+    // Fits the frame if the light or the casters changed, draws the maps and writes V of the
+    // pixels into the visibility target; adds the pcss_* counters (All) or
+    // occlusion_pixels_outside and occlusion_outside_maps (OutsideOcclusion).
     void execute(const FrameContext& ctx);
 
 private:
@@ -40,6 +47,7 @@ private:
     bool drawn(int face) const { return mFrame.faces[face].drawn; }
     void updateFrame(const FrameContext& ctx);
 
+    Pixels mPixels;
     int mResolution, mSearchSamples, mFilterSamples;
     PcssShadowPass mShadowPass;
     FullscreenPass mLookup;

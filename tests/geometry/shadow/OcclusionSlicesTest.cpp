@@ -152,6 +152,43 @@ TEST(OcclusionSlices, FitCapsTheFrustumAndDropsCastersOutsideIt) {
     EXPECT_TRUE(geometry::fitOcclusionFrame(scene, none, 8).empty);
 }
 
+// covers: in front of the light and inside the frustum, i.e. exactly where textureCoord lands
+// in [0, 1]^2; the fit says whether any receiver is not covered (the method then shadows those
+// from pcss's maps).
+TEST(OcclusionSlices, CoversIsTheFrustumInFrontOfTheLight) {
+    geometry::Scene scene = loadData("parallel-square.json");
+    const OcclusionFrame f = geometry::fitOcclusionFrame(scene, allObjects(scene), 8);
+    EXPECT_FALSE(f.receiversOutside); // the floor's corners fit the frustum (up to rounding)
+    for (const auto& o : scene.objects)
+        for (const glm::vec3& q : o.mesh.positions) EXPECT_TRUE(f.covers(q)) << o.name;
+    const glm::vec3 c = f.center;
+    EXPECT_FALSE(f.covers(c - 0.5f * f.axis)); // behind the light
+    EXPECT_FALSE(f.covers(c));                 // in its plane
+    testutil::Rng rng(17);
+    int inside = 0, outside = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const float x = rng.uniform(-6.0, 6.0); // one draw per statement: the same points
+        const float y = rng.uniform(-1.0, 3.5); // whatever order a compiler evaluates
+        const float z = rng.uniform(-6.0, 6.0); // arguments in
+        const glm::vec3 q(x, y, z);
+        if (f.depth(q) <= 1e-3f) {
+            EXPECT_FALSE(f.covers(q));
+            continue;
+        }
+        const glm::vec2 t = f.textureCoord(q);
+        const float edge = std::min(std::min(t.x, t.y), 1.0f - std::max(t.x, t.y));
+        if (std::abs(edge) < 1e-3f) continue; // within rounding of the side planes
+        EXPECT_EQ(f.covers(q), edge > 0.0f) << q.x << " " << q.y << " " << q.z;
+        (edge > 0.0f ? inside : outside) += 1;
+    }
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(outside, 100);
+    // A ceiling above the light, and a wall reaching its plane: not covered.
+    scene.objects.push_back({"ceiling", geometry::ShadowMethod::Auto,
+                             geometry::makeQuad({0, 5, 0}, {3, 0, 0}, {0, 0, 3})});
+    EXPECT_TRUE(geometry::fitOcclusionFrame(scene, allObjects(scene), 8).receiversOutside);
+}
+
 TEST(OcclusionSlices, SliceProjectionLandsOnTextureCoord) {
     const geometry::Scene scene = loadData("demo.json");
     const auto all = allObjects(scene);

@@ -7,8 +7,9 @@
 //   light seen from any point is a square kernel in texture space (paper §3.4, Fig. 5). d is the
 //   largest that keeps every receiver vertex in the frustum, but not below the value at which the
 //   frustum at the deepest receiver grows to `maxMagnification` light sizes (a room whose walls
-//   reach the light's plane would otherwise need a 180° frustum): receivers outside it see only
-//   the casters inside it.
+//   reach the light's plane would otherwise need a 180° frustum). Receivers outside it, or
+//   behind the light's plane, are not covered (covers): the method shadows them from PCSS's
+//   shadow maps instead (OcclusionMethod, outside=pcss).
 // - Slices: `slices` slabs parallel to the light over [zNear, zFar], the depth range that holds
 //   caster geometry inside the frustum (z = distance from the light's plane along its axis;
 //   computed per triangle from the casters' vertices, conservatively).
@@ -34,6 +35,10 @@
 
 namespace geometry {
 
+// Relative margin of OcclusionFrame::covers (and its shader twin, OCCLUSION_COVER_MARGIN): the
+// vertex that fits the frustum lies on its side plane, up to rounding.
+inline constexpr float kOcclusionCoverMargin = 1e-4f;
+
 struct OcclusionFrame {
     glm::vec3 center{0.0f};             // the light's centre
     glm::vec3 axis{0.0f, -1.0f, 0.0f};  // unit normal of the light, towards the sliced side
@@ -43,6 +48,7 @@ struct OcclusionFrame {
     float zNear = 0.0f, zFar = 1.0f;    // the sliced depth range
     int slices = 8;
     bool empty = true; // no caster geometry in the frustum in front of the light: V = 1
+    bool receiversOutside = false; // some receiver vertex is not covered (see covers)
 
     float depth(const glm::vec3& q) const { return glm::dot(q - center, axis); }
     glm::vec2 lateral(const glm::vec3& q) const {
@@ -56,6 +62,11 @@ struct OcclusionFrame {
     int sliceOf(float z) const;
     // The frustum's cross-section at depth z, in light sizes (1 at the light's plane).
     float magnification(float z) const { return 1.0f + z / copDistance; }
+    // q lies in the frustum, in front of the light: then every segment from q to the light
+    // does (the frustum is convex and holds the light), so its lookup reads sliced texels only.
+    // Points it does not cover (behind or in the light's plane, beyond the capped frustum: the
+    // walls and ceiling of a room around a lamp) the slices cannot shadow.
+    bool covers(const glm::vec3& q) const;
     // Where q lands in the occlusion textures ([0, 1]^2 over the frustum's cross-section).
     glm::vec2 textureCoord(const glm::vec3& q) const;
     // Clip coordinates of the slicing pass: (s, t, w / 2, w) with w = (d + z) / d. The depth is
