@@ -244,12 +244,15 @@ TEST_F(EdgeCases, LightPlaneCutsAnOccluder) {
     scene.objects[1].mesh = geometry::makeBox({1.2f, 2.5f, 0.0f}, {0.5f, 5.0f, 0.5f});
     geometry::validateScene(scene);
     const auto frames = renderAll(scene);
-    // Measured (of 2486): wedge methods and auto 127-131 (their penumbra behind the pillar is
-    // wider and lighter than the reference's), hard 578, occlusion 181, pcss 691 (blocky
-    // blocker estimates where the pillar rises past the light), raytrace (16 samples) 88.
+    // Measured (of 2486): wedges-additive, -blend, -multiply 127-131 (their penumbra behind the
+    // pillar is wider and lighter than the reference's), wedges-bitmask and auto 0, hard 578,
+    // pcss 749 (blocky blocker estimates where the pillar rises past the light; 691 before its
+    // side maps), occlusion 258 (181 before it shadowed the pillar's part above the light's
+    // plane, which its slices cannot hold, from pcss's maps: there it now has pcss's error),
+    // raytrace (16 samples) 88.
     checkAgainst("pillar through the light's plane vs reference", frames,
                  frames.at("reference").visibility,
-                 {{"hard", 650}, {"occlusion", 230}, {"pcss", 760}, {"raytrace", 120}}, 160);
+                 {{"hard", 650}, {"occlusion", 280}, {"pcss", 760}, {"raytrace", 120}}, 160);
 }
 
 // A crate with duplicate triangles, a zero-area (collinear) triangle and a zero-length edge (two
