@@ -81,7 +81,7 @@ void writeImagesOnFailure(const std::string& name, const Rendered& r, const Clos
 // light's plane, where the slices hold nothing. The paper's lookup calls them lit
 // (outside=lit: 0.61 mean on oa_dm1's third spawn view at 320x180, against hard's 0.0038);
 // outside=pcss (the default) shadows them from pcss's maps, counts them, and keeps within 0.01
-// of hard's mean against the reference. Measured at 128x72, N = 256: see the printout.
+// of hard's mean against raytrace. Measured at 128x72, N = 256: see the printout.
 TEST_F(OcclusionMethod, LampInARoomShadowsWhatTheSlicesCannotHold) {
     for (const auto& [level, camera] : {std::pair{"oa_dm1.glb", 2}, std::pair{"kaos2.glb", 2}}) {
         SCOPED_TRACE(level);
@@ -89,12 +89,12 @@ TEST_F(OcclusionMethod, LampInARoomShadowsWhatTheSlicesCannotHold) {
         const Rendered r = testutil::render(scene, "occlusion", 128, 72, 1);
         const Rendered lit = testutil::render(scene, "occlusion", 128, 72, 1, {{"outside", "lit"}});
         const Rendered hard = testutil::render(scene, "hard", 128, 72, 1);
-        const Rendered ref = testutil::render(scene, "reference", 128, 72, 256);
+        const Rendered ref = testutil::render(scene, "raytrace", 128, 72, 256);
         const auto e = geometry::compareVisibility(r.visibility.data, ref.visibility.data);
         const auto el = geometry::compareVisibility(lit.visibility.data, ref.visibility.data);
         const auto eh = geometry::compareVisibility(hard.visibility.data, ref.visibility.data);
         const double outside = testutil::counter(r.stats, "occlusion_pixels_outside");
-        std::printf("  %s camera %d 128x72 vs reference N=256: occlusion mean %.4f (%.2f%% > "
+        std::printf("  %s camera %d 128x72 vs raytrace N=256: occlusion mean %.4f (%.2f%% > "
                     "0.05; %.0f of %zu pixels from pcss's maps), outside=lit %.4f, hard %.4f\n",
                     level, camera, e.meanAbs, e.badPixelPct, outside, e.pixels, el.meanAbs,
                     eh.meanAbs);

@@ -109,17 +109,17 @@ TEST_F(PcssMethod, RunsOnALevel) {
 // A lamp hung in a room (the viewer's lamp at spawn views): walls and ceilings reach the
 // light's plane on every side. Before the side maps, the receivers beyond the 71.6° cap were
 // drawn lit (0.145 mean against hard's 0.0038 on oa_dm1's third spawn at 320x180); now pcss is
-// within 0.01 of hard there, against the reference.
+// within 0.01 of hard there, against raytrace (N = 256, the true visibility's samples).
 TEST_F(PcssMethod, LampInARoomShadowsEveryDirection) {
     for (const auto& [level, camera] : {std::pair{"oa_dm1.glb", 2}, std::pair{"kaos2.glb", 2}}) {
         SCOPED_TRACE(level);
         const geometry::Scene scene = testutil::levelWithLamp(level, camera);
         const Rendered r = testutil::render(scene, "pcss", 128, 72, 1);
         const Rendered hard = testutil::render(scene, "hard", 128, 72, 1);
-        const Rendered ref = testutil::render(scene, "reference", 128, 72, 256);
+        const Rendered ref = testutil::render(scene, "raytrace", 128, 72, 256);
         const auto e = geometry::compareVisibility(r.visibility.data, ref.visibility.data);
         const auto eh = geometry::compareVisibility(hard.visibility.data, ref.visibility.data);
-        std::printf("  %s camera %d 128x72 vs reference N=256: pcss mean %.4f (%.2f%% > 0.05), "
+        std::printf("  %s camera %d 128x72 vs raytrace N=256: pcss mean %.4f (%.2f%% > 0.05), "
                     "hard %.4f (%.2f%%); %.0f side maps\n",
                     level, camera, e.meanAbs, e.badPixelPct, eh.meanAbs, eh.badPixelPct,
                     counter(r.stats, "pcss_side_maps"));
