@@ -23,6 +23,9 @@ void checkMesh(const geometry::MeshData& mesh) {
     require(!mesh.triangles.empty());
     require(mesh.triangleMaterial.size() == mesh.triangles.size());
     require(mesh.texcoords.empty() || mesh.texcoords.size() == mesh.positions.size());
+    require(mesh.normals.empty() || mesh.normals.size() == mesh.positions.size());
+    for (const auto& n : mesh.normals)
+        require(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z));
     for (const glm::vec3& p : mesh.positions) {
         for (int a = 0; a < 3; ++a)
             require(std::isfinite(p[a]) && std::abs(p[a]) <= geometry::kMaxCoordinate);

@@ -1,9 +1,10 @@
 // Final image: albedo * (ambient + (1 - ambient) * V * max(0, n.l)), sRGB encoded.
-// V is the pure visibility fraction of DESIGN.md §2; n.l uses the direction to the light centre.
+// V is the pure visibility fraction of DESIGN.md §2; n.l uses the direction to the light centre
+// and the shading normal (the file's vertex normals, interpolated; else the face normal).
 #include "lib/Bindings.h"
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
-layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
+layout(binding = TEXUNIT_SHADING) uniform sampler2D tShading;
 layout(binding = TEXUNIT_ALBEDO) uniform sampler2D tAlbedo;
 layout(binding = TEXUNIT_VISIBILITY) uniform sampler2D tVisibility;
 
@@ -21,7 +22,7 @@ void main() {
         oColor = vec4(0.06, 0.07, 0.09, 1.0);
         return;
     }
-    vec3 n = texelFetch(tNormal, px, 0).xyz;
+    vec3 n = texelFetch(tShading, px, 0).xyz;
     vec3 albedo = texelFetch(tAlbedo, px, 0).rgb;
     float v = texelFetch(tVisibility, px, 0).r;
     vec3 l = normalize(frame.lightCenter.xyz - position.xyz);

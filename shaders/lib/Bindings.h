@@ -75,6 +75,7 @@
 #define TEXUNIT_PCSS 19      // pcss: the shadow maps, one layer per face
 #define TEXUNIT_DEBUG0 20    // debug views: their own inputs (reference, part visibility)
 #define TEXUNIT_STENCIL 22   // wedges-bitmask combine=counts: the frame's stencil (STENCIL_INDEX view)
+#define TEXUNIT_SHADING 23   // shade: the G-buffer's shading normal (the files' vertex normals)
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 

@@ -97,24 +97,24 @@ TEST_F(ImageSize, TextureBeyondTheGlLimitIsRefused) {
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
-// The budget covers the method's own targets: 64x64 fits hard's 56 bytes a pixel (the frame's
-// targets and the error view's reference) in 250,000 bytes, not wedges-blend's with 8 parts of
-// 16 bits (56 + 240).
+// The budget covers the method's own targets: 64x64 fits hard's 64 bytes a pixel (the frame's
+// targets and the error view's reference) in 270,000 bytes, not wedges-blend's with 8 parts of
+// 16 bits (64 + 240).
 TEST_F(ImageSize, MemoryBudgetCountsTheMethodsTargets) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::RenderSettings s;
     s.width = s.height = 64;
-    s.targetMemoryBudget = 250'000;
+    s.targetMemoryBudget = 270'000;
     {
         gpu::Renderer renderer(scene, shaders);
         EXPECT_EQ(refusal(renderer, s), "");
-        s.width = s.height = 128; // 917,504 bytes
+        s.width = s.height = 128; // 1,048,576 bytes
         const std::string msg = refusal(renderer, s);
-        EXPECT_NE(msg.find("image size 128x128 needs about 896.0 KiB of render targets (56 bytes "
-                           "per pixel with method 'hard'), more than the budget of 244.1 KiB "
+        EXPECT_NE(msg.find("image size 128x128 needs about 1.0 MiB of render targets (64 bytes "
+                           "per pixel with method 'hard'), more than the budget of 263.7 KiB "
                            "(RenderSettings::targetMemoryBudget); the largest square size within "
-                           "it is 66x66"),
+                           "it is 64x64"),
                   std::string::npos)
             << msg;
     }
@@ -123,7 +123,7 @@ TEST_F(ImageSize, MemoryBudgetCountsTheMethodsTargets) {
     s.method = "wedges-blend";
     s.parameters = {{"parts", "8"}, {"bits", "16"}};
     const std::string msg = refusal(renderer, s);
-    EXPECT_NE(msg.find("(296 bytes per pixel with method 'wedges-blend')"), std::string::npos)
+    EXPECT_NE(msg.find("(304 bytes per pixel with method 'wedges-blend')"), std::string::npos)
         << msg;
     EXPECT_NE(msg.find("the largest square size within it is 29x29"), std::string::npos) << msg;
     s.width = s.height = 29;

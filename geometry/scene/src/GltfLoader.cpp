@@ -105,6 +105,7 @@ private:
     std::vector<GltfCamera> mCameras;
     int mOrthographic = 0;
     bool mAnyTexcoords = false;
+    bool mAnyNormals = false;
     std::map<int, std::uint32_t> mMaterialMap; // glTF material (-1 = default) → ours
     std::map<int, int> mTextureMap;            // glTF texture → MeshData::textures
     std::vector<bool> mVisited;                // nodes walked so far (each at most once)
@@ -611,6 +612,52 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
         mAnyTexcoords = true;
     }
 
+    // NORMAL: float VEC3 (glTF 2.0 §3.7.2.1), for shading only. Normals transform by the
+    // inverse transpose of the world matrix's linear part, then are renormalised; a zero normal
+    // (some exporters write them for degenerate triangles) leaves shading to the face normal.
+    const auto normalIt = prim.attributes.find("NORMAL");
+    if (normalIt != prim.attributes.end()) {
+        if (normalIt->second >= 0 && std::size_t(normalIt->second) < mModel.accessors.size()) {
+            const auto& acc = mModel.accessors[normalIt->second];
+            if (acc.type != TINYGLTF_TYPE_VEC3 ||
+                acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                fail(where + ": NORMAL must be VEC3 of float");
+            }
+            if (acc.count != pos.count) {
+                fail(where + ": NORMAL has " + std::to_string(acc.count) +
+                     " elements, POSITION " + std::to_string(pos.count));
+            }
+        }
+        const AccessorValues nv = readAccessor(normalIt->second, where + " NORMAL");
+        if (nv.count != pos.count) {
+            fail(where + ": NORMAL has " + std::to_string(nv.count) + " elements, POSITION " +
+                 std::to_string(pos.count));
+        }
+        const glm::dmat3 linear(world);
+        const bool invertible = std::abs(glm::determinant(linear)) > 0.0;
+        const glm::dmat3 normalMatrix =
+            invertible ? glm::transpose(glm::inverse(linear)) : glm::dmat3(1.0);
+        mMesh.normals.resize(base, glm::vec3(0.0f));
+        for (std::size_t i = 0; i < nv.count; ++i) {
+            const glm::dvec3 n(nv.at(i, 0), nv.at(i, 1), nv.at(i, 2));
+            if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) {
+                fail(where + ": NORMAL " + std::to_string(i) + " is NaN or infinite");
+            }
+            const glm::dvec3 w = normalMatrix * n;
+            const double len = glm::length(w);
+            // Single precision: a normal whose length underflows or overflows as a float has
+            // no direction to keep.
+            const glm::vec3 unit = invertible && len > 1e-30 && std::isfinite(len)
+                                       ? glm::vec3(w / len)
+                                       : glm::vec3(0.0f);
+            mMesh.normals.push_back(std::isfinite(unit.x) && std::isfinite(unit.y) &&
+                                            std::isfinite(unit.z)
+                                        ? unit
+                                        : glm::vec3(0.0f));
+        }
+        mAnyNormals = true;
+    }
+
     // Index stream: explicit, or 0..count-1. The type is checked before the data is read, so a
     // wrong type is named as such (a FLOAT index accessor over 2-byte data would otherwise
     // "run past the end" of its view).
@@ -889,6 +936,11 @@ GltfContents Loader::load(const glm::mat4& transform) {
         mMesh.texcoords.resize(mMesh.positions.size(), glm::vec2(0.0f));
     } else {
         mMesh.texcoords.clear();
+    }
+    if (mAnyNormals) {
+        mMesh.normals.resize(mMesh.positions.size(), glm::vec3(0.0f));
+    } else {
+        mMesh.normals.clear();
     }
     GltfContents result;
     result.mesh = std::move(mMesh);

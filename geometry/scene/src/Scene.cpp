@@ -160,6 +160,8 @@ void rotateAbout(MeshData& mesh, const glm::vec3& center, const glm::vec3& deg) 
     const glm::mat3 r(rotationXyzDeg(deg));
     for (glm::vec3& p : mesh.positions)
         p = center + r * (p - center);
+    for (glm::vec3& n : mesh.normals)
+        n = r * n; // a rotation: its own inverse transpose
 }
 
 class SceneParser {
@@ -619,6 +621,8 @@ std::vector<SceneObject> splitByAlphaTest(SceneObject object) {
                     o.mesh.positions.push_back(mesh.positions[mesh.triangles[t][k]]);
                     if (!mesh.texcoords.empty())
                         o.mesh.texcoords.push_back(mesh.texcoords[mesh.triangles[t][k]]);
+                    if (!mesh.normals.empty())
+                        o.mesh.normals.push_back(mesh.normals[mesh.triangles[t][k]]);
                 }
                 tri[k] = v;
             }

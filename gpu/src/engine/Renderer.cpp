@@ -1,6 +1,6 @@
 // Renderer: the frame of penumbra-render, in a fixed order.
-// - G-buffer: world position, viewer-facing normal, albedo, reversed-Z depth + stencil (alpha-
-//   tested materials cut out);
+// - G-buffer: world position, viewer-facing normal, albedo, shading normal, reversed-Z depth +
+//   stencil (alpha-tested materials cut out);
 // - silhouettes of the light centre (CPU), uploaded once for every method of the frame;
 // - visibility: the method's object (gpu/src/methods/), chosen by name from gpu/Methods.h;
 // - shade: albedo * (ambient + V * n.l).

@@ -13,7 +13,8 @@ namespace {
 
 struct SceneVertex {
     glm::vec3 position;
-    glm::vec3 normal; // flat, per triangle
+    glm::vec3 normal;  // flat, per triangle: the surface every method's visibility sees
+    glm::vec3 shading; // the file's vertex normal on the triangle's side, else `normal`
     glm::vec3 albedo; // the material's base colour (linear)
     glm::vec2 texcoord;
 };
@@ -110,10 +111,17 @@ SceneGeometry::SceneGeometry(const geometry::Scene& scene) : mVao("scene") {
                 const glm::vec3 n = glm::cross(b - a, c - a);
                 const float len = glm::length(n);
                 if (!(len > 0.0f)) continue; // zero area: rasterises nothing, has no normal
+                const glm::vec3 face = n / len;
                 for (int k = 0; k < 3; ++k) {
                     const glm::vec2 uv =
                         mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[tri[k]];
-                    vertices.push_back({mesh.positions[tri[k]], n / len, albedo, uv});
+                    // A vertex normal on the far side of its triangle's winding (files whose
+                    // normals disagree with it) is turned over, so the G-buffer's flip to the
+                    // viewer's side turns both together.
+                    glm::vec3 shading = mesh.normals.empty() ? glm::vec3(0.0f) : mesh.normals[tri[k]];
+                    if (shading == glm::vec3(0.0f)) shading = face;
+                    if (glm::dot(shading, face) < 0.0f) shading = -shading;
+                    vertices.push_back({mesh.positions[tri[k]], face, shading, albedo, uv});
                 }
             }
             const GLsizei count = static_cast<GLsizei>(vertices.size()) - first;
@@ -131,6 +139,7 @@ SceneGeometry::SceneGeometry(const geometry::Scene& scene) : mVao("scene") {
     mVao.attribute(1, 0, 3, GL_FLOAT, offsetof(SceneVertex, normal));
     mVao.attribute(2, 0, 3, GL_FLOAT, offsetof(SceneVertex, albedo));
     mVao.attribute(3, 0, 2, GL_FLOAT, offsetof(SceneVertex, texcoord));
+    mVao.attribute(4, 0, 3, GL_FLOAT, offsetof(SceneVertex, shading));
 }
 
 void SceneGeometry::bindMaterial(int material, const Programs& programs) const {

@@ -22,7 +22,7 @@ void GBufferPass::execute(const Targets& t, const SceneGeometry& geometry) {
     glBindFramebuffer(GL_FRAMEBUFFER, t.gbuffer.id());
     glViewport(0, 0, t.width, t.height);
     const float zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(t.gbuffer.id(), GL_COLOR, i, zero);
+    for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(t.gbuffer.id(), GL_COLOR, i, zero);
     glClearNamedFramebufferfi(t.gbuffer.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0); // reversed Z
     geometry.drawAll({mOpaque, mAlphaTested});
 }

@@ -9,7 +9,7 @@ ShadePass::ShadePass(const ShaderLoader& shaders)
 
 void ShadePass::execute(const Targets& t) const {
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
-    glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
+    glBindTextureUnit(TEXUNIT_SHADING, t.shading.id());
     glBindTextureUnit(TEXUNIT_ALBEDO, t.albedo.id());
     glBindTextureUnit(TEXUNIT_VISIBILITY, t.visibility.id());
     mPass.execute(t.imageFbo, t.width, t.height);

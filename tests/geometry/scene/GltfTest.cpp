@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <initializer_list>
 #include <limits>
 #include <string>
@@ -436,6 +437,54 @@ TEST_F(GltfTest, TexcoordsFilledWhenOnlySomePrimitivesHaveThem) {
     EXPECT_EQ(m.texcoords[1], glm::vec2(0.0f)); // first primitive had none
     EXPECT_EQ(m.texcoords[4], glm::vec2(1.0f, 0.0f));
     EXPECT_EQ(m.texcoords[5], glm::vec2(0.0f, 1.0f));
+}
+
+// NORMAL is for shading only: world space through the inverse transpose, unit length; a zero
+// normal stays zero (the face's is used), primitives without NORMAL get zeros.
+TEST_F(GltfTest, NormalsTransformByTheInverseTranspose) {
+    GltfWriter w;
+    w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    w.indices32({0, 1, 2});
+    const float h = 0.70710678f;
+    w.accessor(w.view(bytesOf<float>({h, h, 0, 0, 0, 0, 0, 0, 1})), 5126, 3, "VEC3");
+    const auto m = geometry::loadGltf(
+        write("normals.gltf",
+              w.json(R"([{"primitives":[{"attributes":{"POSITION":0,"NORMAL":2},"indices":1},
+                                        {"attributes":{"POSITION":0},"indices":1}]}])",
+                     R"([{"mesh":0,"scale":[2,1,1]}])")));
+    ASSERT_EQ(m.normals.size(), 6u);
+    // diag(2, 1, 1) -> diag(1/2, 1, 1): (1, 1, 0) -> (1/2, 1, 0), renormalised.
+    expectVec(m.normals[0], glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f)));
+    expectVec(m.normals[1], {0, 0, 0});
+    expectVec(m.normals[2], {0, 0, 1});
+    for (int i = 3; i < 6; ++i) expectVec(m.normals[i], {0, 0, 0}); // no NORMAL there
+    // A file without any NORMAL has none at all.
+    GltfWriter plain;
+    plain.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    plain.indices32({0, 1, 2});
+    EXPECT_TRUE(geometry::loadGltf(write("plain.gltf", plain.json(kOneTriangleMesh))).normals.empty());
+}
+
+TEST_F(GltfTest, BadNormalsAreRefused) {
+    const auto withNormals = [&](const std::string& name, std::initializer_list<float> normals,
+                                 int count, const char* type) {
+        GltfWriter w;
+        w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+        w.indices32({0, 1, 2});
+        w.accessor(w.view(bytesOf<float>(normals)), 5126, count, type);
+        return write(name, w.json(
+            R"([{"primitives":[{"attributes":{"POSITION":0,"NORMAL":2},"indices":1}]}])"));
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    expectError(withNormals("nan.gltf", {0, 0, 1, nan, 0, 1, 0, 0, 1}, 3, "VEC3"),
+                "NORMAL 1 is NaN or infinite");
+    expectError(withNormals("inf.gltf", {0, 0, 1, 0, 0, 1, 0, inf, 1}, 3, "VEC3"),
+                "NORMAL 2 is NaN or infinite");
+    expectError(withNormals("count.gltf", {0, 0, 1, 0, 0, 1}, 2, "VEC3"),
+                "NORMAL has 2 elements, POSITION 3");
+    expectError(withNormals("type.gltf", {0, 0, 1, 0, 0, 1}, 3, "VEC2"),
+                "NORMAL must be VEC3 of float");
 }
 
 TEST_F(GltfTest, NoDefaultSceneUsesRootNodes) {

@@ -90,6 +90,10 @@ struct MeshData {
     std::string name;
     std::vector<glm::vec3> positions;
     std::vector<glm::vec2> texcoords; // empty, or one per position
+    // Shading normals: empty, or one per position (world space, unit length, or zero where the
+    // file gives none: shading then uses the triangle's own normal). Only the image's n.l reads
+    // them; visibility and every method's geometry use the triangles' planes.
+    std::vector<glm::vec3> normals;
     std::vector<glm::uvec3> triangles;
     std::vector<std::uint32_t> triangleMaterial; // empty, or one per triangle (index into materials)
     std::vector<Material> materials;

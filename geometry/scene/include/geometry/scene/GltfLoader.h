@@ -4,6 +4,9 @@
 // doubleSided, baseColorFactor and the base-colour texture (decoded to RGBA8, with its sampler's
 // wrap modes and KHR_texture_transform) for alpha-tested shadows (the occlusion-texture path).
 // An alpha-tested texture read through TEXCOORD_1+ or missing its TEXCOORD_0 is an InputError.
+// NORMAL (float VEC3, one per POSITION) becomes MeshData::normals for shading, transformed by
+// the inverse transpose and renormalised; a zero normal means "use the face's"; a NaN or
+// infinite normal, another type or another count is an InputError.
 // Cameras: every node of the same walk with a perspective `camera` becomes a GltfCamera (see
 // there); orthographic cameras are skipped and counted.
 // Not read: vertex colours (COLOR_0 alpha would also scale alpha), sampler filters, camera
