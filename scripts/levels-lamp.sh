@@ -5,7 +5,8 @@
 # (alpha-aware: it tests the textured levels' grates and flames). Both sets of levels: the
 # untextured ones and ../shared/levels/textured/ (the same triangles with their game materials).
 # Per method: mean |V - V_truth| over the pixels with a surface, the pixels off by more than
-# 0.05, and the frame (median of 4) over `hard`'s of the same view.
+# 0.05, and the frame (median of 4) over `hard`'s of the same view; then each view's frames,
+# textured against untextured.
 # Writes docs/levels-lamp.md. Usage: bash scripts/levels-lamp.sh [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -72,5 +73,23 @@ renderer=$(/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1]));
     echo "| view |$(printf ' %s |' "${methods[@]}")"
     echo "|---|$(printf -- '---|%.0s' "${methods[@]}")"
     printf '%s\n' "${rows[@]}"
+    echo
+    echo "The same views' frames in milliseconds (median of 4), textured level against untextured:"
+    echo "what the game materials (G-buffer textures, the alpha-tested part's shadows) add."
+    echo
+    /usr/bin/python3 - "$OUT" "$CAMERAS" <<'PY'
+import json, sys
+out, cameras = sys.argv[1], sys.argv[2].split()
+ms = lambda view, m: json.load(open(f"{out}/{view}-{m}.json"))["frame_ms_median"]
+print("| view | hard: untextured / textured | auto: untextured / textured |")
+print("|---|---|---|")
+for level in ["kaos2", "oa_dm1", "oa_dm4", "oa_dm5"]:
+    for c in cameras:
+        cells = []
+        for m in ["hard", "auto"]:
+            a, b = ms(f"{level}-{c}", m), ms(f"textured{level}-{c}", m)
+            cells.append("%.1f / %.1f ms (%.2f×)" % (a, b, b / a))
+        print("| %s, camera %s | %s |" % (level, c, " | ".join(cells)))
+PY
 } > docs/levels-lamp.md
 cat docs/levels-lamp.md

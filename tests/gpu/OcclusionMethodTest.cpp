@@ -137,6 +137,54 @@ TEST_F(OcclusionMethod, ParallelSquareMatchesTheClosedForm) {
     EXPECT_LE(d.error.meanAbs, 0.03);
 }
 
+// Slices, prefilter and shadow maps depend on the light and the casters only: a second frame
+// with the same light reuses them (counted) and gives the same V bit for bit; a moved light
+// redraws them, and V equals a fresh renderer's at that light (nothing stale). The demo's walls
+// reach past the slicing frustum, so occlusion's pcss fallback runs too.
+TEST_F(OcclusionMethod, AStillLightReusesTheSlicesAndMaps) {
+    const auto scene = geometry::loadScene(testutil::dataPath("demo.json"));
+    const auto same = [](const geometry::FloatImage& a, const geometry::FloatImage& b) {
+        if (a.data.size() != b.data.size()) return false;
+        for (std::size_t i = 0; i < a.data.size(); ++i)
+            if (!(a.data[i] == b.data[i] || (std::isnan(a.data[i]) && std::isnan(b.data[i]))))
+                return false;
+        return true;
+    };
+    geometry::RectLight moved = scene.light;
+    moved.center += 0.3f * glm::normalize(moved.u);
+    struct Case {
+        std::string method;
+        std::vector<std::string> cachedCounters;
+    };
+    for (const Case& c : {Case{"occlusion", {"occlusion_slices_cached",
+                                             "occlusion_outside_maps_cached"}},
+                          Case{"pcss", {"pcss_maps_cached"}}}) {
+        SCOPED_TRACE(c.method);
+        testutil::SceneRenderer sr(scene);
+        gpu::RenderSettings s = testutil::frameSettings(c.method, 64, 64);
+        const gpu::FrameStats first = sr.renderer.renderFrame(s);
+        const geometry::FloatImage v1 = sr.renderer.visibility();
+        const gpu::FrameStats second = sr.renderer.renderFrame(s);
+        const geometry::FloatImage v2 = sr.renderer.visibility();
+        s.light = moved;
+        const gpu::FrameStats third = sr.renderer.renderFrame(s);
+        const geometry::FloatImage v3 = sr.renderer.visibility();
+        for (const std::string& name : c.cachedCounters) {
+            SCOPED_TRACE(name);
+            EXPECT_EQ(testutil::counter(first, name), 0.0);
+            EXPECT_EQ(testutil::counter(second, name), 1.0);
+            EXPECT_EQ(testutil::counter(third, name), 0.0);
+        }
+        if (c.method == "occlusion")
+            EXPECT_GT(testutil::counter(first, "occlusion_pixels_outside"), 0.0);
+        EXPECT_TRUE(same(v1, v2));
+        EXPECT_FALSE(same(v1, v3));
+        testutil::SceneRenderer fresh(scene);
+        fresh.renderer.renderFrame(s);
+        EXPECT_TRUE(same(v3, fresh.renderer.visibility()));
+    }
+}
+
 TEST_F(OcclusionMethod, LeakFixClosesTheGapsOfATiltedSheet) {
     // A plate tilted 30° crosses the slab planes: without the fix, light slips between the
     // pieces looked up half a slab higher and lower (stripes across its shadow).

@@ -1,6 +1,7 @@
 // occlusion: occlusion textures (Eisemann & Décoret 2006; DESIGN.md §4), for any geometry,
 // alpha-tested foliage included:
-// - frame (CPU, geometry::fitOcclusionFrame, redone when the light or the casters change): the
+// - frame (CPU, geometry::fitOcclusionFrame, redone when the light or the casters change, and
+//   the slices and prefilter with it: a still light reuses them, occlusion_slices_cached): the
 //   centre of projection behind the light, the frustum fitted to the light, the slices over the
 //   depth range that holds the casters inside the frustum (from their triangles' vertices);
 // - slicing pass (passes/OcclusionSlicePass): the casters once into 4, 8 or 16 binary slices,
@@ -113,7 +114,10 @@ public:
         mUniforms.upload(&u, sizeof(u));
         glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_OCCLUSION_UBO, mUniforms.id());
 
-        if (!f.empty) {
+        // The slices and their prefilter depend on the light and the casters only: a still
+        // light reuses the last frame's.
+        const bool cached = mSlicesDrawn;
+        if (!f.empty && !cached) {
             {
                 ScopedPass pass(&ctx.timers, "occlusion-slice");
                 mSlicePass.execute(mSliceFbo, mResolution, ctx.sceneGeometry, mCasters);
@@ -131,6 +135,7 @@ public:
                 break;
             }
         }
+        mSlicesDrawn = true;
         {
             ScopedPass pass(&ctx.timers, "occlusion-lookup");
             glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
@@ -156,6 +161,7 @@ public:
         ctx.addCounter("occlusion_cop_distance", f.copDistance);
         ctx.addCounter("occlusion_magnification", f.empty ? 0.0 : f.magnification(f.zFar));
         ctx.addCounter("occlusion_prefilter_levels", top);
+        ctx.addCounter("occlusion_slices_cached", cached ? 1.0 : 0.0);
         std::size_t leakFixed = 0;
         for (const auto& c : mCasters) leakFixed += c.leakFix != OcclusionSlicePass::LeakFix::Off;
         ctx.addCounter("occlusion_casters", static_cast<double>(mCasters.size()));
@@ -205,6 +211,7 @@ private:
             mCasters.push_back({object, fix});
         }
         mFrame = geometry::fitOcclusionFrame(ctx.scene, light, objects, mSlices);
+        mSlicesDrawn = false;
         mLight = light;
         mSubset = std::move(subset);
         mFitted = true;
@@ -226,6 +233,7 @@ private:
     std::optional<PcssShadow> mOutside; // outside=pcss
 
     bool mFitted = false;
+    bool mSlicesDrawn = false; // the slices and levels hold mFrame's casters
     geometry::RectLight mLight;
     std::vector<std::uint32_t> mSubset;
     std::vector<OcclusionSlicePass::Caster> mCasters;

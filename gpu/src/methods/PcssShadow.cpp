@@ -85,12 +85,16 @@ void PcssShadow::execute(const FrameContext& ctx) {
     mUniforms.upload(&u, sizeof(u));
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_PCSS_UBO, mUniforms.id());
 
-    {
+    // The maps depend on the light and the casters only: while neither changes (a still
+    // light; the scene is fixed for the renderer's life) the last frame's are this frame's.
+    const bool cached = mMapsDrawn;
+    if (!cached) {
         ScopedPass pass(&ctx.timers, "pcss-shadow");
         for (int face = 0; face < geometry::kPcssFaces; ++face)
             if (drawn(face))
                 mShadowPass.execute(mFaceFbo[face], face, mResolution, ctx.sceneGeometry,
                                     mObjects);
+        mMapsDrawn = true;
     }
     const std::uint32_t zero = 0;
     glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -109,11 +113,13 @@ void PcssShadow::execute(const FrameContext& ctx) {
     if (mPixels == Pixels::OutsideOcclusion) {
         ctx.addCounter("occlusion_pixels_outside", stats[1]);
         ctx.addCounter("occlusion_outside_maps", maps);
+        ctx.addCounter("occlusion_outside_maps_cached", cached ? 1.0 : 0.0);
         return;
     }
     ctx.addCounter("pcss_resolution", mResolution);
     ctx.addCounter("pcss_sides", maps);
     ctx.addCounter("pcss_side_maps", sideMaps);
+    ctx.addCounter("pcss_maps_cached", cached ? 1.0 : 0.0);
     ctx.addCounter("pcss_pixels_outside", stats[0]);
     ctx.addCounter("pcss_frustum_clamped",
                    static_cast<double>(f.faces[0].clamped || f.faces[1].clamped));
@@ -132,6 +138,7 @@ void PcssShadow::updateFrame(const FrameContext& ctx) {
     for (const std::uint32_t c : subset)
         mObjects.push_back(ctx.casters.sceneObject(c));
     mFrame = geometry::fitPcssFrame(ctx.scene, light, mObjects);
+    mMapsDrawn = false;
     mLight = light;
     mSubset = std::move(subset);
     mFitted = true;

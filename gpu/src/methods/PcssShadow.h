@@ -1,5 +1,6 @@
 // The pcss method's shadow maps and lookup (Fernando 2005), as one piece the methods share:
-// - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change): the faces
+// - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change, and the
+//   maps with it: a still light reuses them, counted as pcss_maps_cached): the faces
 //   of a cube around the light's centre that have receivers: along ±n fitted to the receivers
 //   within a 71.6° half-angle, along the light's lateral axes for every receiver beyond it
 //   (walls reaching the light's plane), and the casters' near depth in each;
@@ -36,9 +37,10 @@ public:
 
     PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels = Pixels::All);
 
-    // Fits the frame if the light or the casters changed, draws the maps and writes V of the
-    // pixels into the visibility target; adds the pcss_* counters (All) or
-    // occlusion_pixels_outside and occlusion_outside_maps (OutsideOcclusion).
+    // Fits the frame and draws the maps if the light or the casters changed (else the last
+    // frame's maps are reused: they do not depend on the camera), and writes V of the pixels
+    // into the visibility target; adds the pcss_* counters (All) or occlusion_pixels_outside,
+    // occlusion_outside_maps and occlusion_outside_maps_cached (OutsideOcclusion).
     void execute(const FrameContext& ctx);
 
 private:
@@ -58,6 +60,7 @@ private:
     Buffer mStats;
 
     bool mFitted = false;
+    bool mMapsDrawn = false; // the maps hold mFrame's casters (reused while it stands)
     geometry::RectLight mLight;
     std::vector<std::uint32_t> mSubset;
     std::vector<std::size_t> mObjects;
