@@ -11,6 +11,8 @@
 // HORIZON (beyond the paper): V is also multiplied by the fraction of the light in front of the
 // surface's plane (the side the camera sees), as one more independent occluder: surfaces turned
 // from the light are dark in V, not only through the diffuse term.
+// OUTSIDE_PCSS (outside=pcss): receivers the frustum does not cover are skipped; the pcss
+// fallback after this pass writes them.
 #include "lib/Bindings.h"
 #include "lib/Occlusion.glsl"
 
@@ -101,6 +103,14 @@ void main() {
         oVisibility = 1.0; // no surface
         return;
     }
+#ifdef OUTSIDE_PCSS
+    // A receiver the frustum does not cover: pcss's fallback lookup writes its V next (it runs
+    // whenever the fit finds such receivers), so nothing here is worth computing.
+    if (!occlusionCovers(position.xyz)) {
+        oVisibility = 1.0;
+        return;
+    }
+#endif
 #ifdef HORIZON
     float horizon = horizonFraction(position.xyz, texelFetch(tNormal, px, 0).xyz);
 #else

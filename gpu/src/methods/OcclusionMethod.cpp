@@ -51,7 +51,7 @@ public:
 
     OcclusionMethod(const MethodResources& r, const OcclusionOptions& o)
         : mSlices(o.slices), mResolution(o.resolution), mPrefilter(o.prefilter),
-          mLeakFix(o.leakFix), mHorizon(o.horizon),
+          mLeakFix(o.leakFix), mHorizon(o.horizon), mOutsidePcss(o.outsidePcss),
           mTargets((mSlices + 3) / 4), mTopLevel(log2Int(mResolution)),
           mSlicePass(r.shaders, mSlices),
           mLookup(r.shaders, "occlusion-lookup.frag", "occlusion-lookup", PipelineState{},
@@ -172,6 +172,7 @@ private:
     std::vector<std::string> lookupDefines() const {
         std::vector<std::string> d = {"SLICES " + std::to_string(mSlices), prefilterDefine()};
         if (mHorizon) d.push_back("HORIZON");
+        if (mOutsidePcss) d.push_back("OUTSIDE_PCSS");
         return d;
     }
     std::string prefilterDefine() const {
@@ -222,6 +223,7 @@ private:
     Prefilter mPrefilter;
     LeakFix mLeakFix;
     bool mHorizon;
+    bool mOutsidePcss; // before mLookup: its defines read it
     int mTargets, mTopLevel;
     OcclusionSlicePass mSlicePass;
     FullscreenPass mLookup;
