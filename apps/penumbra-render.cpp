@@ -276,8 +276,8 @@ int run(const Options& opt) {
         std::printf("\n");
         std::printf("  light: %s\n", lightSource.c_str());
         std::printf("  renderer: %s\n", info.renderer.c_str());
-        // Where a method chose per object (auto), or left alpha-tested ones to occlusion
-        // textures: one line per object.
+        // Where a method chose per object (auto), or left alpha-tested ones to auto's alpha
+        // path: one line per object.
         for (const auto& choice : last.objectChoices)
             std::printf("  object '%s': %s (%s)\n", scene.objects[choice.object].name.c_str(),
                         choice.path.c_str(), choice.reason.c_str());

@@ -80,66 +80,96 @@ geometry::Scene treeScene() {
     return geometry::loadScene(testutil::dataPath("tree-oak.json"));
 }
 
-TEST_F(AutoMethod, FoliageGoesToOcclusionAndMatchesAlphaAwareRaytrace) {
-    // The oak's leaf cards are alpha-tested: auto gives it to occlusion textures and the ground
-    // to wedges; the truth is raytrace, whose rays test the leaves' alpha.
+TEST_F(AutoMethod, FoliageTakesTheAlphaPathAndMatchesAlphaAwareRaytrace) {
+    // The oak's leaf cards are alpha-tested: auto gives it to its alpha path (pcss's
+    // alpha-tested shadow maps; occlusion textures with alpha=occlusion) and the ground to
+    // wedges; the truth is raytrace, whose rays test the leaves' alpha.
     const geometry::Scene scene = treeScene();
     const Rendered truth = testutil::render(scene, "raytrace", 96, 96, 64);
-    const Rendered a = testutil::render(scene, "auto", 96, 96, 1);
-    expectValid(a);
-    bool oakToOcclusion = false;
-    for (const auto& choice : a.stats.objectChoices)
-        if (scene.objects[choice.object].name == "oak")
-            oakToOcclusion = choice.path == "occlusion" &&
-                             choice.reason.find("alpha") != std::string::npos;
-    EXPECT_TRUE(oakToOcclusion);
-    const auto e = geometry::compareVisibility(a.visibility.data, truth.visibility.data);
+    const auto oakPath = [&](const Rendered& r) {
+        for (const auto& choice : r.stats.objectChoices)
+            if (scene.objects[choice.object].name == "oak" &&
+                choice.reason.find("alpha") != std::string::npos)
+                return choice.path;
+        return std::string("none");
+    };
     // Against "the tree casts nothing" (V = 1): what missing leaf shadows would score.
     std::vector<float> lit(truth.visibility.data.size(), 1.0f);
     for (std::size_t i = 0; i < lit.size(); ++i)
         if (!std::isfinite(truth.visibility.data[i])) lit[i] = truth.visibility.data[i];
     const auto none = geometry::compareVisibility(lit, truth.visibility.data);
-    std::printf("  oak 96²: auto vs raytrace N=64: mean %.4f p99 %.3f %.2f%% > 0.05 "
-                "(no shadow at all: mean %.4f)\n",
-                e.meanAbs, e.p99, e.badPixelPct, none.meanAbs);
-    // Measured 0.0247 and 11.4 %: occlusion textures blur the leaves' shadow (prefilter
-    // footprint, slices) where the truth keeps holes; margins for N = 64 noise.
-    EXPECT_LT(e.meanAbs, 0.0247 + 0.01);
-    EXPECT_LT(e.badPixelPct, 11.4 + 3.0);
-    EXPECT_GT(none.meanAbs, 4.0 * e.meanAbs);
+    geometry::ErrorStats errors[2];
+    const char* paths[2] = {"pcss", "occlusion"};
+    for (int k = 0; k < 2; ++k) {
+        SCOPED_TRACE(paths[k]);
+        const Rendered a = k == 0 ? testutil::render(scene, "auto", 96, 96, 1)
+                                  : testutil::render(scene, "auto", 96, 96, 1,
+                                                     {{"alpha", "occlusion"}});
+        expectValid(a);
+        EXPECT_EQ(oakPath(a), paths[k]);
+        errors[k] = geometry::compareVisibility(a.visibility.data, truth.visibility.data);
+        std::printf("  oak 96², alpha=%s: auto vs raytrace N=64: mean %.4f p99 %.3f %.2f%% > "
+                    "0.05 (no shadow at all: mean %.4f)\n",
+                    paths[k], errors[k].meanAbs, errors[k].p99, errors[k].badPixelPct,
+                    none.meanAbs);
+        EXPECT_GT(none.meanAbs, 4.0 * errors[k].meanAbs);
+    }
+    // Measured: pcss 0.0102 and 7.1 % (its one blocker depth per pixel blurs some holes);
+    // occlusion 0.0247 and 11.4 % (the prefilter's footprint and the slices blur the leaves'
+    // shadow where the truth keeps holes). Margins for N = 64 noise.
+    EXPECT_LT(errors[0].meanAbs, 0.0102 + 0.005);
+    EXPECT_LT(errors[0].badPixelPct, 7.1 + 2.0);
+    EXPECT_LT(errors[1].meanAbs, 0.0247 + 0.01);
+    EXPECT_LT(errors[1].badPixelPct, 11.4 + 3.0);
+    // Why pcss is the default alpha path.
+    EXPECT_LT(errors[0].meanAbs, 0.6 * errors[1].meanAbs);
 }
 
-TEST_F(AutoMethod, ComposesTheTwoPathsAsAProduct) {
-    // A box beside the oak: its shadow comes from wedges, the oak's from occlusion textures,
-    // and auto's frame is the product of the two methods run on each alone.
+TEST_F(AutoMethod, ComposesThePathsAsAProduct) {
+    // A box beside the oak, given to occlusion textures by the scene JSON: the ground's shadow
+    // comes from wedges, the box's from occlusion textures, the oak's from pcss (the alpha
+    // path), and auto's frame is the product of the three methods run on each alone.
     geometry::Scene scene = treeScene();
-    scene.objects.push_back({"box", geometry::ShadowMethod::Auto,
+    scene.objects.push_back({"box", geometry::ShadowMethod::Occlusion,
                              geometry::makeBox({-2.0f, 0.5f, 1.5f}, {1.0f, 1.6f, 1.0f})});
+    scene.objects.push_back({"crate", geometry::ShadowMethod::Auto,
+                             geometry::makeBox({2.0f, 0.4f, 2.5f}, {0.8f, 0.8f, 0.8f})});
     geometry::validateScene(scene);
     const Rendered a = testutil::render(scene, "auto", 96, 96, 1);
     expectValid(a);
-    geometry::Scene boxOnly = scene, oakOnly = scene;
-    for (auto& o : boxOnly.objects)
-        if (o.name == "oak") o.method = geometry::ShadowMethod::None;
-    for (auto& o : oakOnly.objects)
-        if (o.name == "box" || o.name == "ground") o.method = geometry::ShadowMethod::None;
-    const Rendered w = testutil::render(boxOnly, "wedges-bitmask", 96, 96, 1);
-    const Rendered o = testutil::render(oakOnly, "occlusion", 96, 96, 1);
-    double maxDiff = 0.0, minW = 1.0, minO = 1.0;
-    std::size_t both = 0; // pixels both paths shadow
+    EXPECT_EQ(testutil::counter(a.stats, "auto_wedge_objects"), 2.0); // ground, crate
+    EXPECT_EQ(testutil::counter(a.stats, "auto_occlusion_objects"), 1.0);
+    EXPECT_EQ(testutil::counter(a.stats, "auto_pcss_objects"), 1.0);
+    const auto only = [&](std::initializer_list<const char*> names) {
+        geometry::Scene s = scene;
+        for (auto& o : s.objects) {
+            bool keep = false;
+            for (const char* n : names) keep = keep || o.name == n;
+            if (!keep) o.method = geometry::ShadowMethod::None;
+            else if (o.method == geometry::ShadowMethod::Occlusion)
+                o.method = geometry::ShadowMethod::Auto; // each method alone serves it
+        }
+        return s;
+    };
+    const Rendered w = testutil::render(only({"ground", "crate"}), "wedges-bitmask", 96, 96, 1);
+    const Rendered o = testutil::render(only({"box"}), "occlusion", 96, 96, 1);
+    const Rendered p = testutil::render(only({"oak"}), "pcss", 96, 96, 1);
+    double maxDiff = 0.0, minW = 1.0, minO = 1.0, minP = 1.0;
     for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
         if (!std::isfinite(a.visibility.data[i])) continue;
-        const double product = double(w.visibility.data[i]) * o.visibility.data[i];
+        const double product =
+            double(w.visibility.data[i]) * o.visibility.data[i] * p.visibility.data[i];
         maxDiff = std::max(maxDiff, std::abs(a.visibility.data[i] - product));
         minW = std::min(minW, double(w.visibility.data[i]));
         minO = std::min(minO, double(o.visibility.data[i]));
-        both += w.visibility.data[i] < 0.9f && o.visibility.data[i] < 0.9f;
+        minP = std::min(minP, double(p.visibility.data[i]));
     }
-    std::printf("  box + oak: max |auto - wedges x occlusion| %.2e, %zu pixels in both shadows\n",
-                maxDiff, both);
+    std::printf("  ground + crate + box + oak: max |auto - wedges x occlusion x pcss| %.2e\n",
+                maxDiff);
     EXPECT_LT(maxDiff, 1e-5);
     EXPECT_LT(minW, 0.1); // each path really shadows something
     EXPECT_LT(minO, 0.1);
+    EXPECT_LT(minP, 0.1);
 }
 
 } // namespace

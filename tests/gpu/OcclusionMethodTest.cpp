@@ -317,23 +317,23 @@ TEST_F(OcclusionMethod, BlendedCardIsTestedAsMask) {
     EXPECT_EQ(differ, 0u);
 }
 
-TEST_F(OcclusionMethod, MethodsWithoutAlphaMasksGiveTheCardToOcclusion) {
+TEST_F(OcclusionMethod, MethodsWithoutAlphaMasksGiveTheCardToTheAlphaPath) {
     // A method that occludes with whole triangles does not refuse the card, nor shadow it as
-    // opaque: it shadows the ground (which casts on nothing here) and occlusion textures the
-    // card, so V is that of occlusion on the card alone, and each object's choice names its
-    // path and why.
+    // opaque: it shadows the ground (which casts on nothing here) and auto's alpha path (pcss's
+    // alpha-tested maps) the card, so V is that of pcss on the card alone, and each object's
+    // choice names its path and why.
     const geometry::Scene scene = leafCardScene(geometry::AlphaMode::Mask);
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::RenderSettings s;
     s.width = s.height = 48;
-    s.method = "occlusion";
+    s.method = "pcss";
     geometry::Scene cardOnly = scene;
     cardOnly.objects[0].method = geometry::ShadowMethod::None; // the ground receives only
-    geometry::FloatImage occlusion;
+    geometry::FloatImage alphaPath;
     {
         gpu::Renderer alone(cardOnly, shaders);
         alone.renderFrame(s);
-        occlusion = alone.visibility();
+        alphaPath = alone.visibility();
     }
     gpu::Renderer renderer(scene, shaders);
     for (const char* method : {"hard", "reference", "wedges-additive", "wedges-bitmask"}) {
@@ -345,14 +345,14 @@ TEST_F(OcclusionMethod, MethodsWithoutAlphaMasksGiveTheCardToOcclusion) {
         for (std::size_t i = 0; i < v.data.size(); ++i) {
             if (!std::isfinite(v.data[i])) continue;
             ++finite;
-            maxDiff = std::max(maxDiff, double(std::abs(v.data[i] - occlusion.data[i])));
+            maxDiff = std::max(maxDiff, double(std::abs(v.data[i] - alphaPath.data[i])));
         }
         EXPECT_GT(finite, 1000u) << method;
         EXPECT_LT(maxDiff, 1e-5) << method;
         ASSERT_EQ(stats.objectChoices.size(), 2u) << method;
         for (const auto& choice : stats.objectChoices) {
             if (scene.objects[choice.object].name == "leaf card") {
-                EXPECT_EQ(choice.path, "occlusion") << method;
+                EXPECT_EQ(choice.path, "pcss") << method;
                 EXPECT_NE(choice.reason.find("leaf (MASK 0.50)"), std::string::npos)
                     << choice.reason;
                 EXPECT_NE(choice.reason.find(method), std::string::npos) << choice.reason;

@@ -10,7 +10,7 @@ ShadowPathChoice chooseShadowPath(const CasterFacts& facts) {
     if (facts.requested == ShadowMethod::Occlusion)
         return {ShadowPath::Occlusion, "scene JSON \"method\": \"occlusion\""};
     if (facts.alphaMasked)
-        return {ShadowPath::Occlusion,
+        return {facts.alphaPath,
                 "alpha-tested materials" +
                     (facts.alphaMaterials.empty() ? std::string() : ": " + facts.alphaMaterials) +
                     " (volumes occlude whole triangles)"};
@@ -28,7 +28,15 @@ ShadowPathChoice chooseShadowPath(const CasterFacts& facts) {
 }
 
 const char* toString(ShadowPath path) {
-    return path == ShadowPath::Occlusion ? "occlusion" : "wedges";
+    switch (path) {
+    case ShadowPath::Occlusion:
+        return "occlusion";
+    case ShadowPath::Pcss:
+        return "pcss";
+    case ShadowPath::Wedges:
+        break;
+    }
+    return "wedges";
 }
 
 } // namespace geometry

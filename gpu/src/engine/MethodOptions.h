@@ -62,6 +62,7 @@ PcssOptions pcssOptions(std::span<const ParameterValue> given);
 // auto.
 struct AutoOptions {
     std::string wedgeMethod; // the method's name: "wedges-blend", "wedges-bitmask", ...
+    std::string alphaMethod; // the alpha path's: "pcss" or "occlusion"
 };
 AutoOptions autoOptions(std::span<const ParameterValue> given);
 

@@ -101,10 +101,14 @@ constexpr MethodParameter kPcssParameters[] = {
 
 // auto: which wedge method serves the objects it gives to wedges.
 constexpr std::string_view kAutoWedges[] = {"bitmask", "blend", "additive", "multiply"};
+constexpr std::string_view kAutoAlpha[] = {"pcss", "occlusion"};
 constexpr MethodParameter kAutoParameters[] = {
     {"wedges", kAutoWedges, "bitmask",
      "the wedge method of the objects auto gives to wedges: wedges-blend, -additive, -multiply "
      "or -bitmask (its default parameters)"},
+    {"alpha", kAutoAlpha, "pcss",
+     "the alpha path, for alpha-tested objects (foliage, grates): pcss's shadow maps or "
+     "occlusion textures (each with its default parameters)"},
 };
 
 const std::array<MethodInfo, 10> kMethods = {{
@@ -281,7 +285,8 @@ PcssOptions pcssOptions(std::span<const ParameterValue> given) {
 
 AutoOptions autoOptions(std::span<const ParameterValue> given) {
     const std::vector<ParameterValue> r = resolveParameters(findMethod("auto"), given);
-    return {.wedgeMethod = "wedges-" + std::string(parameterValue(r, "wedges"))};
+    return {.wedgeMethod = "wedges-" + std::string(parameterValue(r, "wedges")),
+            .alphaMethod = std::string(parameterValue(r, "alpha"))};
 }
 
 } // namespace gpu

@@ -1,13 +1,14 @@
 // auto (the contract's default): per casting object the path geometry/shadow/AutoChoice.h decides —
 // penumbra wedges (`wedges-bitmask` with its defaults — potential silhouettes, the ratio
-// estimator — unless the `wedges` parameter picks another wedge method) or
-// occlusion textures — run each on its own casters and composed in one frame as
-// V = V_wedges · V_occlusion (the two sets of occluders treated as independent). A caster's path
-// is decided the first frame it is seen and then kept, so that a moving light never flips it.
-// The same composition serves a method asked for by name that occludes with whole triangles
-// (hard, reference, the wedge methods) on a scene with alpha-tested objects
-// (createAlphaComposite): that method shadows the opaque objects, occlusion textures — auto's
-// alpha path — the alpha-tested ones, and each object's choice says so.
+// estimator — unless the `wedges` parameter picks another wedge method), occlusion textures
+// (asked for by the scene JSON) or pcss (the alpha path of alpha-tested objects; occlusion
+// textures with alpha=occlusion) — run each on its own casters and composed in one frame as
+// V = V_wedges · V_occlusion · V_pcss (the sets of occluders treated as independent). A caster's
+// path is decided the first frame it is seen and then kept, so that a moving light never flips
+// it. The same composition serves a method asked for by name that occludes with whole
+// triangles (hard, reference, the wedge methods) on a scene with alpha-tested objects
+// (createAlphaComposite): that method shadows the opaque objects, auto's alpha path the
+// alpha-tested ones, and each object's choice says so.
 #include "engine/DebugViews.h"
 #include "engine/Method.h"
 #include "methods/MethodUtil.h"
@@ -55,14 +56,17 @@ class AutoMethod final : public VisibilityMethod {
 public:
     explicit AutoMethod(const MethodResources& r)
         : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(autoOptions(r.parameters).wedgeMethod),
+          mAlphaPath(alphaPath(autoOptions(r.parameters).alphaMethod)),
           mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState) {
         mWedges = createByName(r, mWedgeMethodName);
     }
 
     // The composition for `primary` (asked for by name, with its parameters) on a scene with
-    // alpha-tested objects: `primary` for every opaque object, occlusion textures for the rest.
+    // alpha-tested objects: `primary` for every opaque object, auto's alpha path (its default)
+    // for the rest.
     AutoMethod(const MethodResources& r, const MethodInfo& primary)
         : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(primary.name),
+          mAlphaPath(alphaPath(autoOptions({}).alphaMethod)),
           mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState),
           mPrimaryAsked(true) {
         mWedges = primary.create(r);
@@ -72,24 +76,27 @@ public:
         mWidth = width;
         mHeight = height;
         mWedges->resize(width, height);
-        if (mOcclusion) mOcclusion->resize(width, height);
+        for (auto& m : mPathMethods)
+            if (m) m->resize(width, height);
         mSaved = Texture({.width = width, .height = height, .format = GL_R32F,
                           .label = "auto-wedge-visibility"});
     }
 
     std::size_t targetBytesPerPixel() const override {
-        // mSaved (R32F) and the wedge method's; occlusion textures do not scale with the image.
-        return 4 + mWedges->targetBytesPerPixel() +
-               (mOcclusion ? mOcclusion->targetBytesPerPixel() : 0);
+        // mSaved (R32F) and the methods'; shadow maps and occlusion textures do not scale with
+        // the image.
+        std::size_t bytes = 4 + mWedges->targetBytesPerPixel();
+        for (const auto& m : mPathMethods)
+            if (m) bytes += m->targetBytesPerPixel();
+        return bytes;
     }
 
     void execute(const FrameContext& ctx) override {
         decide(ctx);
-        std::vector<std::uint32_t> wedgeCasters, occlusionCasters;
+        // The casters of each path, in the order they are composed: wedges, occlusion, pcss.
+        std::vector<std::uint32_t> casters[kPaths];
         for (const std::uint32_t c : ctx.casterSubset)
-            (mChoices[c].path == geometry::ShadowPath::Occlusion ? occlusionCasters
-                                                                 : wedgeCasters)
-                .push_back(c);
+            casters[static_cast<int>(mChoices[c].path)].push_back(c);
         for (const std::uint32_t c : ctx.casterSubset)
             ctx.stats.objectChoices.push_back(
                 {ctx.casters.sceneObject(c),
@@ -97,36 +104,40 @@ public:
                      ? mWedgeMethodName
                      : geometry::toString(mChoices[c].path),
                  mChoices[c].reason});
+        const auto count = [&](geometry::ShadowPath p) {
+            return static_cast<double>(casters[static_cast<int>(p)].size());
+        };
         ctx.addCounter(mPrimaryAsked ? "opaque_objects" : "auto_wedge_objects",
-                       static_cast<double>(wedgeCasters.size()));
+                       count(geometry::ShadowPath::Wedges));
         ctx.addCounter(mPrimaryAsked ? "alpha_tested_objects_by_occlusion" : "auto_occlusion_objects",
-                       static_cast<double>(occlusionCasters.size()));
+                       count(geometry::ShadowPath::Occlusion));
+        ctx.addCounter(mPrimaryAsked ? "alpha_tested_objects_by_pcss" : "auto_pcss_objects",
+                       count(geometry::ShadowPath::Pcss));
 
-        mWedgeCasters = wedgeCasters;
-        if (occlusionCasters.empty()) {
-            mWedges->execute(subContext(ctx, wedgeCasters));
-            return;
-        }
-        VisibilityMethod& occlusion = occlusionMethod(ctx);
-        if (wedgeCasters.empty()) {
-            occlusion.execute(subContext(ctx, occlusionCasters));
-            return;
-        }
+        mWedgeCasters = casters[static_cast<int>(geometry::ShadowPath::Wedges)];
+        // V = the product of the paths' V: the first path writes V, each later one is run on
+        // a cleared target and multiplied with what came before.
         const Targets& t = ctx.targets;
-        mWedges->execute(subContext(ctx, wedgeCasters));
-        {
-            ScopedPass pass(&ctx.timers, "compose");
-            glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(),
-                               GL_TEXTURE_2D, 0, 0, 0, 0, t.width, t.height, 1);
-            const float zero = 0.0f; // methods start from V = 0 (gpu/src/engine/Method.h)
-            glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
-        }
-        occlusion.execute(subContext(ctx, occlusionCasters));
-        {
-            ScopedPass pass(&ctx.timers, "compose");
-            glBindTextureUnit(TEXUNIT_SILHOUETTE, mSaved.id());
-            mMultiply.execute(t.visibilityFbo, t.width, t.height, kMultiplyState,
-                              [] { glUniform1f(0, 0.0f); }); // blend-multiply: clamp(0 + V)
+        bool first = true;
+        for (int p = 0; p < kPaths; ++p) {
+            if (casters[p].empty() && !(p == 0 && ctx.casterSubset.empty())) continue;
+            VisibilityMethod& method =
+                p == 0 ? *mWedges : pathMethod(ctx, static_cast<geometry::ShadowPath>(p));
+            if (!first) {
+                ScopedPass pass(&ctx.timers, "compose");
+                glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(),
+                                   GL_TEXTURE_2D, 0, 0, 0, 0, t.width, t.height, 1);
+                const float zero = 0.0f; // methods start from V = 0 (gpu/src/engine/Method.h)
+                glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
+            }
+            method.execute(subContext(ctx, casters[p]));
+            if (!first) {
+                ScopedPass pass(&ctx.timers, "compose");
+                glBindTextureUnit(TEXUNIT_SILHOUETTE, mSaved.id());
+                mMultiply.execute(t.visibilityFbo, t.width, t.height, kMultiplyState,
+                                  [] { glUniform1f(0, 0.0f); }); // blend-multiply: clamp(0 + V)
+            }
+            first = false;
         }
     }
 
@@ -136,10 +147,10 @@ public:
             return false;
         if (mWedgeCasters.empty()) {
             debug.note = std::string(debugViewInfo(view).name) + ": " +
-                         (mPrimaryAsked ? "every caster is alpha-tested and went to occlusion "
-                                          "textures (no " + mWedgeMethodName + " casters)"
-                                        : std::string("auto gave every caster to occlusion "
-                                                      "textures (no wedges)")) +
+                         (mPrimaryAsked ? "every caster is alpha-tested and took the alpha "
+                                          "path (no " + mWedgeMethodName + " casters)"
+                                        : std::string("auto gave every caster to the alpha "
+                                                      "path (no wedges)")) +
                          "; showing the shaded image";
             return false;
         }
@@ -172,45 +183,55 @@ private:
                 mChoices.push_back(
                     facts.alphaMasked
                         ? geometry::ShadowPathChoice{
-                              geometry::ShadowPath::Occlusion,
+                              mAlphaPath,
                               "alpha-tested materials: " + facts.alphaMaterials + "; " +
-                                  mWedgeMethodName +
-                                  " occludes with whole triangles, so occlusion textures (auto's "
-                                  "alpha path) shadow this object"}
+                                  mWedgeMethodName + " occludes with whole triangles, so " +
+                                  (mAlphaPath == geometry::ShadowPath::Pcss
+                                       ? "pcss's shadow maps"
+                                       : "occlusion textures") +
+                                  " (auto's alpha path) shadow this object"}
                         : geometry::ShadowPathChoice{geometry::ShadowPath::Wedges,
                                                      "opaque: " + mWedgeMethodName});
                 continue;
             }
+            facts.alphaPath = mAlphaPath;
             mChoices.push_back(geometry::chooseShadowPath(facts));
         }
     }
 
-    VisibilityMethod& occlusionMethod(const FrameContext& ctx) {
-        if (!mOcclusion) {
-            const MethodInfo& info = [] () -> const MethodInfo& {
-                for (const MethodInfo& m : methodTable())
-                    if (m.name == "occlusion") return m;
-                throw std::logic_error("auto: no occlusion entry in the method table");
-            }();
+    static constexpr int kPaths = 3; // geometry::ShadowPath: Wedges, Occlusion, Pcss
+
+    static geometry::ShadowPath alphaPath(const std::string& name) {
+        return name == "occlusion" ? geometry::ShadowPath::Occlusion : geometry::ShadowPath::Pcss;
+    }
+
+    // The method of a path other than wedges, built on first use with its defaults.
+    VisibilityMethod& pathMethod(const FrameContext& ctx, geometry::ShadowPath path) {
+        std::unique_ptr<VisibilityMethod>& m = mPathMethods[static_cast<int>(path)];
+        if (!m) {
+            const std::string name = geometry::toString(path);
+            const MethodInfo& info = findMethod(name);
             if (!info.implemented()) {
                 for (std::size_t c = 0; c < mChoices.size(); ++c)
-                    if (mChoices[c].path == geometry::ShadowPath::Occlusion)
+                    if (mChoices[c].path == path)
                         throw geometry::InputError(
                             "auto: object '" +
-                            ctx.scene.objects[ctx.casters.sceneObject(c)].name +
-                            "' needs occlusion textures (" + mChoices[c].reason +
-                            "), which are not implemented yet; give it \"method\": \"wedges\" "
+                            ctx.scene.objects[ctx.casters.sceneObject(c)].name + "' needs " +
+                            name + " (" + mChoices[c].reason +
+                            "), which is not implemented yet; give it \"method\": \"wedges\" "
                             "or \"none\" in the scene JSON");
             }
-            mOcclusion = createByName(mResources, "occlusion");
-            mOcclusion->resize(mWidth, mHeight);
+            m = createByName(mResources, name);
+            m->resize(mWidth, mHeight);
         }
-        return *mOcclusion;
+        return *m;
     }
 
     MethodResources mResources; // shaders and scene (the parameters are auto's own)
     std::string mWedgeMethodName;
-    std::unique_ptr<VisibilityMethod> mWedges, mOcclusion;
+    geometry::ShadowPath mAlphaPath; // what alpha-tested objects take (auto's alpha parameter)
+    std::unique_ptr<VisibilityMethod> mWedges;
+    std::unique_ptr<VisibilityMethod> mPathMethods[kPaths]; // [Occlusion], [Pcss]; [0] unused
     FullscreenPass mMultiply;
     Texture mSaved;
     int mWidth = 0, mHeight = 0;

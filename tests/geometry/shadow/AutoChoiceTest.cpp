@@ -37,9 +37,12 @@ TEST(AutoChoiceTest, EachClauseInOrder) {
     auto masked = facts(12, 18, 0, 6);
     masked.alphaMasked = true;
     masked.alphaMaterials = "grate (MASK 0.50)";
+    // They take the alpha path: pcss unless auto's alpha parameter says occlusion.
     const auto grate = geometry::chooseShadowPath(masked);
-    EXPECT_EQ(grate.path, ShadowPath::Occlusion);
+    EXPECT_EQ(grate.path, ShadowPath::Pcss);
     EXPECT_NE(grate.reason.find("grate (MASK 0.50)"), std::string::npos) << grate.reason;
+    masked.alphaPath = ShadowPath::Occlusion;
+    EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Occlusion);
     // The scene JSON wins over everything.
     masked.requested = geometry::ShadowMethod::Wedges;
     EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Wedges);
