@@ -175,8 +175,9 @@ TEST_F(OcclusionMethod, AStillLightReusesTheSlicesAndMaps) {
             EXPECT_EQ(testutil::counter(second, name), 1.0);
             EXPECT_EQ(testutil::counter(third, name), 0.0);
         }
-        if (c.method == "occlusion")
+        if (c.method == "occlusion") {
             EXPECT_GT(testutil::counter(first, "occlusion_pixels_outside"), 0.0);
+        }
         EXPECT_TRUE(same(v1, v2));
         EXPECT_FALSE(same(v1, v3));
         testutil::SceneRenderer fresh(scene);
