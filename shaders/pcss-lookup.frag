@@ -209,14 +209,16 @@ float shadowMapVisibility(vec3 position, vec3 N) {
     // light: where every light point grazes the surface, that reaches past the blockers near P
     // (a wall's edge, a window's frame) and draws them lit. The move along the least grazing
     // corner's ray is capped at RAY_SHIFT_CAP texels (textured oa_dm5, third spawn view with the
-    // lamp: 0.0104 mean without the cap, 0.0077 with it; the other spawn views within 0.0003).
+    // lamp: 0.0104 mean without the cap, 0.0082 with it; the other spawn views within 0.0003).
+    // Never negative (horizon=off, the light wholly behind the surface).
     float facing = -np / length(toP);
     for (int k = 0; k < 4; ++k) {
         vec3 corner = ((k & 1) != 0 ? 1.0 : -1.0) * frame.lightU.xyz +
                       ((k & 2) != 0 ? 1.0 : -1.0) * frame.lightV.xyz - toP;
         facing = max(facing, dot(N, corner) / length(corner));
     }
-    float offset = min(NORMAL_OFFSET * texelWorld, RAY_SHIFT_CAP * texelWorld * facing);
+    float offset =
+        clamp(RAY_SHIFT_CAP * texelWorld * facing, 0.0, NORMAL_OFFSET * texelWorld);
     r.np = min(np + offset, 0.5 * np);
     r.plane = planeIn(r, r.face);
 
