@@ -155,23 +155,21 @@ int run(const Options& opt) {
     std::map<std::string, std::vector<double>> gpuMs, cpuMs;
     std::vector<std::string> gpuOrder, cpuOrder;
     gpu::FrameStats last;
+    // Per name, one time per frame: a pass run twice in a frame (a composite's "compose") is
+    // summed, and a pass or stage a frame skipped (maps kept while the light is still, a fit
+    // done once) took 0 ms in it, so the medians are per frame rendered.
+    const auto record = [frames](auto& times, std::vector<std::string>& order,
+                                 const std::string& name, double ms, int frame) {
+        auto [it, added] = times.try_emplace(name, std::vector<double>(frames, 0.0));
+        if (added) order.push_back(name);
+        it->second[static_cast<std::size_t>(frame)] += ms;
+    };
     for (int f = 0; f < frames; ++f) {
         last = renderer.renderFrame(settings);
         frameMs.push_back(last.frameMs);
-        for (const auto& p : last.gpu) {
-            if (!gpuMs.count(p.name)) gpuOrder.push_back(p.name);
-            gpuMs[p.name].push_back(p.ms);
-        }
-        for (const auto& c : last.cpu) {
-            if (!cpuMs.count(c.name)) cpuOrder.push_back(c.name);
-            cpuMs[c.name].push_back(c.ms);
-        }
+        for (const auto& p : last.gpu) record(gpuMs, gpuOrder, p.name, p.ms, f);
+        for (const auto& c : last.cpu) record(cpuMs, cpuOrder, c.name, c.ms, f);
     }
-
-    // A pass or stage a frame skipped (maps kept while the light is still, a fit done once)
-    // took 0 ms in it: medians are per frame rendered.
-    for (auto* times : {&gpuMs, &cpuMs})
-        for (auto& [name, ms] : *times) ms.resize(static_cast<std::size_t>(frames), 0.0);
 
     const geometry::FloatImage visibility = renderer.visibility();
     const geometry::FloatImage position = renderer.position();
@@ -242,9 +240,10 @@ int run(const Options& opt) {
     report["gpu_ms"] = gpuJson;
     report["cpu_ms"] = cpuJson;
     report["frame_ms"] = median(frameMs);
-    report["timing_note"] = "medians over frames (a pass a frame skipped counts 0 ms in it); "
-                            "gpu_ms from GL timestamp queries on the renderer named in "
-                            "gl_renderer (software on llvmpipe)";
+    report["timing_note"] = "medians over frames of each pass's time in the frame (summed "
+                            "where it ran twice, 0 ms where it was skipped); gpu_ms from GL "
+                            "timestamp queries on the renderer named in gl_renderer (software "
+                            "on llvmpipe)";
     std::optional<geometry::ErrorStats> error;
     if (compareTo) {
         error = geometry::compareVisibility(visibility.data, compareTo->data);

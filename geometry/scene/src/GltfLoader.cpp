@@ -81,6 +81,12 @@ private:
     }
 
     AccessorValues readAccessor(int index, const std::string& what) const;
+    // A per-vertex attribute `name` of a primitive (`where`) with `vertices` vertices: its type
+    // (`typeOk`, else "NAME must be EXPECTED") and count checked before it is read (a count
+    // that differs is wrong whatever the data holds), and the count read checked again.
+    AccessorValues readVertexAttribute(int index, const std::string& where, const char* name,
+                                       std::size_t vertices, const char* expected,
+                                       bool (*typeOk)(const tinygltf::Accessor&)) const;
     // Checks the byte range first, then sizes `out` to count * components and fills it.
     void readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_t byteOffset,
                  std::size_t stride, std::size_t count, int componentType, int components,
@@ -279,6 +285,23 @@ void Loader::readRaw(const tinygltf::BufferView& view, int viewIndex, std::size_
             out[i * components + c] = decodeComponent(e + c * compBytes, componentType, normalized);
         }
     }
+}
+
+AccessorValues Loader::readVertexAttribute(int index, const std::string& where, const char* name,
+                                           std::size_t vertices, const char* expected,
+                                           bool (*typeOk)(const tinygltf::Accessor&)) const {
+    const auto count = [&](std::size_t n) {
+        return where + ": " + name + " has " + std::to_string(n) + " elements, POSITION " +
+               std::to_string(vertices);
+    };
+    if (index >= 0 && std::size_t(index) < mModel.accessors.size()) {
+        const tinygltf::Accessor& acc = mModel.accessors[std::size_t(index)];
+        if (!typeOk(acc)) fail(where + ": " + name + " must be " + expected);
+        if (acc.count != vertices) fail(count(acc.count));
+    }
+    const AccessorValues values = readAccessor(index, where + " " + name);
+    if (values.count != vertices) fail(count(values.count));
+    return values;
 }
 
 AccessorValues Loader::readAccessor(int index, const std::string& what) const {
@@ -581,27 +604,15 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
     // TEXCOORD_0: float, or normalized unsigned byte/short (glTF 2.0 §3.7.2.1).
     const auto uvIt = prim.attributes.find("TEXCOORD_0");
     if (uvIt != prim.attributes.end()) {
-        if (uvIt->second >= 0 && std::size_t(uvIt->second) < mModel.accessors.size()) {
-            const auto& acc = mModel.accessors[uvIt->second];
-            const bool okType =
-                acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-                (acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                    acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
-            if (acc.type != TINYGLTF_TYPE_VEC2 || !okType) {
-                fail(where + ": TEXCOORD_0 must be VEC2 of float or normalized unsigned "
-                             "byte/short");
-            }
-            // Before reading: a count that differs is wrong whatever the data holds.
-            if (acc.count != pos.count) {
-                fail(where + ": TEXCOORD_0 has " + std::to_string(acc.count) +
-                     " elements, POSITION " + std::to_string(pos.count));
-            }
-        }
-        const AccessorValues uv = readAccessor(uvIt->second, where + " TEXCOORD_0");
-        if (uv.count != pos.count) {
-            fail(where + ": TEXCOORD_0 has " + std::to_string(uv.count) + " elements, POSITION " +
-                 std::to_string(pos.count));
-        }
+        const AccessorValues uv = readVertexAttribute(
+            uvIt->second, where, "TEXCOORD_0", pos.count,
+            "VEC2 of float or normalized unsigned byte/short", [](const tinygltf::Accessor& acc) {
+                return acc.type == TINYGLTF_TYPE_VEC2 &&
+                       (acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                        (acc.normalized &&
+                         (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                          acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)));
+            });
         // Earlier primitives without texcoords get zeros so the arrays stay parallel.
         mMesh.texcoords.resize(base, glm::vec2(0.0f));
         for (std::size_t i = 0; i < uv.count; ++i) {
@@ -617,22 +628,12 @@ void Loader::addPrimitive(const tinygltf::Primitive& prim, const glm::dmat4& wor
     // (some exporters write them for degenerate triangles) leaves shading to the face normal.
     const auto normalIt = prim.attributes.find("NORMAL");
     if (normalIt != prim.attributes.end()) {
-        if (normalIt->second >= 0 && std::size_t(normalIt->second) < mModel.accessors.size()) {
-            const auto& acc = mModel.accessors[normalIt->second];
-            if (acc.type != TINYGLTF_TYPE_VEC3 ||
-                acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
-                fail(where + ": NORMAL must be VEC3 of float");
-            }
-            if (acc.count != pos.count) {
-                fail(where + ": NORMAL has " + std::to_string(acc.count) +
-                     " elements, POSITION " + std::to_string(pos.count));
-            }
-        }
-        const AccessorValues nv = readAccessor(normalIt->second, where + " NORMAL");
-        if (nv.count != pos.count) {
-            fail(where + ": NORMAL has " + std::to_string(nv.count) + " elements, POSITION " +
-                 std::to_string(pos.count));
-        }
+        const AccessorValues nv = readVertexAttribute(
+            normalIt->second, where, "NORMAL", pos.count, "VEC3 of float",
+            [](const tinygltf::Accessor& acc) {
+                return acc.type == TINYGLTF_TYPE_VEC3 &&
+                       acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+            });
         const glm::dmat3 linear(world);
         const bool invertible = std::abs(glm::determinant(linear)) > 0.0;
         const glm::dmat3 normalMatrix =
