@@ -7,6 +7,7 @@
 #define BINDING_FRAME_UBO 0
 #define BINDING_OCCLUSION_UBO 1 // OcclusionUniforms (the occlusion method's frame)
 #define BINDING_PCSS_UBO 2      // PcssUniforms (the pcss method's maps and sample pattern)
+#define BINDING_SAMPLE_MAPS_UBO 3 // SampleMapUniforms (the sample-maps method's frame)
 
 // Storage buffers (std430). Static: every caster's welded geometry, concatenated (CasterSet).
 #define BINDING_WELDED_POSITIONS 0 // vec4 per welded vertex (w = 1)
@@ -32,6 +33,9 @@
 #define MASK_STAT_OVERFLOW 0 // pixels whose 4-bit counts did not hold the final count
 #define MASK_STAT_NEGATIVE 1 // pixels with a sample whose count came out negative
 #define MASK_STAT_COUNT 4
+// sample-maps: per light sample, its view (SampleMapView: vec4 s, t and its lateral offset from
+// the light's centre in (eu, ev); vec4 lo, 1 / (hi - lo)).
+#define BINDING_SAMPLE_MAP_VIEWS 13
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
@@ -45,6 +49,7 @@
 #define UNIFORM_SLICE_LEAKFIX 4 // occlusion-slice.frag: int, 1 = also write the next slice
 #define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter compute: int (N-buffer level, SAT pass)
 #define UNIFORM_PCSS_SIDE 6      // pcss-shadow.vert: int, the face drawn (PcssFrame::faces)
+#define UNIFORM_SAMPLE_MAP_VIEW 7 // pcss-shadow.vert with SAMPLE_MAP: mat4 (locations 7..10)
 
 // GpuWedge::kind
 #define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)
@@ -76,6 +81,7 @@
 #define TEXUNIT_DEBUG0 20    // debug views: their own inputs (reference, part visibility)
 #define TEXUNIT_STENCIL 22   // wedges-bitmask combine=counts: the frame's stencil (STENCIL_INDEX view)
 #define TEXUNIT_SHADING 23   // shade: the G-buffer's shading normal (the files' vertex normals)
+#define TEXUNIT_SAMPLE_MAPS 24 // sample-maps: the shadow maps, one layer per light sample
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 
@@ -133,6 +139,17 @@ PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
     vec4 params;        // x: blocker-search samples, y: filter samples, z: resolution R, w: 1 / R
     vec4 pattern[PCSS_MAX_SAMPLES]; // xy: filter pattern point i, zw: search point i, in [-1, 1]^2
 PENUMBRA_UBO_END(PcssUniforms, pcss)
+
+// The sample-maps method's frame (geometry/shadow/SampleMapFrame.h); its views are in
+// BINDING_SAMPLE_MAP_VIEWS.
+PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
+    vec4 eu;     // xyz: the maps' first lateral axis
+    vec4 ev;     // xyz: their second lateral axis
+    vec4 n;      // xyz: their depth axis (the light's normal towards the casters)
+    vec4 params; // x: samples N (0: no casters, V = 1), y: resolution R, z: bias (the offset's grazing part) in
+                 // texels, w: zNear (every view's)
+    vec4 reach;  // SampleMapFrame::reachLo (xy), reachHi (zw): receivers outside are lit
+PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
 // triangles lie to the left of v0 -> v1 seen from the light (geometry/shadow/Silhouette.h).

@@ -212,17 +212,19 @@ TEST_F(RenderCli, PcssRendersWithItsParameters) {
 }
 
 // Alpha-tested casters with a method that would shadow with whole cards: not refused. The
-// oak (every triangle a leaf-card material) goes to occlusion textures whole; the textured
-// level is split on loading, its walls to the method asked for, its grate and flames to
-// occlusion; report.json and the output say so per object.
+// oak (every triangle a leaf-card material) goes to auto's alpha path whole (sample maps: it
+// lies in front of the light); the textured level is split on loading, its walls to the method
+// asked for, its grate and flames to the alpha path (pcss: they surround the lamp);
+// report.json and the output say so per object.
 TEST_F(RenderCli, AlphaTestedObjectsWithAWedgeMethodTakeTheAlphaPath) {
     const fs::path shared(PENUMBRA_SHARED_DIR);
     struct Case {
         fs::path scene;
         std::size_t opaque, tested;
+        std::string alphaPath;
     };
-    for (const Case& c : {Case{shared / "foliage" / "oak_hungarian_1.glb", 0, 1},
-                          Case{shared / "levels" / "textured" / "kaos2.glb", 1, 1}}) {
+    for (const Case& c : {Case{shared / "foliage" / "oak_hungarian_1.glb", 0, 1, "sample-maps"},
+                          Case{shared / "levels" / "textured" / "kaos2.glb", 1, 1, "pcss"}}) {
         const fs::path out = mDir / "out";
         const RunResult r = run("--scene '" + c.scene.string() +
                                 "' --method wedges-additive --size 48x48 --out '" + out.string() +
@@ -234,7 +236,7 @@ TEST_F(RenderCli, AlphaTestedObjectsWithAWedgeMethodTakeTheAlphaPath) {
         for (const auto& object : report["objects"]) {
             ASSERT_TRUE(object.contains("shadow_path")) << object.dump();
             const std::string reason = object["shadow_path_reason"];
-            if (object["shadow_path"] == "pcss") { // auto's alpha path
+            if (object["shadow_path"] == c.alphaPath) { // auto's alpha path
                 ++tested;
                 EXPECT_NE(reason.find("alpha-tested materials: "), std::string::npos) << reason;
             } else {
@@ -244,7 +246,8 @@ TEST_F(RenderCli, AlphaTestedObjectsWithAWedgeMethodTakeTheAlphaPath) {
         }
         EXPECT_EQ(opaque, c.opaque) << report["objects"].dump();
         EXPECT_EQ(tested, c.tested) << report["objects"].dump();
-        EXPECT_NE(r.output.find("pcss (alpha-tested materials"), std::string::npos)
+        EXPECT_NE(r.output.find(c.alphaPath + " (wedges-additive occludes with whole triangles"),
+                  std::string::npos)
             << r.output; // said, not only written
     }
 }

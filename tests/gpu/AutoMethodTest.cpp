@@ -81,11 +81,12 @@ geometry::Scene treeScene() {
 }
 
 TEST_F(AutoMethod, FoliageTakesTheAlphaPathAndMatchesAlphaAwareRaytrace) {
-    // The oak's leaf cards are alpha-tested: auto gives it to its alpha path (pcss's
-    // alpha-tested shadow maps; occlusion textures with alpha=occlusion) and the ground to
-    // wedges; the truth is raytrace, whose rays test the leaves' alpha.
+    // The oak's leaf cards are alpha-tested: auto gives it to its alpha path (sample maps, one
+    // alpha-tested shadow map per light sample, since the oak lies wholly in front of the
+    // light; pcss's maps with alpha=pcss, occlusion textures with alpha=occlusion) and the
+    // ground to wedges; the truth is raytrace, whose rays test the leaves' alpha.
     const geometry::Scene scene = treeScene();
-    const Rendered truth = testutil::render(scene, "raytrace", 96, 96, 64);
+    const Rendered truth = testutil::render(scene, "raytrace", 96, 96, 256);
     const auto oakPath = [&](const Rendered& r) {
         for (const auto& choice : r.stats.objectChoices)
             if (scene.objects[choice.object].name == "oak" &&
@@ -98,37 +99,40 @@ TEST_F(AutoMethod, FoliageTakesTheAlphaPathAndMatchesAlphaAwareRaytrace) {
     for (std::size_t i = 0; i < lit.size(); ++i)
         if (!std::isfinite(truth.visibility.data[i])) lit[i] = truth.visibility.data[i];
     const auto none = geometry::compareVisibility(lit, truth.visibility.data);
-    geometry::ErrorStats errors[2];
-    const char* paths[2] = {"pcss", "occlusion"};
-    for (int k = 0; k < 2; ++k) {
+    geometry::ErrorStats errors[3];
+    const char* paths[3] = {"sample-maps", "pcss", "occlusion"};
+    for (int k = 0; k < 3; ++k) {
         SCOPED_TRACE(paths[k]);
         const Rendered a = k == 0 ? testutil::render(scene, "auto", 96, 96, 1)
                                   : testutil::render(scene, "auto", 96, 96, 1,
-                                                     {{"alpha", "occlusion"}});
+                                                     {{"alpha", paths[k]}});
         expectValid(a);
         EXPECT_EQ(oakPath(a), paths[k]);
         errors[k] = geometry::compareVisibility(a.visibility.data, truth.visibility.data);
-        std::printf("  oak 96², alpha=%s: auto vs raytrace N=64: mean %.4f p99 %.3f %.2f%% > "
+        std::printf("  oak 96², alpha=%s: auto vs raytrace N=256: mean %.4f p99 %.3f %.2f%% > "
                     "0.05 (no shadow at all: mean %.4f)\n",
                     paths[k], errors[k].meanAbs, errors[k].p99, errors[k].badPixelPct,
                     none.meanAbs);
         EXPECT_GT(none.meanAbs, 4.0 * errors[k].meanAbs);
     }
-    // Measured: pcss 0.0102 and 7.1 % (its one blocker depth per pixel blurs some holes);
-    // occlusion 0.0247 and 11.4 % (the prefilter's footprint and the slices blur the leaves'
-    // shadow where the truth keeps holes). Margins for N = 64 noise.
-    EXPECT_LT(errors[0].meanAbs, 0.0102 + 0.005);
-    EXPECT_LT(errors[0].badPixelPct, 7.1 + 2.0);
-    EXPECT_LT(errors[1].meanAbs, 0.0247 + 0.01);
-    EXPECT_LT(errors[1].badPixelPct, 11.4 + 3.0);
-    // Why pcss is the default alpha path.
-    EXPECT_LT(errors[0].meanAbs, 0.6 * errors[1].meanAbs);
+    // Measured: sample-maps 0.0039 and 1.34 % (its 64 samples' bands and the maps' texels);
+    // pcss 0.0094 and 6.15 % (its one blocker depth per pixel blurs some holes); occlusion
+    // 0.0245 and 11.66 % (the prefilter's footprint and the slices blur the leaves' shadow
+    // where the truth keeps holes).
+    EXPECT_LT(errors[0].meanAbs, 0.0039 + 0.002);
+    EXPECT_LT(errors[0].badPixelPct, 1.34 + 1.0);
+    EXPECT_LT(errors[1].meanAbs, 0.0094 + 0.005);
+    EXPECT_LT(errors[1].badPixelPct, 6.15 + 2.0);
+    EXPECT_LT(errors[2].meanAbs, 0.0245 + 0.01);
+    EXPECT_LT(errors[2].badPixelPct, 11.66 + 3.0);
+    // Why sample maps are the default alpha path.
+    EXPECT_LT(errors[0].meanAbs, 0.7 * errors[1].meanAbs);
 }
 
 TEST_F(AutoMethod, ComposesThePathsAsAProduct) {
     // A box beside the oak, given to occlusion textures by the scene JSON: the ground's shadow
-    // comes from wedges, the box's from occlusion textures, the oak's from pcss (the alpha
-    // path), and auto's frame is the product of the three methods run on each alone.
+    // comes from wedges, the box's from occlusion textures, the oak's from sample maps (the
+    // alpha path), and auto's frame is the product of the three methods run on each alone.
     geometry::Scene scene = treeScene();
     scene.objects.push_back({"box", geometry::ShadowMethod::Occlusion,
                              geometry::makeBox({-2.0f, 0.5f, 1.5f}, {1.0f, 1.6f, 1.0f})});
@@ -139,7 +143,8 @@ TEST_F(AutoMethod, ComposesThePathsAsAProduct) {
     expectValid(a);
     EXPECT_EQ(testutil::counter(a.stats, "auto_wedge_objects"), 2.0); // ground, crate
     EXPECT_EQ(testutil::counter(a.stats, "auto_occlusion_objects"), 1.0);
-    EXPECT_EQ(testutil::counter(a.stats, "auto_pcss_objects"), 1.0);
+    EXPECT_EQ(testutil::counter(a.stats, "auto_pcss_objects"), 0.0);
+    EXPECT_EQ(testutil::counter(a.stats, "auto_sample_maps_objects"), 1.0);
     const auto only = [&](std::initializer_list<const char*> names) {
         geometry::Scene s = scene;
         for (auto& o : s.objects) {
@@ -153,7 +158,7 @@ TEST_F(AutoMethod, ComposesThePathsAsAProduct) {
     };
     const Rendered w = testutil::render(only({"ground", "crate"}), "wedges-bitmask", 96, 96, 1);
     const Rendered o = testutil::render(only({"box"}), "occlusion", 96, 96, 1);
-    const Rendered p = testutil::render(only({"oak"}), "pcss", 96, 96, 1);
+    const Rendered p = testutil::render(only({"oak"}), "sample-maps", 96, 96, 1);
     double maxDiff = 0.0, minW = 1.0, minO = 1.0, minP = 1.0;
     for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
         if (!std::isfinite(a.visibility.data[i])) continue;
@@ -164,7 +169,7 @@ TEST_F(AutoMethod, ComposesThePathsAsAProduct) {
         minO = std::min(minO, double(o.visibility.data[i]));
         minP = std::min(minP, double(p.visibility.data[i]));
     }
-    std::printf("  ground + crate + box + oak: max |auto - wedges x occlusion x pcss| %.2e\n",
+    std::printf("  ground + crate + box + oak: max |auto - wedges x occlusion x sample-maps| %.2e\n",
                 maxDiff);
     EXPECT_LT(maxDiff, 1e-5);
     EXPECT_LT(minW, 0.1); // each path really shadows something

@@ -158,7 +158,8 @@ TEST_F(OcclusionMethod, AStillLightReusesTheSlicesAndMaps) {
     };
     for (const Case& c : {Case{"occlusion", {"occlusion_slices_cached",
                                              "occlusion_outside_maps_cached"}},
-                          Case{"pcss", {"pcss_maps_cached"}}}) {
+                          Case{"pcss", {"pcss_maps_cached"}},
+                          Case{"sample-maps", {"sample_maps_cached"}}}) {
         SCOPED_TRACE(c.method);
         testutil::SceneRenderer sr(scene);
         gpu::RenderSettings s = testutil::frameSettings(c.method, 64, 64);
@@ -320,14 +321,15 @@ TEST_F(OcclusionMethod, BlendedCardIsTestedAsMask) {
 
 TEST_F(OcclusionMethod, MethodsWithoutAlphaMasksGiveTheCardToTheAlphaPath) {
     // A method that occludes with whole triangles does not refuse the card, nor shadow it as
-    // opaque: it shadows the ground (which casts on nothing here) and auto's alpha path (pcss's
-    // alpha-tested maps) the card, so V is that of pcss on the card alone, and each object's
+    // opaque: it shadows the ground (which casts on nothing here) and auto's alpha path (sample
+    // maps: the card lies in front of the light) the card, so V is that of sample-maps on the
+    // card alone, and each object's
     // choice names its path and why.
     const geometry::Scene scene = leafCardScene(geometry::AlphaMode::Mask);
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::RenderSettings s;
     s.width = s.height = 48;
-    s.method = "pcss";
+    s.method = "sample-maps";
     geometry::Scene cardOnly = scene;
     cardOnly.objects[0].method = geometry::ShadowMethod::None; // the ground receives only
     geometry::FloatImage alphaPath;
@@ -353,7 +355,7 @@ TEST_F(OcclusionMethod, MethodsWithoutAlphaMasksGiveTheCardToTheAlphaPath) {
         ASSERT_EQ(stats.objectChoices.size(), 2u) << method;
         for (const auto& choice : stats.objectChoices) {
             if (scene.objects[choice.object].name == "leaf card") {
-                EXPECT_EQ(choice.path, "pcss") << method;
+                EXPECT_EQ(choice.path, "sample-maps") << method;
                 EXPECT_NE(choice.reason.find("leaf (MASK 0.50)"), std::string::npos)
                     << choice.reason;
                 EXPECT_NE(choice.reason.find(method), std::string::npos) << choice.reason;

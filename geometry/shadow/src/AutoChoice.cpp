@@ -9,11 +9,17 @@ ShadowPathChoice chooseShadowPath(const CasterFacts& facts) {
         return {ShadowPath::Wedges, "scene JSON \"method\": \"wedges\""};
     if (facts.requested == ShadowMethod::Occlusion)
         return {ShadowPath::Occlusion, "scene JSON \"method\": \"occlusion\""};
-    if (facts.alphaMasked)
-        return {facts.alphaPath,
-                "alpha-tested materials" +
-                    (facts.alphaMaterials.empty() ? std::string() : ": " + facts.alphaMaterials) +
-                    " (volumes occlude whole triangles)"};
+    if (facts.alphaMasked) {
+        const std::string materials =
+            "alpha-tested materials" +
+            (facts.alphaMaterials.empty() ? std::string() : ": " + facts.alphaMaterials) +
+            " (volumes occlude whole triangles)";
+        if (facts.alphaPath == ShadowPath::SampleMaps && !facts.sampleMapsHold)
+            return {ShadowPath::Pcss,
+                    materials + "; not wholly in front of every light point within the sample "
+                                "maps' 71.6-degree cap (around the light), so pcss"};
+        return {facts.alphaPath, materials};
+    }
     const TopologyStats& t = facts.topology;
     const double nonManifold =
         t.edges > 0 ? static_cast<double>(t.nonManifoldEdges) / static_cast<double>(t.edges) : 0.0;
@@ -33,6 +39,8 @@ const char* toString(ShadowPath path) {
         return "occlusion";
     case ShadowPath::Pcss:
         return "pcss";
+    case ShadowPath::SampleMaps:
+        return "sample-maps";
     case ShadowPath::Wedges:
         break;
     }

@@ -88,12 +88,13 @@ std::unique_ptr<VisibilityMethod> createBlendWedgesMethod(const MethodResources&
 std::unique_ptr<VisibilityMethod> createBitmaskWedgesMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createAutoMethod(const MethodResources&);
 // `primary` (a method that occludes with whole triangles, with its parameters in the resources)
-// on a scene with alpha-tested objects: it shadows the opaque objects and auto's alpha path (pcss)
+// on a scene with alpha-tested objects: it shadows the opaque objects and auto's alpha path (sample maps or pcss)
 // the alpha-tested ones, composed as auto composes (AutoMethod.cpp).
 struct MethodInfo;
 std::unique_ptr<VisibilityMethod> createAlphaComposite(const MethodResources&,
                                                        const MethodInfo& primary);
 std::unique_ptr<VisibilityMethod> createOcclusionMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createPcssMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createSampleMapsMethod(const MethodResources&);
 
 } // namespace gpu

@@ -59,10 +59,18 @@ struct PcssOptions {
 };
 PcssOptions pcssOptions(std::span<const ParameterValue> given);
 
+// sample-maps: one shadow map per light sample.
+struct SampleMapsOptions {
+    int samples = 0;          // light samples N, one map each
+    int resolution = 0;       // side of each map in texels
+    float normalOffset = 0.0f; // the receiver offset's grazing part: x sin(angle) map texels
+};
+SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given);
+
 // auto.
 struct AutoOptions {
     std::string wedgeMethod; // the method's name: "wedges-blend", "wedges-bitmask", ...
-    std::string alphaMethod; // the alpha path's: "pcss" or "occlusion"
+    std::string alphaMethod; // the alpha path's: "sample-maps", "pcss" or "occlusion"
 };
 AutoOptions autoOptions(std::span<const ParameterValue> given);
 

@@ -99,19 +99,36 @@ constexpr MethodParameter kPcssParameters[] = {
      "V times the fraction of the light in front of the surface (not in the paper; as occlusion's)"},
 };
 
+// sample-maps: one alpha-tested shadow map per light sample.
+constexpr std::string_view kSampleMapsSamples[] = {"16", "32", "64", "128", "256"};
+constexpr std::string_view kSampleMapsResolution[] = {"256", "512", "1024"};
+constexpr std::string_view kSampleMapsBias[] = {"0.0", "0.5", "1.0", "2.0"};
+constexpr MethodParameter kSampleMapsParameters[] = {
+    {"samples", kSampleMapsSamples, "64",
+     "light samples, one shadow map each (the reference's stratified pattern for the same count "
+     "and seed)"},
+    {"resolution", kSampleMapsResolution, "512",
+     "side of each map in texels (each map holds the casters' box as seen from its sample)"},
+    {"bias", kSampleMapsBias, "0.5",
+     "the receiver moved 0.25 + bias x sin(angle between its normal and the sample) map texels "
+     "(their world size at the receiver) along its normal, towards the sample: more hides acne "
+     "on surfaces the light grazes, less keeps contact shadows"},
+};
+
 // auto: which wedge method serves the objects it gives to wedges.
 constexpr std::string_view kAutoWedges[] = {"bitmask", "blend", "additive", "multiply"};
-constexpr std::string_view kAutoAlpha[] = {"pcss", "occlusion"};
+constexpr std::string_view kAutoAlpha[] = {"sample-maps", "pcss", "occlusion"};
 constexpr MethodParameter kAutoParameters[] = {
     {"wedges", kAutoWedges, "bitmask",
      "the wedge method of the objects auto gives to wedges: wedges-blend, -additive, -multiply "
      "or -bitmask (its default parameters)"},
-    {"alpha", kAutoAlpha, "pcss",
-     "the alpha path, for alpha-tested objects (foliage, grates): pcss's shadow maps or "
-     "occlusion textures (each with its default parameters)"},
+    {"alpha", kAutoAlpha, "sample-maps",
+     "the alpha path, for alpha-tested objects (foliage, grates): sample-maps (one shadow map "
+     "per light sample; objects it cannot hold in front of the light, a lamp among them, go to "
+     "pcss), pcss's shadow maps or occlusion textures (each with its default parameters)"},
 };
 
-const std::array<MethodInfo, 10> kMethods = {{
+const std::array<MethodInfo, 11> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
      createReferenceMethod},
@@ -131,6 +148,8 @@ const std::array<MethodInfo, 10> kMethods = {{
      false, createOcclusionMethod, kOcclusionParameters, true},
     {"pcss", "percentage-closer soft shadows (Fernando 2005), shadow maps from the light centre; "
      "honours alpha-tested casters", false, createPcssMethod, kPcssParameters, true},
+    {"sample-maps", "average of N hard shadows from light samples, one shadow map each; honours "
+     "alpha-tested casters", false, createSampleMapsMethod, kSampleMapsParameters, true},
     {"auto", "per-object choice (wedges or occlusion textures), composed in one frame", false,
      createAutoMethod, kAutoParameters, true},
 }};
@@ -281,6 +300,13 @@ PcssOptions pcssOptions(std::span<const ParameterValue> given) {
             .pcfSamples = intValue(r, "pcf_samples"),
             .bias = std::string(parameterValue(r, "bias")),
             .horizon = parameterValue(r, "horizon") == "on"};
+}
+
+SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("sample-maps"), given);
+    return {.samples = intValue(r, "samples"),
+            .resolution = intValue(r, "resolution"),
+            .normalOffset = std::stof(std::string(parameterValue(r, "bias")))};
 }
 
 AutoOptions autoOptions(std::span<const ParameterValue> given) {

@@ -1,9 +1,11 @@
 // auto (the contract's default): per casting object the path geometry/shadow/AutoChoice.h decides —
 // penumbra wedges (`wedges-bitmask` with its defaults — potential silhouettes, the ratio
 // estimator — unless the `wedges` parameter picks another wedge method), occlusion textures
-// (asked for by the scene JSON) or pcss (the alpha path of alpha-tested objects; occlusion
-// textures with alpha=occlusion) — run each on its own casters and composed in one frame as
-// V = V_wedges · V_occlusion · V_pcss (the sets of occluders treated as independent). A caster's
+// (asked for by the scene JSON), sample maps or pcss (the alpha path of alpha-tested objects:
+// sample maps for an object in front of the light, pcss around it; pcss or occlusion textures
+// for all with alpha=pcss|occlusion) — run each on its own casters and composed in one frame as
+// V = V_wedges · V_occlusion · V_pcss · V_sample-maps (the sets of occluders treated as
+// independent). A caster's
 // path is decided the first frame it is seen and then kept, so that a moving light never flips
 // it. The same composition serves a method asked for by name that occludes with whole
 // triangles (hard, reference, the wedge methods) on a scene with alpha-tested objects
@@ -18,6 +20,7 @@
 
 #include <geometry/scene/AlphaMask.h>
 #include <geometry/shadow/AutoChoice.h>
+#include <geometry/shadow/SampleMapFrame.h>
 #include <geometry/core/Error.h>
 
 #include <optional>
@@ -93,7 +96,8 @@ public:
 
     void execute(const FrameContext& ctx) override {
         decide(ctx);
-        // The casters of each path, in the order they are composed: wedges, occlusion, pcss.
+        // The casters of each path, in the order they are composed: wedges, occlusion, pcss,
+        // sample maps.
         std::vector<std::uint32_t> casters[kPaths];
         for (const std::uint32_t c : ctx.casterSubset)
             casters[static_cast<int>(mChoices[c].path)].push_back(c);
@@ -113,6 +117,9 @@ public:
                        count(geometry::ShadowPath::Occlusion));
         ctx.addCounter(mPrimaryAsked ? "alpha_tested_objects_by_pcss" : "auto_pcss_objects",
                        count(geometry::ShadowPath::Pcss));
+        ctx.addCounter(mPrimaryAsked ? "alpha_tested_objects_by_sample_maps"
+                                     : "auto_sample_maps_objects",
+                       count(geometry::ShadowPath::SampleMaps));
 
         mWedgeCasters = casters[static_cast<int>(geometry::ShadowPath::Wedges)];
         // V = the product of the paths' V: the first path writes V, each later one is run on
@@ -175,34 +182,39 @@ private:
             geometry::CasterFacts facts;
             facts.requested = object.method;
             facts.alphaMasked = geometry::hasAlphaMask(object.mesh);
-            if (facts.alphaMasked) facts.alphaMaterials = alphaTestedMaterials(object.mesh);
+            if (facts.alphaMasked) {
+                facts.alphaMaterials = alphaTestedMaterials(object.mesh);
+                geometry::Aabb bounds;
+                for (const glm::vec3& p : object.mesh.positions) bounds.extend(p);
+                facts.sampleMapsHold = geometry::sampleMapsHold(ctx.light, bounds);
+            }
+            facts.alphaPath = mAlphaPath;
             facts.topology = ctx.casters.topology(c).stats();
             facts.silhouetteEdges = ctx.casters.frame(c).edges.size();
             if (mPrimaryAsked) {
                 // Only the alpha test decides: the scene JSON's "method" is auto's to read.
-                mChoices.push_back(
-                    facts.alphaMasked
-                        ? geometry::ShadowPathChoice{
-                              mAlphaPath,
-                              "alpha-tested materials: " + facts.alphaMaterials + "; " +
-                                  mWedgeMethodName + " occludes with whole triangles, so " +
-                                  (mAlphaPath == geometry::ShadowPath::Pcss
-                                       ? "pcss's shadow maps"
-                                       : "occlusion textures") +
-                                  " (auto's alpha path) shadow this object"}
-                        : geometry::ShadowPathChoice{geometry::ShadowPath::Wedges,
-                                                     "opaque: " + mWedgeMethodName});
+                if (!facts.alphaMasked) {
+                    mChoices.push_back({geometry::ShadowPath::Wedges, "opaque: " + mWedgeMethodName});
+                    continue;
+                }
+                facts.requested = geometry::ShadowMethod::Auto;
+                geometry::ShadowPathChoice alpha = geometry::chooseShadowPath(facts);
+                alpha.reason = mWedgeMethodName + " occludes with whole triangles, so auto's alpha "
+                               "path, " + std::string(geometry::toString(alpha.path)) +
+                               ", shadows this object: " + alpha.reason;
+                mChoices.push_back(std::move(alpha));
                 continue;
             }
-            facts.alphaPath = mAlphaPath;
             mChoices.push_back(geometry::chooseShadowPath(facts));
         }
     }
 
-    static constexpr int kPaths = 3; // geometry::ShadowPath: Wedges, Occlusion, Pcss
+    static constexpr int kPaths = 4; // geometry::ShadowPath: Wedges, Occlusion, Pcss, SampleMaps
 
     static geometry::ShadowPath alphaPath(const std::string& name) {
-        return name == "occlusion" ? geometry::ShadowPath::Occlusion : geometry::ShadowPath::Pcss;
+        return name == "occlusion" ? geometry::ShadowPath::Occlusion
+               : name == "pcss"    ? geometry::ShadowPath::Pcss
+                                   : geometry::ShadowPath::SampleMaps;
     }
 
     // The method of a path other than wedges, built on first use with its defaults.
@@ -229,9 +241,10 @@ private:
 
     MethodResources mResources; // shaders and scene (the parameters are auto's own)
     std::string mWedgeMethodName;
-    geometry::ShadowPath mAlphaPath; // what alpha-tested objects take (auto's alpha parameter)
+    geometry::ShadowPath mAlphaPath; // what alpha-tested objects take (auto's alpha parameter;
+                                     // SampleMaps: Pcss for objects it cannot hold)
     std::unique_ptr<VisibilityMethod> mWedges;
-    std::unique_ptr<VisibilityMethod> mPathMethods[kPaths]; // [Occlusion], [Pcss]; [0] unused
+    std::unique_ptr<VisibilityMethod> mPathMethods[kPaths]; // [Occlusion], [Pcss], [SampleMaps]; [0] unused
     FullscreenPass mMultiply;
     Texture mSaved;
     int mWidth = 0, mHeight = 0;

@@ -37,10 +37,20 @@ TEST(AutoChoiceTest, EachClauseInOrder) {
     auto masked = facts(12, 18, 0, 6);
     masked.alphaMasked = true;
     masked.alphaMaterials = "grate (MASK 0.50)";
-    // They take the alpha path: pcss unless auto's alpha parameter says occlusion.
+    // They take the alpha path: sample maps where every light point sees the object in front
+    // of it, pcss where not (a grate around a lamp); pcss or occlusion when auto's alpha
+    // parameter says so.
+    const auto tree = geometry::chooseShadowPath(masked);
+    EXPECT_EQ(tree.path, ShadowPath::SampleMaps);
+    EXPECT_NE(tree.reason.find("grate (MASK 0.50)"), std::string::npos) << tree.reason;
+    masked.sampleMapsHold = false;
     const auto grate = geometry::chooseShadowPath(masked);
     EXPECT_EQ(grate.path, ShadowPath::Pcss);
-    EXPECT_NE(grate.reason.find("grate (MASK 0.50)"), std::string::npos) << grate.reason;
+    EXPECT_NE(grate.reason.find("not wholly in front of every light point"), std::string::npos)
+        << grate.reason;
+    masked.alphaPath = ShadowPath::Pcss;
+    masked.sampleMapsHold = true;
+    EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Pcss);
     masked.alphaPath = ShadowPath::Occlusion;
     EXPECT_EQ(geometry::chooseShadowPath(masked).path, ShadowPath::Occlusion);
     // The scene JSON wins over everything.

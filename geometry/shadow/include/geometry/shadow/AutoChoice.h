@@ -8,14 +8,15 @@
 // Rule, in order (the first that applies):
 //  1. the scene JSON names the path ("wedges" or "occlusion"): as named;
 //  2. alpha-tested materials (glTF MASK or BLEND; geometry/scene/AlphaMask.h): the alpha path
-//     (CasterFacts::alphaPath: pcss's alpha-tested shadow maps by default, occlusion textures
-//     with auto's alpha=occlusion) — shadow volumes and wedges occlude with whole triangles.
+//     (CasterFacts::alphaPath: by default sample maps, one alpha-tested shadow map per light
+//     sample, for an object every light point sees wholly in front of it within the maps' cap
+//     (geometry::sampleMapsHold: a tree under the light), and pcss's alpha-tested shadow maps
+//     for the others (a level's grates around a lamp); pcss or occlusion textures for all with
+//     auto's alpha=pcss|occlusion) — shadow volumes and wedges occlude with whole triangles.
 //     Scene loading splits an object that mixes opaque and alpha-tested materials into two
 //     (splitByAlphaTest in geometry/scene/Scene.h), so a level's grate takes the alpha path and
-//     its walls stay with wedges. pcss is the default because it shadows leaves with leaves
-//     better: data/tree-oak.json 0.0093 mean against occlusion's 0.0249 (raytrace N = 1024,
-//     256²), the shared oak alone 0.035 against 0.113; on the textured levels' spawn views the
-//     two give auto the same V (in a room occlusion's receivers are mostly pcss's already);
+//     its walls stay with wedges. Sample maps shadow leaves with leaves as raytrace does with
+//     the same samples; pcss and occlusion textures approximate (docs/methods/auto.md);
 //  3. otherwise wedges. Open, non-manifold and silhouette-dense meshes included: the volumes'
 //     two-sided multiplicity rule counts every crossing of every triangle, so the wedge
 //     methods' counts are right on level geometry whatever its topology (an earlier rule sent
@@ -32,7 +33,7 @@
 
 namespace geometry {
 
-enum class ShadowPath { Wedges, Occlusion, Pcss };
+enum class ShadowPath { Wedges, Occlusion, Pcss, SampleMaps };
 
 struct ShadowPathChoice {
     ShadowPath path = ShadowPath::Wedges;
@@ -45,11 +46,13 @@ struct CasterFacts {
     std::string alphaMaterials; // with alphaMasked: "grate (MASK 0.50), flame (BLEND as MASK 0.50)"
     TopologyStats topology;
     std::size_t silhouetteEdges = 0; // directed, from the light centre
-    ShadowPath alphaPath = ShadowPath::Pcss; // for alpha-tested objects: Pcss or Occlusion
+    // For alpha-tested objects: SampleMaps (then Pcss where !sampleMapsHold), Pcss or Occlusion.
+    ShadowPath alphaPath = ShadowPath::SampleMaps;
+    bool sampleMapsHold = true; // geometry::sampleMapsHold of the object's bounds, first seen
 };
 
 ShadowPathChoice chooseShadowPath(const CasterFacts& facts);
 
-const char* toString(ShadowPath path); // "wedges", "occlusion", "pcss"
+const char* toString(ShadowPath path); // "wedges", "occlusion", "pcss", "sample-maps"
 
 } // namespace geometry

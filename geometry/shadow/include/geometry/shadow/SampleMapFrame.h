@@ -1,0 +1,71 @@
+// The `sample-maps` method's frame: one shadow map per light sample (the reference's stratified
+// points for the same N and seed), each a perspective view from its sample point, fitted to the
+// casters' bounding box. V at a receiver is the share of the N points from which it is seen: the
+// `reference` method's average of hard shadows, with shadow maps instead of volumes so that
+// alpha-tested casters (leaf cards, grates) cut their texels out (Heckbert & Herf 1997 average
+// hard shadows from light samples in the same way).
+//
+// Every map looks along the light's normal n (towards the casters) with the light's lateral axes
+// (eu, ev): a receiver's map coordinates from sample y are m = (x, y) / z of q - y in (eu, ev, n).
+// A map only has to hold the casters, not the receivers: a receiver whose ray to y misses the
+// casters' box is lit from y, so a point outside a map's extent, or nearer to the light than the
+// casters (z <= zNear), is lit from that sample. The fit is exact while every box corner lies in
+// front of every sample by at least kSampleMapMinDepthShare of the box's depth; otherwise the box
+// is clipped there and at the lateral cap, and the frame says so (`clipped`), since casters
+// outside the frusta would then be missed.
+#pragma once
+
+#include <geometry/core/Types.h>
+
+#include <glm/glm.hpp>
+
+#include <span>
+#include <vector>
+
+namespace geometry {
+
+// A map's extent is capped at |m| <= this (71.6 degrees off the light's normal), as pcss's front
+// faces are.
+inline constexpr float kSampleMapMaxTan = 3.0f;
+// The nearest box corner must lie at least this share of the farthest one's depth in front of
+// every sample point (else the perspective maps would need texels without bound).
+inline constexpr float kSampleMapMinDepthShare = 0.02f;
+
+struct SampleMapView {
+    glm::vec2 st{0.0f};     // the sample in [-1, 1]^2 over the light's half axes
+    glm::vec3 origin{0.0f}; // the sample point on the light
+    glm::vec2 lo{0.0f}, hi{0.0f}; // the map's extent in m
+    // The casters' least depth from the origin along n (> 0). Depth along n is the same from
+    // every point of the light (n is its normal), so this is the frame's zNear for every view.
+    float zNear = 0.0f;
+};
+
+struct SampleMapFrame {
+    glm::vec3 eu{1, 0, 0}, ev{0, 0, 1}, n{0, -1, 0}; // orthonormal, n towards the casters
+    std::vector<SampleMapView> views;
+    // Where a receiver can be hidden from some sample at all, in m from the light's centre:
+    // m_c(P) = (x, y) / z of P - c. From sample y = c + d (d in the light's plane, so depths
+    // along n are the same from every sample), m_y(P) = m_c(P) - d / z_P and a box corner's
+    // m_y(q) = m_c(q) - d / z_q with z_P, z_q >= zNear: P can lie in map y's extent only if
+    // m_c(P) lies within the centre's extent widened by 2 |d| / zNear per axis. The lookup
+    // skips the samples of every other receiver.
+    glm::vec2 reachLo{0.0f}, reachHi{0.0f};
+    bool empty = true;   // no casters: nothing to draw, V = 1
+    float zNear = 0.0f;  // every view's
+    bool clipped = false; // the box reached behind a sample or past the cap (see above)
+
+    // World -> clip of view i's shadow pass, for glClipControl(LOWER_LEFT, ZERO_TO_ONE):
+    // x, y over [lo, hi], depth zNear / z (1 at zNear, 0 infinitely far; reversed).
+    glm::mat4 projection(std::size_t i) const;
+};
+
+// `samples` in [-1, 1]^2 on the light (stratifiedSquare). `casters`: their world bounds (empty:
+// an empty frame).
+SampleMapFrame fitSampleMapFrame(const RectLight& light, std::span<const glm::vec2> samples,
+                                 const Aabb& casters);
+
+// True when every light point sees the whole box in front of it within the cap (the fit is then
+// exact for any samples): the rule by which `auto` gives an alpha-tested object to sample maps.
+bool sampleMapsHold(const RectLight& light, const Aabb& casters);
+
+} // namespace geometry

@@ -1,0 +1,173 @@
+// sample-maps: the average of N hard shadows from the light samples, each a shadow map in which
+// alpha-tested casters cut their texels out (geometry/shadow/SampleMapFrame.h; the lookup:
+// shaders/sample-maps-lookup.frag). The brute-force alpha path: it shadows leaves with leaves as
+// `raytrace` does with the same number of samples, up to the maps' resolution, at the price of N
+// shadow passes whenever the light or the casters change (a still light reuses the maps, counted
+// as sample_maps_cached). Samples: the reference's stratified pattern for N and --seed.
+#include "engine/Method.h"
+#include "engine/MethodOptions.h"
+#include "engine/ShaderBindings.h"
+#include "passes/FullscreenPass.h"
+
+#include <geometry/core/Error.h>
+#include <geometry/core/Sampling.h>
+#include <geometry/shadow/SampleMapFrame.h>
+
+#include <string>
+#include <vector>
+
+namespace gpu {
+
+namespace {
+
+// Maps larger than this in all are refused with the figure (N x R^2 x 4 bytes).
+constexpr std::size_t kMaxMapBytes = std::size_t(256) << 20;
+
+Program loadMapProgram(const ShaderLoader& shaders, bool alphaTested) {
+    std::vector<std::string> defines = {"SAMPLE_MAP"};
+    if (alphaTested) {
+        defines.push_back("ALPHA_TEST");
+        defines.push_back("MATERIAL_BASE_LEVEL");
+    }
+    return shaders.load({.stages = {{GL_VERTEX_SHADER, "pcss-shadow.vert"},
+                                    {GL_FRAGMENT_SHADER, "pcss-shadow.frag"}},
+                         .defines = defines,
+                         .label = alphaTested ? "sample-map-alpha-test" : "sample-map"});
+}
+
+// Depth only, zNear / z reversed (cleared to 0, GREATER keeps the nearest), no culling: every
+// triangle occludes from both sides, as in pcss's maps.
+constexpr PipelineState kMapState{
+    .depthTest = true, .depthFunc = GL_GREATER, .depthWrite = true, .colorWrite = false};
+
+class SampleMapsMethod final : public VisibilityMethod {
+public:
+    explicit SampleMapsMethod(const MethodResources& r)
+        : mOptions(sampleMapsOptions(r.parameters)), mOpaque(loadMapProgram(r.shaders, false)),
+          mAlphaTested(loadMapProgram(r.shaders, true)),
+          mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{}),
+          mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}) {
+        const std::size_t n = static_cast<std::size_t>(mOptions.samples);
+        const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
+                               static_cast<std::size_t>(mOptions.resolution);
+        if (n * r2 * 4 > kMaxMapBytes)
+            throw geometry::InputError(
+                "sample-maps: samples=" + std::to_string(n) + " at resolution=" +
+                std::to_string(mOptions.resolution) + " needs " +
+                std::to_string(n * r2 * 4 >> 20) + " MiB of shadow maps, over the " +
+                std::to_string(kMaxMapBytes >> 20) + " MiB limit; lower one of them");
+        mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
+                         .width = mOptions.resolution,
+                         .height = mOptions.resolution,
+                         .layers = mOptions.samples,
+                         .format = GL_DEPTH_COMPONENT32F,
+                         .wrap = GL_CLAMP_TO_BORDER,
+                         .label = "sample-maps"});
+        for (int i = 0; i < mOptions.samples; ++i)
+            mFbos.emplace_back(FramebufferDesc{
+                .attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, i}}, .label = "sample-map"});
+    }
+
+    void execute(const FrameContext& ctx) override {
+        update(ctx);
+        const geometry::SampleMapFrame& f = mFrame;
+        shader::SampleMapUniforms u{};
+        u.eu = glm::vec4(f.eu, 0.0f);
+        u.ev = glm::vec4(f.ev, 0.0f);
+        u.n = glm::vec4(f.n, 0.0f);
+        u.params = glm::vec4(f.empty ? 0.0f : static_cast<float>(mOptions.samples),
+                             static_cast<float>(mOptions.resolution), mOptions.normalOffset, f.zNear);
+        u.reach = glm::vec4(f.reachLo, f.reachHi);
+        mUniforms.upload(&u, sizeof(u));
+        glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_SAMPLE_MAPS_UBO, mUniforms.id());
+
+        const bool cached = mMapsDrawn;
+        if (!cached && !f.empty) {
+            ScopedPass pass(&ctx.timers, "sample-maps-shadow");
+            applyState(kMapState);
+            const SceneGeometry::Programs programs{mOpaque, mAlphaTested, false};
+            const float nothing = 0.0f;
+            for (std::size_t i = 0; i < f.views.size(); ++i) {
+                glBindFramebuffer(GL_FRAMEBUFFER, mFbos[i].id());
+                glViewport(0, 0, mOptions.resolution, mOptions.resolution);
+                glClearNamedFramebufferfv(mFbos[i].id(), GL_DEPTH, 0, &nothing);
+                const glm::mat4 m = f.projection(i);
+                for (const Program* p : {&mOpaque, &mAlphaTested})
+                    glProgramUniformMatrix4fv(p->id(), UNIFORM_SAMPLE_MAP_VIEW, 1, GL_FALSE,
+                                              &m[0][0]);
+                for (const std::size_t object : mObjects)
+                    ctx.sceneGeometry.drawObject(object, programs);
+            }
+        }
+        mMapsDrawn = true;
+        {
+            ScopedPass pass(&ctx.timers, "sample-maps-lookup");
+            glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
+            glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
+            glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_VIEWS, mViews.id());
+            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
+        }
+        ctx.addCounter("sample_maps", f.empty ? 0.0 : static_cast<double>(f.views.size()));
+        ctx.addCounter("sample_maps_resolution", mOptions.resolution);
+        ctx.addCounter("sample_maps_cached", cached ? 1.0 : 0.0);
+        // Casters reaching behind a light sample or past the maps' 71.6-degree cap: they are
+        // missing from some maps (points they hide from those samples are drawn lit).
+        ctx.addCounter("sample_maps_clipped", f.clipped ? 1.0 : 0.0);
+        ctx.addCounter("sample_maps_casters", static_cast<double>(mObjects.size()));
+    }
+
+private:
+    // Refits the frame (and marks the maps stale) when the light or the casters change.
+    void update(const FrameContext& ctx) {
+        std::vector<std::uint32_t> subset(ctx.casterSubset.begin(), ctx.casterSubset.end());
+        const std::uint32_t seed = ctx.settings.seed;
+        if (mFitted && ctx.light == mLight && subset == mSubset && seed == mSeed) return;
+        const auto t0 = Clock::now();
+        mObjects.clear();
+        geometry::Aabb bounds;
+        for (const std::uint32_t c : subset) {
+            const std::size_t object = ctx.casters.sceneObject(c);
+            mObjects.push_back(object);
+            for (const glm::vec3& p : ctx.scene.objects[object].mesh.positions) bounds.extend(p);
+        }
+        const std::vector<glm::vec2> samples = geometry::stratifiedSquare(mOptions.samples, seed);
+        mFrame = geometry::fitSampleMapFrame(ctx.light, samples, bounds);
+        std::vector<glm::vec4> views;
+        for (const geometry::SampleMapView& v : mFrame.views) {
+            const glm::vec3 d = v.origin - ctx.light.center;
+            views.emplace_back(v.st, glm::dot(d, mFrame.eu), glm::dot(d, mFrame.ev));
+            views.emplace_back(v.lo, 1.0f / (v.hi - v.lo));
+        }
+        if (views.empty()) views.emplace_back(0.0f); // a buffer is bound either way
+        mViews = Buffer({.size = views.size() * sizeof(glm::vec4), .label = "sample-map-views"});
+        mViews.upload(std::span<const glm::vec4>(views));
+        mMapsDrawn = false;
+        mLight = ctx.light;
+        mSubset = std::move(subset);
+        mSeed = seed;
+        mFitted = true;
+        ctx.addCpuTime("sample-maps-fit", msSince(t0));
+    }
+
+    SampleMapsOptions mOptions;
+    Program mOpaque, mAlphaTested;
+    FullscreenPass mLookup;
+    Buffer mUniforms, mViews;
+    Texture mMaps;
+    std::vector<Framebuffer> mFbos;
+    geometry::SampleMapFrame mFrame;
+    bool mFitted = false, mMapsDrawn = false;
+    geometry::RectLight mLight;
+    std::vector<std::uint32_t> mSubset;
+    std::vector<std::size_t> mObjects;
+    std::uint32_t mSeed = 0;
+};
+
+} // namespace
+
+std::unique_ptr<VisibilityMethod> createSampleMapsMethod(const MethodResources& r) {
+    return std::make_unique<SampleMapsMethod>(r);
+}
+
+} // namespace gpu
