@@ -68,7 +68,7 @@ renderer=$(/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1]));
     echo "|V − V_truth| over the pixels with a surface (pixels off by > 0.05) / frame over \`hard\`'s"
     echo "(median of 4 frames). Truth: \`raytrace\` N = $N of the same view (alpha-aware). On the"
     echo "textured levels a method that occludes with whole triangles shadows the opaque part and"
-    echo "auto's alpha path (pcss) the alpha-tested one. GL_RENDERER $renderer ($(nproc) cores)."
+    echo "auto's alpha path the alpha-tested one (pcss: on these levels it surrounds the lamp, so sample maps cannot hold it). GL_RENDERER $renderer ($(nproc) cores)."
     echo
     echo "| view |$(printf ' %s |' "${methods[@]}")"
     echo "|---|$(printf -- '---|%.0s' "${methods[@]}")"

@@ -27,7 +27,9 @@
 // HORIZON (not in the paper): V is also multiplied by the share of the light in front of P's
 // plane; a shadow map cannot see that a surface hides part of the light from itself, so curved
 // surfaces near their terminator would be lit, or self-shadowed in facet-wide stripes.
-// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted.
+// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted. A receiver
+// whose segment to the light's centre misses the casters' bounds grown by the light's half
+// extents (PcssUniforms::reachMin/Max) has no blocker and skips the search.
 //
 // OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
 // not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are
@@ -152,6 +154,22 @@ vec4 inFront(Texels x) {
     return vec4(greaterThan(x.d, plane * (1.0 + DEPTH_BIAS)));
 }
 
+// Whether the segment a -> b meets the box [lo, hi] (slabs).
+bool segmentMeetsBox(vec3 a, vec3 b, vec3 lo, vec3 hi) {
+    vec3 d = b - a;
+    float t0 = 0.0, t1 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        if (abs(d[k]) < 1e-20) {
+            if (a[k] < lo[k] || a[k] > hi[k]) return false;
+            continue;
+        }
+        float ta = (lo[k] - a[k]) / d[k], tb = (hi[k] - a[k]) / d[k];
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb));
+    }
+    return t0 <= t1;
+}
+
 // The face whose map holds P (geometry::PcssFrame::faceOf), -1 within zNear of the centre.
 int faceOf(vec3 toP) {
     float x = dot(toP, pcss.basisU.xyz), y = dot(toP, pcss.basisV.xyz);
@@ -184,6 +202,9 @@ float shadowMapVisibility(vec3 position, vec3 N) {
         atomicAdd(stats.outside, 1u);
         return 1.0;
     }
+    if (pcss.reachMin.w != 0.0 && !segmentMeetsBox(position, frame.lightCenter.xyz,
+                                                    pcss.reachMin.xyz, pcss.reachMax.xyz))
+        return 1.0; // no segment to the light meets a caster
     float zNear = pcss.normal.w;
     float casterNear = pcss.faceB2[r.face].w;
     // Blockers are searched no nearer than the light reaches along the face's axis (on the

@@ -138,6 +138,11 @@ PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
     vec4 normal;        // xyz: the light's unit normal n, w: zNear
     vec4 params;        // x: blocker-search samples, y: filter samples, z: resolution R, w: 1 / R
     vec4 pattern[PCSS_MAX_SAMPLES]; // xy: filter pattern point i, zw: search point i, in [-1, 1]^2
+    // The casters' bounds grown by the light's half extent along each world axis (w of
+    // reachMin: 1 if set): a receiver whose segment to the light's centre misses them has no
+    // segment to any light point that meets a caster (PcssShadow::execute).
+    vec4 reachMin;
+    vec4 reachMax;
 PENUMBRA_UBO_END(PcssUniforms, pcss)
 
 // The sample-maps method's frame (geometry/shadow/SampleMapFrame.h); its views are in
@@ -192,7 +197,8 @@ static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
-static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES) * 16,
+static_assert(sizeof(SampleMapUniforms) == 5 * 16, "SampleMapUniforms must match std140");
+static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader
 #endif
