@@ -8,10 +8,20 @@
 // hidden behind counts that differ: 1 (the ratio would only sample the layers' mix). Exact
 // wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
 // (estimate=samples): occluded = S_u.
+// The receiver's own plane: a light sample behind the plane of P's surface (the G-buffer's
+// facet normal, facing the viewer) is hidden, as `raytrace` and `reference` count it. For a
+// closed mesh the segment to it crosses the mesh itself and D already says so; for open and
+// thin geometry — a level's walls, a quad — nothing else does, and the light behind a wall's
+// plane would reach its front. The plane is one more layer: each such sample's D gains 1, and
+// A gains the exact share of the light behind the plane (1 - horizonFraction), so the ratio
+// estimator stays exact where the plane alone hides (A_h / 1) and where a closed mesh's far
+// side does too (D = 1 + 1 over 2 A_h). Pixels where it hides some of the light are counted
+// (MASK_STAT_OWN_PLANE).
 // The two checksum layers after the counts (wedge-bitmask.frag) tell a count that did not fit
 // its 4 bits: such a pixel is counted (MASK_STAT_OVERFLOW) and takes A alone, clamped. A pixel
 // no wedge reached (the stencil's mark bit clear) skips the counts.
 #include "lib/Bindings.h"
+#include "lib/Horizon.glsl"
 
 #ifndef BITMASK_SAMPLES
 #define BITMASK_SAMPLES 64
@@ -20,6 +30,11 @@
 layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform readonly uimage2DArray iCounts;
 layout(binding = TEXUNIT_STENCIL) uniform usampler2D tStencil;
 layout(binding = TEXUNIT_PARTS0) uniform sampler2D tArea;
+layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
+layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
+layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
+    vec4 lightSamples[]; // (s, t, angle about the centre, 0), in count order
+};
 layout(std430, binding = BINDING_MASK_STATS) buffer MaskStats {
     uint maskStats[];
 };
@@ -32,8 +47,36 @@ layout(location = 1) out uvec4 oMask0;
 layout(location = 2) out uvec4 oMask1;
 #endif
 
+// 1 for each sample behind P's own plane, as bits of `words` (and their number), if P has a
+// surface and its plane crosses the light; `behindArea` the exact share behind.
+int ownPlane(ivec2 px, out uint words[8], out float behindArea) {
+    for (int w = 0; w < 8; ++w) words[w] = 0u;
+    behindArea = 0.0;
+    vec4 position = texelFetch(tPosition, px, 0);
+    if (position.w == 0.0) return 0;
+    vec3 N = texelFetch(tNormal, px, 0).xyz;
+    float front = horizonFraction(position.xyz, N);
+    if (front >= 1.0) return 0;
+    behindArea = 1.0 - front;
+    float nc = dot(N, frame.lightCenter.xyz - position.xyz);
+    float nu = dot(N, frame.lightU.xyz), nv = dot(N, frame.lightV.xyz);
+    int behind = 0;
+    for (int i = 0; i < BITMASK_SAMPLES; ++i) {
+        vec2 st = lightSamples[i].xy;
+        if (nc + st.x * nu + st.y * nv <= 0.0) {
+            words[i >> 5] |= 1u << uint(i & 31);
+            ++behind;
+        }
+    }
+    atomicAdd(maskStats[MASK_STAT_OWN_PLANE], 1u);
+    return behind;
+}
+
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
+    uint planeWords[8];
+    float planeArea;
+    int planeHidden = ownPlane(px, planeWords, planeArea);
     // The stencil's count bits (0-6, wrapping: a signed count in [-64, 63]; VolumeStates.h).
     uint stencil = texelFetch(tStencil, px, 0).r;
     int centre = int(stencil & 0x7Fu);
@@ -43,11 +86,16 @@ void main() {
         // No wedge fragment reached the pixel (the wedge pass marks the stencil's top bit): every
         // sample's D is D(P, c), no count was added and A is D(P, c). What the loop below
         // gives then, without reading the counts: all samples hidden or none, V 0 or 1.
+        float occluded;
         if (centre != 0) {
             for (int w = 0; w < BITMASK_SAMPLES / 32; ++w) words[w] = 0xFFFFFFFFu;
             if (centre < 0) atomicAdd(maskStats[MASK_STAT_NEGATIVE], 1u);
+            occluded = uEstimate == 1u ? 1.0 : float(sign(centre));
+        } else {
+            // Only the own plane hides: D = 1 over its samples, so the ratio is its area.
+            for (int w = 0; w < BITMASK_SAMPLES / 32; ++w) words[w] = planeWords[w];
+            occluded = uEstimate == 1u ? float(planeHidden) / float(BITMASK_SAMPLES) : planeArea;
         }
-        float occluded = uEstimate == 1u ? (centre != 0 ? 1.0 : 0.0) : float(sign(centre));
         oVisibility = 1.0 - clamp(occluded, 0.0, 1.0);
         oMask0 = uvec4(words[0], words[1], words[2], words[3]);
 #if BITMASK_SAMPLES > 128
@@ -67,20 +115,22 @@ void main() {
             added += uint(d);
             weighted += uint((j + 1) * d);
             int D = centre + d;
-            if (D != 0) {
-                int i = 8 * layer + j;
+            int i = 8 * layer + j;
+            int plane = int((planeWords[i >> 5] >> uint(i & 31)) & 1u);
+            if (D != 0 || plane != 0) {
                 words[i >> 5] |= 1u << uint(i & 31);
                 ++hidden;
-                sumD += abs(D);
-                leastD = min(leastD, abs(D));
-                mostD = max(mostD, abs(D));
+                int layers = abs(D) + plane;
+                sumD += layers;
+                leastD = min(leastD, layers);
+                mostD = max(mostD, layers);
                 negative = negative || D < 0;
             }
         }
     }
     bool overflow = added != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8)).r ||
                     weighted != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1)).r;
-    float area = float(centre) + texelFetch(tArea, px, 0).r;
+    float area = float(centre) + texelFetch(tArea, px, 0).r + planeArea;
     float occluded;
     if (overflow) {
         occluded = area;

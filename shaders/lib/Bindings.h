@@ -32,6 +32,7 @@
 #define BINDING_MASK_STATS 12
 #define MASK_STAT_OVERFLOW 0 // pixels whose 4-bit counts did not hold the final count
 #define MASK_STAT_NEGATIVE 1 // pixels with a sample whose count came out negative
+#define MASK_STAT_OWN_PLANE 2 // pixels whose own plane hides part of the light (the resolve)
 #define MASK_STAT_COUNT 4
 // sample-maps: per light sample, its view (SampleMapView: vec4 s, t and its lateral offset from
 // the light's centre in (eu, ev); vec4 lo, 1 / (hi - lo)).

@@ -64,7 +64,7 @@ TEST_F(AutoMethod, AllWedgeObjectsRenderAsTheWedgeMethod) {
 }
 
 TEST_F(AutoMethod, ObjectsWithMethodNoneAreNotChosenFor) {
-    // Only the floor casts: auto chooses for it alone, and the frame is still the wedge
+    // Only the floor casts: auto chooses for it alone, and the frame is still its wedge
     // method's (V = 0 remains only where the floor shadows or a surface faces away from the
     // light).
     auto scene = geometry::loadScene(testutil::dataPath("demo.json"));
@@ -73,7 +73,7 @@ TEST_F(AutoMethod, ObjectsWithMethodNoneAreNotChosenFor) {
     const Rendered r = testutil::render(scene, "auto", 64, 64, 1);
     ASSERT_EQ(r.stats.objectChoices.size(), 1u);
     EXPECT_EQ(scene.objects[r.stats.objectChoices[0].object].name, "floor");
-    EXPECT_EQ(maxDifference(r, testutil::render(scene, "wedges-blend", 64, 64, 1)), 0.0);
+    EXPECT_EQ(maxDifference(r, testutil::render(scene, "wedges-bitmask", 64, 64, 1)), 0.0);
 }
 
 geometry::Scene treeScene() {

@@ -283,6 +283,8 @@ private:
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
             bindStencilView(t);
             glBindTextureUnit(TEXUNIT_PARTS0, mArea.id());
+            glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
+            glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MASK_STATS, mMaskStats.id());
             const GLuint estimate = GLuint(mLayout.estimate);
             mPotentialResolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
@@ -303,6 +305,7 @@ private:
         ctx.addCounter("potential_nonmanifold_edges", static_cast<double>(e.nonManifold));
         ctx.addCounter("count_overflow_pixels", stats[MASK_STAT_OVERFLOW]);
         ctx.addCounter("count_negative_pixels", stats[MASK_STAT_NEGATIVE]);
+        ctx.addCounter("own_plane_pixels", stats[MASK_STAT_OWN_PLANE]);
         ctx.addCounter("light_samples", mLayout.samples);
     }
 

@@ -1,6 +1,7 @@
 #include "methods/ReferenceSampler.h"
 
 #include "methods/MethodUtil.h"
+#include "engine/ShaderBindings.h"
 
 namespace gpu {
 
@@ -15,7 +16,9 @@ void ReferenceSampler::add(const FrameContext& ctx, const glm::vec3& lightPoint,
         mVolumes.drawVertices(ctx.targets, mVolume, frontCaps);
     }
     ScopedPass pass(&ctx.timers, "accumulate");
-    mAccumulate.execute(target, ctx.targets.width, ctx.targets.height);
+    glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
+    glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
+    mAccumulate.executeFromPoint(target, ctx.targets.width, ctx.targets.height, lightPoint);
 }
 
 std::size_t ReferenceSampler::buildVolume(const FrameContext& ctx, const glm::vec3& light) {

@@ -5,6 +5,8 @@
 #include <gpu/gl/ShaderLoader.h>
 #include <gpu/gl/State.h>
 
+#include <glm/glm.hpp>
+
 #include <functional>
 
 namespace gpu {
@@ -40,14 +42,23 @@ public:
         .blendDst = GL_ONE,
     };
     explicit AccumulatePass(const ShaderLoader& shaders)
-        : mPass(shaders, "accumulate.frag", "accumulate", kState) {}
+        : mPass(shaders, "accumulate.frag", "accumulate", kState),
+          mOwnPlane(shaders, "accumulate.frag", "accumulate-own-plane", kState, {"OWN_PLANE"}) {}
     void execute(const Framebuffer& target, int width, int height,
                  const ScissorRect* scissor = nullptr) const {
         mPass.execute(target, width, height, scissor);
     }
+    // Also not where `lightPoint` lies behind the receiver's own plane (the G-buffer's position
+    // and facet normal, which the caller binds): the reference's rule, as raytrace's.
+    void executeFromPoint(const Framebuffer& target, int width, int height,
+                          const glm::vec3& lightPoint) const {
+        mOwnPlane.execute(target, width, height, kState, [&] {
+            glUniform3f(0, lightPoint.x, lightPoint.y, lightPoint.z);
+        });
+    }
 
 private:
-    FullscreenPass mPass;
+    FullscreenPass mPass, mOwnPlane;
 };
 
 } // namespace gpu
