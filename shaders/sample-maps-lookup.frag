@@ -11,8 +11,10 @@
 //   the 2 x 2 texels around P's ray weighted bilinearly (the comparison sampler), so that V
 //   changes continuously as P moves. Outside the map's extent or nearer to the light than every
 //   caster, lit.
-// A receiver outside the frame's reach (SampleMapFrame::reachLo/Hi, from the light's centre)
-// is lit from every sample in front of its plane: only that test is made.
+// A receiver outside the frame's reach (geometry::inReach, the same test: from the light's
+// centre, the casters' extent widened by the light's half extent times the spread of 1 / z
+// between the receiver and the casters) is lit from every sample in front of its plane: only
+// that test is made.
 #include "lib/Bindings.h"
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
@@ -56,8 +58,19 @@ void main() {
     vec2 lateral = -vec2(dot(cp, eu), dot(cp, ev));
     vec3 Nm = vec3(dot(N, eu), dot(N, ev), dot(N, n));
     vec2 mc = lateral / zP;
-    bool inReach = zP > 0.0 && all(greaterThanEqual(mc, sampleMaps.reach.xy)) &&
-                   all(lessThanEqual(mc, sampleMaps.reach.zw));
+    float spread = max(abs(1.0 / zP - 1.0 / zNear), abs(1.0 / zP - sampleMaps.reachSpread.z));
+    vec2 slack = 0.01 * (sampleMaps.reach.zw - sampleMaps.reach.xy) +
+                 sampleMaps.reachSpread.xy * spread;
+    bool inReach = sampleMaps.reachSpread.w != 0.0 ||
+                   (zP > zNear && all(greaterThanEqual(mc, sampleMaps.reach.xy - slack)) &&
+                    all(lessThanEqual(mc, sampleMaps.reach.zw + slack)));
+    // Every sample in front of P's plane, or every one behind (the light's corners decide):
+    // outside the reach V is then 1 or 0 without the loop.
+    float leastFacing = nc - abs(nu) - abs(nv), mostFacing = nc + abs(nu) + abs(nv);
+    if (!inReach && (leastFacing > 0.0 || mostFacing <= 0.0)) {
+        oVisibility = leastFacing > 0.0 ? 1.0 : 0.0;
+        return;
+    }
     float lit = 0.0;
     for (int i = 0; i < samples; ++i) {
         vec4 a = views[2 * i]; // s, t, y's lateral offset from c

@@ -154,7 +154,8 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
     vec4 n;      // xyz: their depth axis (the light's normal towards the casters)
     vec4 params; // x: samples N (0: no casters, V = 1), y: resolution R, z: bias (the offset's grazing part) in
                  // texels, w: zNear (every view's)
-    vec4 reach;  // SampleMapFrame::reachLo (xy), reachHi (zw): receivers outside are lit
+    vec4 reach;  // SampleMapFrame::centreLo (xy), centreHi (zw) (geometry::inReach)
+    vec4 reachSpread; // xy: SampleMapFrame::half, z: 1 / zFar, w: 1 if reachAll
 PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
@@ -198,7 +199,7 @@ static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
-static_assert(sizeof(SampleMapUniforms) == 5 * 16, "SampleMapUniforms must match std140");
+static_assert(sizeof(SampleMapUniforms) == 6 * 16, "SampleMapUniforms must match std140");
 static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader

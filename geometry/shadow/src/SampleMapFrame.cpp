@@ -115,9 +115,27 @@ SampleMapFrame fitSampleMapFrame(const RectLight& light, std::span<const glm::ve
         v.zNear = f.zNear; // seen.zNear up to rounding (depth along n is the same from y)
         f.views.push_back(v);
     }
-    f.reachLo = centre.lo - 2.0f * half / f.zNear;
-    f.reachHi = centre.hi + 2.0f * half / f.zNear;
+    f.centreLo = centre.lo;
+    f.centreHi = centre.hi;
+    f.half = half;
+    f.zFar = centre.zFar;
+    f.reachAll = f.clipped;
     return f;
+}
+
+bool inReach(const SampleMapFrame& f, const glm::vec3& lightCenter, const glm::vec3& p) {
+    if (f.empty) return false;
+    if (f.reachAll) return true;
+    const glm::vec3 d = p - lightCenter;
+    const float z = glm::dot(d, f.n);
+    if (z <= f.zNear) return false; // nearer than every caster (0.999 of the box's near depth)
+    const glm::vec2 m = glm::vec2(glm::dot(d, f.eu), glm::dot(d, f.ev)) / z;
+    const float spread = std::max(std::abs(1.0f / z - 1.0f / f.zNear),
+                                  std::abs(1.0f / z - 1.0f / f.zFar));
+    // The maps' margins (a thousandth of their extent, seenFrom) and rounding: 1 %.
+    const glm::vec2 slack = 0.01f * (f.centreHi - f.centreLo) + f.half * spread;
+    return glm::all(glm::greaterThanEqual(m, f.centreLo - slack)) &&
+           glm::all(glm::lessThanEqual(m, f.centreHi + slack));
 }
 
 bool sampleMapsHold(const RectLight& light, const Aabb& casters) {

@@ -77,7 +77,9 @@ public:
         u.n = glm::vec4(f.n, 0.0f);
         u.params = glm::vec4(f.empty ? 0.0f : static_cast<float>(mOptions.samples),
                              static_cast<float>(mOptions.resolution), mOptions.normalOffset, f.zNear);
-        u.reach = glm::vec4(f.reachLo, f.reachHi);
+        u.reach = glm::vec4(f.centreLo, f.centreHi);
+        u.reachSpread = glm::vec4(f.half, f.zFar > 0.0f ? 1.0f / f.zFar : 0.0f,
+                                  f.reachAll ? 1.0f : 0.0f);
         mUniforms.upload(&u, sizeof(u));
         glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_SAMPLE_MAPS_UBO, mUniforms.id());
 

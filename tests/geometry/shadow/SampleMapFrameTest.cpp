@@ -72,11 +72,7 @@ TEST(SampleMapFrame, ReachHoldsEveryReceiverAMapCouldShadow) {
         ASSERT_FALSE(f.clipped) << trial;
         for (int k = 0; k < 2000; ++k) {
             const glm::vec3 p(10.0f * u(rng), 4.0f * u(rng) - 1.0f, 10.0f * u(rng));
-            const glm::vec3 fc = p - l.center;
-            const float zc = glm::dot(fc, f.n);
-            const glm::vec2 mc = glm::vec2(glm::dot(fc, f.eu), glm::dot(fc, f.ev)) / zc;
-            const bool inReach = zc > 0.0f && mc.x >= f.reachLo.x && mc.y >= f.reachLo.y &&
-                                 mc.x <= f.reachHi.x && mc.y <= f.reachHi.y;
+            const bool inReach = geometry::inReach(f, l.center, p);
             for (const geometry::SampleMapView& v : f.views) {
                 const glm::vec3 d = p - v.origin;
                 const float z = glm::dot(d, f.n);

@@ -43,13 +43,18 @@ struct SampleMapView {
 struct SampleMapFrame {
     glm::vec3 eu{1, 0, 0}, ev{0, 0, 1}, n{0, -1, 0}; // orthonormal, n towards the casters
     std::vector<SampleMapView> views;
-    // Where a receiver can be hidden from some sample at all, in m from the light's centre:
-    // m_c(P) = (x, y) / z of P - c. From sample y = c + d (d in the light's plane, so depths
-    // along n are the same from every sample), m_y(P) = m_c(P) - d / z_P and a box corner's
-    // m_y(q) = m_c(q) - d / z_q with z_P, z_q >= zNear: P can lie in map y's extent only if
-    // m_c(P) lies within the centre's extent widened by 2 |d| / zNear per axis. The lookup
-    // skips the samples of every other receiver.
-    glm::vec2 reachLo{0.0f}, reachHi{0.0f};
+    // Where a receiver can be hidden from some sample at all (inReach): in m from the light's
+    // centre, m_c(P) = (x, y) / z of P - c. From sample y = c + d (d in the light's plane, so
+    // depths along n are the same from every sample), m_y(P) = m_c(P) - d / z_P and a box
+    // corner's m_y(q) = m_c(q) - d / z_q with z_q in [zNear, zFar]: P can lie in map y's extent
+    // only if m_c(P) lies within the centre's extent [centreLo, centreHi] widened by
+    // |d| max(|1/z_P - 1/zNear|, |1/z_P - 1/zFar|) per axis (|d| <= half), plus the maps' own
+    // margins. The lookup skips the maps for every other receiver. A clipped frame has no such
+    // bound (reachAll).
+    glm::vec2 centreLo{0.0f}, centreHi{0.0f};
+    glm::vec2 half{0.0f}; // the light's half extent along eu and ev
+    float zFar = 0.0f;
+    bool reachAll = true;
     bool empty = true;   // no casters: nothing to draw, V = 1
     float zNear = 0.0f;  // every view's
     bool clipped = false; // the box reached behind a sample or past the cap (see above)
@@ -63,6 +68,10 @@ struct SampleMapFrame {
 // an empty frame).
 SampleMapFrame fitSampleMapFrame(const RectLight& light, std::span<const glm::vec2> samples,
                                  const Aabb& casters);
+
+// Whether a receiver at p can be hidden from any of the frame's samples (see centreLo above);
+// the lookup's test, in shaders/sample-maps-lookup.frag, is the same.
+bool inReach(const SampleMapFrame& f, const glm::vec3& lightCenter, const glm::vec3& p);
 
 // True when every light point sees the whole box in front of it within the cap (the fit is then
 // exact for any samples): the rule by which `auto` gives an alpha-tested object to sample maps.
