@@ -1,7 +1,9 @@
 // sample-maps, lookup: V at each G-buffer point P = the share of the N light samples from which
 // P is seen (geometry/shadow/SampleMapFrame.h). For sample y_i:
 // - hidden by P's own surface where y_i lies behind P's plane (the G-buffer's facet normal,
-//   facing the viewer), as `raytrace` counts it;
+//   facing the viewer), as `raytrace` counts it (OWN_PLANE, plane=on; without it, in auto's
+//   composition whose wedge path counts the plane, such a sample is tested against the maps
+//   like any other);
 // - else P is moved OFFSET_FLOOR + bias sin(a) map texels (their world size at P's depth
 //   from y_i; a the angle between the normal and the direction to y_i) along that normal,
 //   towards y_i: a plane tilted by a from the ray changes depth by tan(a) texels per texel,
@@ -67,15 +69,24 @@ void main() {
     // Every sample in front of P's plane, or every one behind (the light's corners decide):
     // outside the reach V is then 1 or 0 without the loop.
     float leastFacing = nc - abs(nu) - abs(nv), mostFacing = nc + abs(nu) + abs(nv);
+#ifdef OWN_PLANE
     if (!inReach && (leastFacing > 0.0 || mostFacing <= 0.0)) {
         oVisibility = leastFacing > 0.0 ? 1.0 : 0.0;
         return;
     }
+#else
+    if (!inReach) {
+        oVisibility = 1.0;
+        return;
+    }
+#endif
     float lit = 0.0;
     for (int i = 0; i < samples; ++i) {
         vec4 a = views[2 * i]; // s, t, y's lateral offset from c
         float facing = nc + a.x * nu + a.y * nv;
+#ifdef OWN_PLANE
         if (facing <= 0.0) continue; // behind P's own plane
+#endif
         if (!inReach) {
             lit += 1.0;
             continue;
@@ -83,11 +94,14 @@ void main() {
         vec4 b = views[2 * i + 1];
         float d2 = cc + 2.0 * (a.x * cu + a.y * cv) + a.x * a.x * uu + a.y * a.y * vv +
                    2.0 * a.x * a.y * uvDot; // |y - P|^2
-        float cosA = facing * inversesqrt(d2);
+        float cosA = abs(facing) * inversesqrt(d2);
         float sinA = sqrt(max(1.0 - cosA * cosA, 0.0));
         // The world size of a texel at P's depth, along the map's coarser axis.
         float texelWorld = zP / (R * min(b.z, b.w));
-        float offset = (OFFSET_FLOOR + offsetTexels * sinA) * max(texelWorld, 0.0);
+        // Along the normal towards the sample (behind the plane, without OWN_PLANE: away from
+        // the viewer's side).
+        float offset = (facing > 0.0 ? 1.0 : -1.0) * (OFFSET_FLOOR + offsetTexels * sinA) *
+                       max(texelWorld, 0.0);
         float z = zP + offset * Nm.z;
         if (z <= zNear) {
             lit += 1.0; // nearer to the light than every caster

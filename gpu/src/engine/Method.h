@@ -71,6 +71,11 @@ public:
     }
     // The last frame's light-sample masks, for a method that keeps them (Renderer::lightMasks).
     virtual LightMasks lightMasks() const { return {}; }
+    // Whether V already counts the light behind every receiver's own plane as hidden, for any
+    // geometry (wedges-bitmask with potential silhouettes, reference). A composition (auto)
+    // then runs its other paths without their plane or horizon term, so that the receiver's
+    // own plane is counted once.
+    virtual bool countsOwnPlane() const { return false; }
 };
 
 using Clock = std::chrono::steady_clock;

@@ -64,6 +64,7 @@ struct SampleMapsOptions {
     int samples = 0;          // light samples N, one map each
     int resolution = 0;       // side of each map in texels
     float normalOffset = 0.0f; // the receiver offset's grazing part: x sin(angle) map texels
+    bool ownPlane = true;      // a sample behind the receiver's own plane is hidden
 };
 SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given);
 

@@ -103,6 +103,7 @@ constexpr MethodParameter kPcssParameters[] = {
 constexpr std::string_view kSampleMapsSamples[] = {"16", "32", "64", "128", "256"};
 constexpr std::string_view kSampleMapsResolution[] = {"256", "512", "1024"};
 constexpr std::string_view kSampleMapsBias[] = {"0.0", "0.5", "1.0", "2.0"};
+constexpr std::string_view kSampleMapsPlane[] = {"on", "off"};
 constexpr MethodParameter kSampleMapsParameters[] = {
     {"samples", kSampleMapsSamples, "64",
      "light samples, one shadow map each (the reference's stratified pattern for the same count "
@@ -113,6 +114,9 @@ constexpr MethodParameter kSampleMapsParameters[] = {
      "the receiver moved 0.25 + bias x sin(angle between its normal and the sample) map texels "
      "(their world size at the receiver) along its normal, towards the sample: more hides acne "
      "on surfaces the light grazes, less keeps contact shadows"},
+    {"plane", kSampleMapsPlane, "on",
+     "on: a sample behind the receiver's own plane is hidden (as raytrace counts it); off: only "
+     "the casters hide (auto's composition, whose wedge path counts the plane)"},
 };
 
 // auto: which wedge method serves the objects it gives to wedges.
@@ -306,7 +310,8 @@ SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given) {
     const std::vector<ParameterValue> r = resolveParameters(findMethod("sample-maps"), given);
     return {.samples = intValue(r, "samples"),
             .resolution = intValue(r, "resolution"),
-            .normalOffset = std::stof(std::string(parameterValue(r, "bias")))};
+            .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
+            .ownPlane = parameterValue(r, "plane") == "on"};
 }
 
 AutoOptions autoOptions(std::span<const ParameterValue> given) {

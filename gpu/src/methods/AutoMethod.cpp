@@ -29,10 +29,26 @@ namespace gpu {
 
 namespace {
 
-std::unique_ptr<VisibilityMethod> createByName(const MethodResources& r, std::string_view name) {
+std::unique_ptr<VisibilityMethod> createByName(const MethodResources& r, std::string_view name,
+                                              const std::vector<ParameterValue>& given = {}) {
     const MethodInfo& info = findMethod(name);
-    const std::vector<ParameterValue> defaults = resolveParameters(info, {});
-    return info.create(MethodResources{r.shaders, r.scene, defaults});
+    const std::vector<ParameterValue> parameters = resolveParameters(info, given);
+    return info.create(MethodResources{r.shaders, r.scene, parameters});
+}
+
+// The parameters that turn off a path's own-plane (horizon) term, for a composition whose wedge
+// path counts the plane already.
+std::vector<ParameterValue> withoutOwnPlane(geometry::ShadowPath path) {
+    switch (path) {
+    case geometry::ShadowPath::Pcss:
+    case geometry::ShadowPath::Occlusion:
+        return {{"horizon", "off"}};
+    case geometry::ShadowPath::SampleMaps:
+        return {{"plane", "off"}};
+    case geometry::ShadowPath::Wedges:
+        break;
+    }
+    return {};
 }
 
 // "grate (MASK 0.50), flame (BLEND as MASK 0.50)": the alpha-tested materials the mesh uses.
@@ -79,8 +95,9 @@ public:
         mWidth = width;
         mHeight = height;
         mWedges->resize(width, height);
-        for (auto& m : mPathMethods)
-            if (m) m->resize(width, height);
+        for (auto& variant : mPathMethods)
+            for (auto& m : variant)
+                if (m) m->resize(width, height);
         mSaved = Texture({.width = width, .height = height, .format = GL_R32F,
                           .label = "auto-wedge-visibility"});
     }
@@ -89,8 +106,9 @@ public:
         // mSaved (R32F) and the methods'; shadow maps and occlusion textures do not scale with
         // the image.
         std::size_t bytes = 4 + mWedges->targetBytesPerPixel();
-        for (const auto& m : mPathMethods)
-            if (m) bytes += m->targetBytesPerPixel();
+        for (const auto& variant : mPathMethods)
+            for (const auto& m : variant)
+                if (m) bytes += m->targetBytesPerPixel();
         return bytes;
     }
 
@@ -125,11 +143,16 @@ public:
         // V = the product of the paths' V: the first path writes V, each later one is run on
         // a cleared target and multiplied with what came before.
         const Targets& t = ctx.targets;
+        // The receiver's own plane is counted once: by the wedge path where it counts it for
+        // every receiver (wedges-bitmask's potential silhouettes; reference), else by each path.
+        const bool planeCounted = !casters[0].empty() && mWedges->countsOwnPlane();
+        ctx.addCounter("own_plane_by_wedge_path", planeCounted ? 1.0 : 0.0);
         bool first = true;
         for (int p = 0; p < kPaths; ++p) {
             if (casters[p].empty() && !(p == 0 && ctx.casterSubset.empty())) continue;
             VisibilityMethod& method =
-                p == 0 ? *mWedges : pathMethod(ctx, static_cast<geometry::ShadowPath>(p));
+                p == 0 ? *mWedges
+                       : pathMethod(ctx, static_cast<geometry::ShadowPath>(p), !planeCounted);
             if (!first) {
                 ScopedPass pass(&ctx.timers, "compose");
                 glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(),
@@ -217,9 +240,12 @@ private:
                                    : geometry::ShadowPath::SampleMaps;
     }
 
-    // The method of a path other than wedges, built on first use with its defaults.
-    VisibilityMethod& pathMethod(const FrameContext& ctx, geometry::ShadowPath path) {
-        std::unique_ptr<VisibilityMethod>& m = mPathMethods[static_cast<int>(path)];
+    // The method of a path other than wedges, built on first use with its defaults (ownPlane)
+    // or with its own-plane term off.
+    VisibilityMethod& pathMethod(const FrameContext& ctx, geometry::ShadowPath path,
+                                 bool ownPlane) {
+        std::unique_ptr<VisibilityMethod>& m =
+            mPathMethods[ownPlane ? 1 : 0][static_cast<int>(path)];
         if (!m) {
             const std::string name = geometry::toString(path);
             const MethodInfo& info = findMethod(name);
@@ -233,7 +259,8 @@ private:
                             "), which is not implemented yet; give it \"method\": \"wedges\" "
                             "or \"none\" in the scene JSON");
             }
-            m = createByName(mResources, name);
+            m = createByName(mResources, name,
+                             ownPlane ? std::vector<ParameterValue>{} : withoutOwnPlane(path));
             m->resize(mWidth, mHeight);
         }
         return *m;
@@ -244,7 +271,8 @@ private:
     geometry::ShadowPath mAlphaPath; // what alpha-tested objects take (auto's alpha parameter;
                                      // SampleMaps: Pcss for objects it cannot hold)
     std::unique_ptr<VisibilityMethod> mWedges;
-    std::unique_ptr<VisibilityMethod> mPathMethods[kPaths]; // [Occlusion], [Pcss], [SampleMaps]; [0] unused
+    // [without, with the own-plane term][Occlusion, Pcss, SampleMaps]; [.][0] unused.
+    std::unique_ptr<VisibilityMethod> mPathMethods[2][kPaths];
     FullscreenPass mMultiply;
     Texture mSaved;
     int mWidth = 0, mHeight = 0;

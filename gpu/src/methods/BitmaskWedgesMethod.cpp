@@ -81,6 +81,8 @@ public:
     explicit BitmaskWedgesMethod(const MethodResources& r)
         : BitmaskWedgesMethod(r, maskLayout(r.parameters)) {}
 
+    bool countsOwnPlane() const override { return mLayout.potential; }
+
     BitmaskWedgesMethod(const MethodResources& r, const MaskLayout& layout)
         : SilhouetteBatchMethod(r.shaders, wedgePass(r.shaders, layout)), mLayout(layout),
           mCombine(r.shaders, "bitmask-combine.frag", "bitmask-combine", kCombineState,

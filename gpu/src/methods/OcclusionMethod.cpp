@@ -57,7 +57,10 @@ public:
           mLookup(r.shaders, "occlusion-lookup.frag", "occlusion-lookup", PipelineState{},
                   lookupDefines()) {
         if (o.outsidePcss)
-            mOutside.emplace(r, pcssOptions({}), PcssShadow::Pixels::OutsideOcclusion);
+            mOutside.emplace(r,
+                             pcssOptions(std::vector<ParameterValue>{
+                                 {"horizon", o.horizon ? "on" : "off"}}),
+                             PcssShadow::Pixels::OutsideOcclusion);
         const int R = mResolution;
         switch (mPrefilter) {
         case Prefilter::NBuffers:

@@ -32,6 +32,8 @@ public:
         ctx.setAccumulationWeight(1.0f);
     }
 
+    bool countsOwnPlane() const override { return true; } // ReferenceSampler's accumulation
+
 private:
     ReferenceSampler mSampler;
 };

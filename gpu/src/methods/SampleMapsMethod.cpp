@@ -45,7 +45,9 @@ public:
     explicit SampleMapsMethod(const MethodResources& r)
         : mOptions(sampleMapsOptions(r.parameters)), mOpaque(loadMapProgram(r.shaders, false)),
           mAlphaTested(loadMapProgram(r.shaders, true)),
-          mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{}),
+          mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{},
+                  mOptions.ownPlane ? std::vector<std::string>{"OWN_PLANE"}
+                                    : std::vector<std::string>{}),
           mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}) {
         const std::size_t n = static_cast<std::size_t>(mOptions.samples);
         const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
