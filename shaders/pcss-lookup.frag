@@ -28,8 +28,8 @@
 // plane; a shadow map cannot see that a surface hides part of the light from itself, so curved
 // surfaces near their terminator would be lit, or self-shadowed in facet-wide stripes.
 // Receivers within zNear of the light's centre (in no face) get V = 1 and are counted. A receiver
-// whose segment to the light's centre misses the casters' bounds grown by the light's half
-// extents (PcssUniforms::reachMin/Max) has no blocker and skips the search.
+// whose segment to the light's centre misses every box around the casters grown by the light's
+// half extents (PcssUniforms::reach) has no blocker and skips the search.
 //
 // OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
 // not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are
@@ -154,20 +154,12 @@ vec4 inFront(Texels x) {
     return vec4(greaterThan(x.d, plane * (1.0 + DEPTH_BIAS)));
 }
 
-// Whether the segment a -> b meets the box [lo, hi] (slabs).
-bool segmentMeetsBox(vec3 a, vec3 b, vec3 lo, vec3 hi) {
-    vec3 d = b - a;
-    float t0 = 0.0, t1 = 1.0;
-    for (int k = 0; k < 3; ++k) {
-        if (abs(d[k]) < 1e-20) {
-            if (a[k] < lo[k] || a[k] > hi[k]) return false;
-            continue;
-        }
-        float ta = (lo[k] - a[k]) / d[k], tb = (hi[k] - a[k]) / d[k];
-        t0 = max(t0, min(ta, tb));
-        t1 = min(t1, max(ta, tb));
-    }
-    return t0 <= t1;
+// Whether the segment a + t d, t in [0, 1], meets the box [lo, hi] (slabs; invD = 1 / d per
+// axis, each component of d kept away from 0 with its sign).
+bool segmentMeetsBox(vec3 a, vec3 invD, vec3 lo, vec3 hi) {
+    vec3 t0 = (lo - a) * invD, t1 = (hi - a) * invD;
+    vec3 near = min(t0, t1), far = max(t0, t1);
+    return max(max(near.x, near.y), max(near.z, 0.0)) <= min(min(far.x, far.y), min(far.z, 1.0));
 }
 
 // The face whose map holds P (geometry::PcssFrame::faceOf), -1 within zNear of the centre.
@@ -183,6 +175,14 @@ int faceOf(vec3 toP) {
 
 // V from the shadow map alone (1 where P is in no map, counted).
 float shadowMapVisibility(vec3 position, vec3 N) {
+    int boxes = int(pcss.params2.x);
+    bool reached = boxes == 0;
+    vec3 d = frame.lightCenter.xyz - position;
+    vec3 invD = 1.0 / (sign(d) * max(abs(d), vec3(1e-20)) + vec3(equal(d, vec3(0.0))) * 1e-20);
+    for (int k = 0; k < boxes; ++k)
+        reached = reached || segmentMeetsBox(position, invD, pcss.reach[2 * k].xyz,
+                                             pcss.reach[2 * k + 1].xyz);
+    if (!reached) return 1.0; // no segment to the light meets a caster
     vec3 toP = position - frame.lightCenter.xyz;
     Receiver r;
     r.face = faceOf(toP);
@@ -202,9 +202,6 @@ float shadowMapVisibility(vec3 position, vec3 N) {
         atomicAdd(stats.outside, 1u);
         return 1.0;
     }
-    if (pcss.reachMin.w != 0.0 && !segmentMeetsBox(position, frame.lightCenter.xyz,
-                                                    pcss.reachMin.xyz, pcss.reachMax.xyz))
-        return 1.0; // no segment to the light meets a caster
     float zNear = pcss.normal.w;
     float casterNear = pcss.faceB2[r.face].w;
     // Blockers are searched no nearer than the light reaches along the face's axis (on the

@@ -85,6 +85,7 @@
 #define TEXUNIT_SAMPLE_MAPS 24 // sample-maps: the shadow maps, one layer per light sample
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
+#define PCSS_REACH_BOXES 16 // pcss: boxes around the casters for the reach test
 
 #ifdef __cplusplus
 // C++ side: included through gpu/src/engine/ShaderBindings.h, which includes glm first (the GLSL
@@ -139,11 +140,12 @@ PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
     vec4 normal;        // xyz: the light's unit normal n, w: zNear
     vec4 params;        // x: blocker-search samples, y: filter samples, z: resolution R, w: 1 / R
     vec4 pattern[PCSS_MAX_SAMPLES]; // xy: filter pattern point i, zw: search point i, in [-1, 1]^2
-    // The casters' bounds grown by the light's half extent along each world axis (w of
-    // reachMin: 1 if set): a receiver whose segment to the light's centre misses them has no
-    // segment to any light point that meets a caster (PcssShadow::execute).
-    vec4 reachMin;
-    vec4 reachMax;
+    // Boxes holding the casters (geometry::casterClusters), each grown by the light's half
+    // extent along each world axis: [2k] min, [2k + 1] max of box k; params2.x the boxes (0:
+    // no test). A receiver whose segment to the light's centre misses every box has no segment
+    // to any light point that meets a caster (PcssShadow::execute).
+    vec4 reach[2 * PCSS_REACH_BOXES];
+    vec4 params2;
 PENUMBRA_UBO_END(PcssUniforms, pcss)
 
 // The sample-maps method's frame (geometry/shadow/SampleMapFrame.h); its views are in
@@ -200,7 +202,7 @@ static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
 static_assert(sizeof(SampleMapUniforms) == 6 * 16, "SampleMapUniforms must match std140");
-static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2) * 16,
+static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2 * PCSS_REACH_BOXES + 1) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader
 #endif

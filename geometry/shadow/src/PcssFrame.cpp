@@ -203,4 +203,54 @@ PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
     return f;
 }
 
+namespace {
+
+struct ClusterTriangle {
+    Aabb box;
+    glm::vec3 centre;
+};
+
+void splitClusters(std::vector<ClusterTriangle>& t, std::size_t begin, std::size_t end,
+                   int boxes, std::vector<Aabb>& out) {
+    Aabb all;
+    for (std::size_t i = begin; i < end; ++i) all.extend(t[i].box);
+    if (boxes <= 1 || end - begin <= 1) {
+        out.push_back(all);
+        return;
+    }
+    Aabb centres;
+    for (std::size_t i = begin; i < end; ++i) centres.extend(t[i].centre);
+    const glm::vec3 extent = centres.max - centres.min;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const std::size_t mid = begin + (end - begin) / 2;
+    std::nth_element(t.begin() + static_cast<std::ptrdiff_t>(begin),
+                     t.begin() + static_cast<std::ptrdiff_t>(mid),
+                     t.begin() + static_cast<std::ptrdiff_t>(end),
+                     [axis](const ClusterTriangle& a, const ClusterTriangle& b) {
+                         return a.centre[axis] < b.centre[axis];
+                     });
+    splitClusters(t, begin, mid, boxes / 2, out);
+    splitClusters(t, mid, end, boxes - boxes / 2, out);
+}
+
+} // namespace
+
+std::vector<Aabb> casterClusters(const Scene& scene, std::span<const std::size_t> objects,
+                                 int maxBoxes) {
+    std::vector<ClusterTriangle> t;
+    for (const std::size_t o : objects) {
+        const MeshData& m = scene.objects[o].mesh;
+        for (const glm::uvec3& tri : m.triangles) {
+            ClusterTriangle c;
+            for (int k = 0; k < 3; ++k) c.box.extend(m.positions[tri[k]]);
+            c.centre = 0.5f * (c.box.min + c.box.max);
+            t.push_back(c);
+        }
+    }
+    std::vector<Aabb> out;
+    if (t.empty() || maxBoxes < 1) return out;
+    splitClusters(t, 0, t.size(), maxBoxes, out);
+    return out;
+}
+
 } // namespace geometry

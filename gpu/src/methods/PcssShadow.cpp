@@ -82,12 +82,15 @@ void PcssShadow::execute(const FrameContext& ctx) {
                   static_cast<float>(mResolution), 1.0f / static_cast<float>(mResolution));
     for (int i = 0; i < PCSS_MAX_SAMPLES; ++i)
         u.pattern[i] = mPattern[i];
-    if (!mCasterBounds.empty()) {
+    {
         // A point of the segment from P to a light point c + d lies within |d| of the segment
         // from P to c, per axis within the light's half extent.
         const glm::vec3 half = glm::abs(ctx.light.u) + glm::abs(ctx.light.v);
-        u.reachMin = glm::vec4(mCasterBounds.min - half, 1.0f);
-        u.reachMax = glm::vec4(mCasterBounds.max + half, 0.0f);
+        for (std::size_t k = 0; k < mCasterBoxes.size(); ++k) {
+            u.reach[2 * k] = glm::vec4(mCasterBoxes[k].min - half, 0.0f);
+            u.reach[2 * k + 1] = glm::vec4(mCasterBoxes[k].max + half, 0.0f);
+        }
+        u.params2 = glm::vec4(static_cast<float>(mCasterBoxes.size()), 0.0f, 0.0f, 0.0f);
     }
     mUniforms.upload(&u, sizeof(u));
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_PCSS_UBO, mUniforms.id());
@@ -142,12 +145,9 @@ void PcssShadow::updateFrame(const FrameContext& ctx) {
         return;
     const auto t0 = Clock::now();
     mObjects.clear();
-    mCasterBounds = geometry::Aabb{};
-    for (const std::uint32_t c : subset) {
+    for (const std::uint32_t c : subset)
         mObjects.push_back(ctx.casters.sceneObject(c));
-        for (const glm::vec3& p : ctx.scene.objects[mObjects.back()].mesh.positions)
-            mCasterBounds.extend(p);
-    }
+    mCasterBoxes = geometry::casterClusters(ctx.scene, mObjects, PCSS_REACH_BOXES);
     mFrame = geometry::fitPcssFrame(ctx.scene, light, mObjects);
     mMapsDrawn = false;
     mLight = light;

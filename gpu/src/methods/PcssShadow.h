@@ -10,9 +10,10 @@
 //   over that rectangle; depth compared with the receiver's plane moved `bias` texels towards
 //   the light; V times the light's share in front of the surface (`horizon`, as occlusion's).
 //   V is written at every pixel.
-// A receiver whose segment to the light's centre misses the casters' bounds grown by the
-// light's half extents is lit without a search (only the horizon term applies): the alpha
-// path's few grates and flames on a level leave most pixels there.
+// A receiver whose segment to the light's centre misses every box around the casters
+// (geometry::casterClusters, 16 at most) grown by the light's half extents is lit without a
+// search (only the horizon term applies): the alpha path's few grates and flames on a level
+// leave most pixels there.
 // Receivers within zNear of the light's centre (in no face) get V = 1 and are counted
 // (`pcss_pixels_outside`). The occlusion method owns one for the receivers its slicing frustum
 // cannot cover (Pixels::OutsideOcclusion).
@@ -67,7 +68,7 @@ private:
     geometry::RectLight mLight;
     std::vector<std::uint32_t> mSubset;
     std::vector<std::size_t> mObjects;
-    geometry::Aabb mCasterBounds; // of mObjects
+    std::vector<geometry::Aabb> mCasterBoxes; // geometry::casterClusters of mObjects
     geometry::PcssFrame mFrame;
 };
 

@@ -31,6 +31,7 @@
 
 #include <cstddef>
 #include <span>
+#include <vector>
 
 namespace geometry {
 
@@ -102,5 +103,13 @@ PcssFrame fitPcssFrame(const Scene& scene, std::span<const std::size_t> casterOb
 PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
                        std::span<const std::size_t> casterObjects,
                        const PcssFitSettings& settings = {});
+
+// At most maxBoxes boxes that together hold every triangle of the objects (indices into
+// scene.objects): the triangles split at the median of their centres along the longest axis of
+// their bounds, recursively, each leaf's bounds a box. One object spread over a whole level (a
+// textured level's alpha-tested part: grates and flames in every room) gets boxes around its
+// clusters instead of the level's bounds. Empty for no triangles.
+std::vector<Aabb> casterClusters(const Scene& scene, std::span<const std::size_t> objects,
+                                 int maxBoxes);
 
 } // namespace geometry
