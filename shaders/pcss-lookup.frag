@@ -27,9 +27,10 @@
 // HORIZON (not in the paper): V is also multiplied by the share of the light in front of P's
 // plane; a shadow map cannot see that a surface hides part of the light from itself, so curved
 // surfaces near their terminator would be lit, or self-shadowed in facet-wide stripes.
-// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted. A receiver
-// whose segment to the light's centre misses every box around the casters grown by the light's
-// half extents (PcssUniforms::reach) has no blocker and skips the search.
+// A receiver whose segment to the light's centre misses every box around the casters grown by
+// the light's half extents (PcssUniforms::reach) has no blocker and skips the search. Receivers
+// within zNear of the light's centre (in no face) get V = 1, and those a caster could reach are
+// counted.
 //
 // OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
 // not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are

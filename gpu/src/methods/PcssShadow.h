@@ -14,7 +14,8 @@
 // (geometry::casterClusters, 16 at most) grown by the light's half extents is lit without a
 // search (only the horizon term applies): the alpha path's few grates and flames on a level
 // leave most pixels there.
-// Receivers within zNear of the light's centre (in no face) get V = 1 and are counted
+// Receivers within zNear of the light's centre (in no face) get V = 1 and, where a caster's
+// box could reach them, are counted
 // (`pcss_pixels_outside`). The occlusion method owns one for the receivers its slicing frustum
 // cannot cover (Pixels::OutsideOcclusion).
 #pragma once
