@@ -225,10 +225,20 @@ int run(const Options& opt) {
     // Wedges drawn this frame (0 for methods without wedges); per-kind counts in "counters".
     double wedges = 0.0;
     nlohmann::json counters = nlohmann::json::object();
+    // Limitations a method counted this frame that make its picture wrong somewhere: said on
+    // stderr and in report.json's "warnings", not only as a counter.
+    nlohmann::json warnings = nlohmann::json::array();
     for (const auto& c : last.counters) {
         counters[c.name] = c.value;
         if (c.name == "wedges") wedges = c.value;
+        if (c.name == "sample_maps_clipped" && c.value > 0.0)
+            warnings.push_back("sample-maps: casters reach the light's plane or lie beyond the "
+                               "maps' 71.6-degree frustum (sample_maps_clipped); what they hide "
+                               "from the samples that cannot see them is drawn lit");
     }
+    for (const auto& w : warnings)
+        std::fprintf(stderr, "penumbra-render: warning: %s\n", w.get<std::string>().c_str());
+    report["warnings"] = std::move(warnings);
     report["wedges"] = wedges;
     report["counters"] = std::move(counters);
     report["shadow_volume_triangles"] = last.volumeTriangles;

@@ -252,6 +252,33 @@ TEST_F(RenderCli, AlphaTestedObjectsWithAWedgeMethodTakeTheAlphaPath) {
     }
 }
 
+// sample-maps on a level around the lamp: the level reaches the light's plane, so its maps miss
+// part of it. Said on stderr and in report.json's warnings, not only counted; the oak, which
+// the maps hold, gets no warning.
+TEST_F(RenderCli, SampleMapsSayWhenTheyClipTheCasters) {
+    const fs::path shared(PENUMBRA_SHARED_DIR);
+    struct Case {
+        fs::path scene;
+        bool clipped;
+    };
+    for (const Case& c : {Case{shared / "levels" / "oa_dm4.glb", true},
+                          Case{shared / "foliage" / "oak_hungarian_1.glb", false}}) {
+        SCOPED_TRACE(c.scene.string());
+        const fs::path out = mDir / "out";
+        const RunResult r = run("--scene '" + c.scene.string() +
+                                "' --method sample-maps --size 32x32 --out '" + out.string() + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        std::ifstream in(out / "report.json");
+        const auto report = nlohmann::json::parse(in);
+        EXPECT_EQ(report["counters"]["sample_maps_clipped"], c.clipped ? 1.0 : 0.0);
+        EXPECT_EQ(report["warnings"].size(), c.clipped ? 1u : 0u) << report["warnings"].dump();
+        EXPECT_EQ(r.output.find("warning: sample-maps: casters reach the light's plane") !=
+                      std::string::npos,
+                  c.clipped)
+            << r.output;
+    }
+}
+
 TEST_F(RenderCli, FoliageRendersWithOcclusion) {
     const fs::path tree = fs::path(PENUMBRA_SHARED_DIR) / "foliage" / "oak_hungarian_1.glb";
     const fs::path out = mDir / "out";

@@ -3,7 +3,6 @@
 #include "RenderTestUtil.h"
 
 #include <geometry/scene/Primitives.h>
-#include <geometry/shadow/OcclusionSlices.h>
 
 #include <geometry/core/Error.h>
 #include <geometry/reference/ErrorStats.h>
@@ -192,13 +191,7 @@ TEST_F(AutoMethod, ComposesThePathsAsAProduct) {
 // against raytrace N = 4096 with both, 0.00040 with the plane counted once).
 TEST_F(AutoMethod, TheReceiversOwnPlaneIsCountedOnce) {
     const geometry::Scene tree = treeScene();
-    geometry::Scene scene;
-    scene.camera = {{6.0f, 3.0f, 6.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
-    scene.light = {{3.8f, 2.0f, 0.1f}, {0.6f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.6f}};
-    scene.objects.push_back({"wall", geometry::ShadowMethod::Auto,
-                             geometry::makeQuad({0, 1.5f, 0}, {3, 0, 0}, {0, 1.5f, 0})});
-    scene.objects.push_back({"ground", geometry::ShadowMethod::Auto,
-                             geometry::makeQuad({0, 0, 0}, {4, 0, 0}, {0, 0, -4})});
+    geometry::Scene scene = testutil::wallBesideLight();
     for (const auto& o : tree.objects)
         if (o.name == "oak") {
             geometry::SceneObject far = o;
@@ -212,23 +205,14 @@ TEST_F(AutoMethod, TheReceiversOwnPlaneIsCountedOnce) {
         const Rendered a = testutil::render(scene, "auto", 96, 96, 1, {{"wedges", wedges}});
         const bool bitmask = std::string(wedges) == "bitmask";
         EXPECT_EQ(testutil::counter(a.stats, "own_plane_by_wedge_path"), bitmask ? 1.0 : 0.0);
-        std::size_t wall = 0;
-        double worst = 0.0;
-        for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
-            const glm::vec3 p(a.position.data[3 * i], a.position.data[3 * i + 1],
-                              a.position.data[3 * i + 2]);
-            if (!std::isfinite(p.x) || std::abs(p.z) > 1e-3f || p.y < 0.05f) continue;
-            const float front = geometry::horizonFraction(scene.light, p, {0.0f, 0.0f, 1.0f});
-            worst = std::max(worst, double(std::abs(a.visibility.data[i] - front)));
-            ++wall;
-        }
+        const testutil::WallFront wall = testutil::wallFront(scene, a.visibility, a.position);
         std::printf("  auto wedges=%s: the wall's %zu front pixels, |V - share in front| max "
                     "%.4f\n",
-                    wedges, wall, worst);
-        EXPECT_GT(wall, 500u);
+                    wedges, wall.pixels, wall.worst);
+        EXPECT_GT(wall.pixels, 500u);
         // bitmask counts the plane itself; blend counts none for open geometry, so there the
         // alpha path's horizon term gives the wall its share. Once either way (both measured
         // at most 0.00002).
-        EXPECT_LT(worst, 0.002);
+        EXPECT_LT(wall.worst, 0.002);
     }
 }

@@ -10,9 +10,7 @@
 #include <geometry/models/MaskModel.h>
 #include <geometry/reference/ErrorStats.h>
 #include <geometry/reference/Framing.h>
-#include <geometry/scene/Primitives.h>
 #include <geometry/shadow/LightMask.h>
-#include <geometry/shadow/OcclusionSlices.h>
 #include <geometry/shadow/PotentialSilhouettes.h>
 #include <geometry/shadow/Topology.h>
 #include <gpu/Methods.h>
@@ -321,13 +319,7 @@ TEST_F(PotentialSilhouettes, CameraInsideAVolumeAndAWedge) {
 // more test in the reference's accumulation. Against raytrace N = 1024, and on the wall's
 // front against the exact share in front of its plane.
 TEST_F(PotentialSilhouettes, TheReceiversOwnPlaneHidesTheLightBehindIt) {
-    geometry::Scene scene;
-    scene.camera = {{6.0f, 3.0f, 6.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
-    scene.light = {{3.8f, 2.0f, 0.1f}, {0.6f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.6f}};
-    scene.objects.push_back({"wall", geometry::ShadowMethod::Auto,
-                             geometry::makeQuad({0, 1.5f, 0}, {3, 0, 0}, {0, 1.5f, 0})});
-    scene.objects.push_back({"ground", geometry::ShadowMethod::Auto,
-                             geometry::makeQuad({0, 0, 0}, {4, 0, 0}, {0, 0, -4})});
+    const geometry::Scene scene = testutil::wallBesideLight();
     geometry::validateScene(scene);
     const Rendered truth = testutil::render(scene, "raytrace", 96, 96, 1024);
     const Rendered w = testutil::render(scene, "wedges-bitmask", 96, 96, 1);
@@ -336,28 +328,17 @@ TEST_F(PotentialSilhouettes, TheReceiversOwnPlaneHidesTheLightBehindIt) {
     const auto er = geometry::compareVisibility(ref.visibility.data, truth.visibility.data);
     // The wall's front (z > 0): V = the share of the light in front of its plane, exactly for
     // the ratio estimator (nothing else shadows it).
-    std::size_t wall = 0, wallOff = 0;
-    double wallMax = 0.0;
-    for (std::size_t i = 0; i < w.visibility.data.size(); ++i) {
-        const glm::vec3 p(w.position.data[3 * i], w.position.data[3 * i + 1],
-                          w.position.data[3 * i + 2]);
-        if (!std::isfinite(p.x) || std::abs(p.z) > 1e-3f || p.y < 0.05f) continue;
-        const float front = geometry::horizonFraction(scene.light, p, {0.0f, 0.0f, 1.0f});
-        const double d = std::abs(w.visibility.data[i] - front);
-        wallMax = std::max(wallMax, d);
-        wallOff += d > 0.01;
-        ++wall;
-    }
+    const testutil::WallFront wall = testutil::wallFront(scene, w.visibility, w.position);
     std::printf("  wall beside the light: wedges-bitmask mean %.4f, reference N=256 %.4f against "
                 "raytrace N=1024; on the wall's %zu front pixels |V - share in front| max %.4f "
                 "(%zu > 0.01); own_plane_pixels %.0f\n",
-                ew.meanAbs, er.meanAbs, wall, wallMax, wallOff,
+                ew.meanAbs, er.meanAbs, wall.pixels, wall.worst, wall.off,
                 counter(w.stats, "own_plane_pixels"));
-    EXPECT_GT(wall, 500u);
-    EXPECT_GT(counter(w.stats, "own_plane_pixels"), double(wall) * 0.9);
+    EXPECT_GT(wall.pixels, 500u);
+    EXPECT_GT(counter(w.stats, "own_plane_pixels"), double(wall.pixels) * 0.9);
     // Measured at 96²: 0.0015 and 0.0064 (N = 256's bands); on the wall at most 0.00002.
-    // Before the rule (128², the same scene): 0.0214 and 0.0216, the front drawn lit.
+    // Before the rule (128², the same wall and light): 0.0214 and 0.0216, the front drawn lit.
     EXPECT_LT(ew.meanAbs, 0.0015 + 0.001);
     EXPECT_LT(er.meanAbs, 0.0064 + 0.002);
-    EXPECT_LT(wallMax, 0.002);
+    EXPECT_LT(wall.worst, 0.002);
 }

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <geometry/scene/ImageIO.h>
+#include <geometry/scene/Primitives.h>
 #include <geometry/scene/Scene.h>
+#include <geometry/shadow/OcclusionSlices.h>
 #include <geometry/reference/Framing.h>
 #include <gpu/Renderer.h>
 
@@ -25,6 +27,44 @@ inline std::filesystem::path dataPath(const std::string& name) {
 
 inline std::filesystem::path sharedPath(const std::string& name) {
     return std::filesystem::path(PENUMBRA_SHARED_DIR) / name;
+}
+
+// A thin wall (one quad in the plane z = 0, front towards +z) and the ground, beside a light
+// whose plane the wall's plane cuts: about half the light lies behind the wall's plane. The
+// own-plane tests' scene (validateScene is the caller's, after adding objects).
+inline geometry::Scene wallBesideLight() {
+    geometry::Scene scene;
+    scene.camera = {{6.0f, 3.0f, 6.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    scene.light = {{3.8f, 2.0f, 0.1f}, {0.6f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.6f}};
+    scene.objects.push_back({"wall", geometry::ShadowMethod::Auto,
+                             geometry::makeQuad({0, 1.5f, 0}, {3, 0, 0}, {0, 1.5f, 0})});
+    scene.objects.push_back({"ground", geometry::ShadowMethod::Auto,
+                             geometry::makeQuad({0, 0, 0}, {4, 0, 0}, {0, 0, -4})});
+    return scene;
+}
+
+// On wallBesideLight's wall front (pixels with z = 0 above the ground), |V - the exact share of
+// the light in front of the wall's plane|: the pixels, the largest difference, and the pixels
+// off by more than 0.01.
+struct WallFront {
+    std::size_t pixels = 0, off = 0;
+    double worst = 0.0;
+};
+
+inline WallFront wallFront(const geometry::Scene& scene, const geometry::FloatImage& visibility,
+                           const geometry::FloatImage& position) {
+    WallFront w;
+    for (std::size_t i = 0; i < visibility.data.size(); ++i) {
+        const glm::vec3 p(position.data[3 * i], position.data[3 * i + 1],
+                          position.data[3 * i + 2]);
+        if (!std::isfinite(p.x) || std::abs(p.z) > 1e-3f || p.y < 0.05f) continue;
+        const float front = geometry::horizonFraction(scene.light, p, {0.0f, 0.0f, 1.0f});
+        const double d = std::abs(visibility.data[i] - front);
+        w.worst = std::max(w.worst, d);
+        w.off += d > 0.01;
+        ++w.pixels;
+    }
+    return w;
 }
 
 // A shared level (path under ../shared) with the automatic framed view instead of its first spawn

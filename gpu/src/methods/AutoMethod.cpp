@@ -207,9 +207,7 @@ private:
             facts.alphaMasked = geometry::hasAlphaMask(object.mesh);
             if (facts.alphaMasked) {
                 facts.alphaMaterials = alphaTestedMaterials(object.mesh);
-                geometry::Aabb bounds;
-                for (const glm::vec3& p : object.mesh.positions) bounds.extend(p);
-                facts.sampleMapsHold = geometry::sampleMapsHold(ctx.light, bounds);
+                facts.sampleMapsHold = geometry::sampleMapsHold(ctx.light, object.mesh.bounds());
             }
             facts.alphaPath = mAlphaPath;
             facts.topology = ctx.casters.topology(c).stats();

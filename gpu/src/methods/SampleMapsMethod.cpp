@@ -133,7 +133,7 @@ private:
         for (const std::uint32_t c : subset) {
             const std::size_t object = ctx.casters.sceneObject(c);
             mObjects.push_back(object);
-            for (const glm::vec3& p : ctx.scene.objects[object].mesh.positions) bounds.extend(p);
+            bounds.extend(ctx.scene.objects[object].mesh.bounds());
         }
         const std::vector<glm::vec2> samples = geometry::stratifiedSquare(mOptions.samples, seed);
         mFrame = geometry::fitSampleMapFrame(ctx.light, samples, bounds);

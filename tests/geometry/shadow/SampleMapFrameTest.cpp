@@ -52,7 +52,7 @@ TEST(SampleMapFrame, EveryCornerLiesInsideEveryMap) {
             EXPECT_LE(ndc.z, 1.0f);
             // depth zNear / z, z along n from the sample
             const float z = glm::dot(q - f.views[i].origin, f.n);
-            EXPECT_NEAR(ndc.z, f.views[i].zNear / z, 1e-5f);
+            EXPECT_NEAR(ndc.z, f.zNear / z, 1e-5f);
         }
     }
 }
@@ -76,10 +76,12 @@ TEST(SampleMapFrame, ReachHoldsEveryReceiverAMapCouldShadow) {
             for (const geometry::SampleMapView& v : f.views) {
                 const glm::vec3 d = p - v.origin;
                 const float z = glm::dot(d, f.n);
-                if (z <= v.zNear) continue;
+                if (z <= f.zNear) continue;
                 const glm::vec2 m = glm::vec2(glm::dot(d, f.eu), glm::dot(d, f.ev)) / z;
                 const bool inMap = m.x >= v.lo.x && m.y >= v.lo.y && m.x <= v.hi.x && m.y <= v.hi.y;
-                if (inMap) ASSERT_TRUE(inReach) << trial << " " << k;
+                if (inMap) {
+                    ASSERT_TRUE(inReach) << trial << " " << k;
+                }
             }
             (inReach ? inside : outside) += 1;
         }

@@ -35,9 +35,6 @@ struct SampleMapView {
     glm::vec2 st{0.0f};     // the sample in [-1, 1]^2 over the light's half axes
     glm::vec3 origin{0.0f}; // the sample point on the light
     glm::vec2 lo{0.0f}, hi{0.0f}; // the map's extent in m
-    // The casters' least depth from the origin along n (> 0). Depth along n is the same from
-    // every point of the light (n is its normal), so this is the frame's zNear for every view.
-    float zNear = 0.0f;
 };
 
 struct SampleMapFrame {
@@ -56,7 +53,9 @@ struct SampleMapFrame {
     float zFar = 0.0f;
     bool reachAll = true;
     bool empty = true;   // no casters: nothing to draw, V = 1
-    float zNear = 0.0f;  // every view's
+    // The casters' least depth along n (> 0), the near plane of every view: depth along n is
+    // the same from every point of the light (n is its normal).
+    float zNear = 0.0f;
     bool clipped = false; // the box reached behind a sample or past the cap (see above)
 
     // World -> clip of view i's shadow pass, for glClipControl(LOWER_LEFT, ZERO_TO_ONE):
