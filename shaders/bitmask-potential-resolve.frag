@@ -55,13 +55,18 @@ int ownPlane(ivec2 px, out uint words[8], out float behindArea) {
     vec4 position = texelFetch(tPosition, px, 0);
     if (position.w == 0.0) return 0;
     vec3 N = texelFetch(tNormal, px, 0).xyz;
-    float front = horizonFraction(position.xyz, N);
-    if (front >= 1.0) return 0;
-    behindArea = 1.0 - front;
     float nc = dot(N, frame.lightCenter.xyz - position.xyz);
     float nu = dot(N, frame.lightU.xyz), nv = dot(N, frame.lightV.xyz);
+    float front = horizonShare(nc, nu, nv);
+    if (front >= 1.0) return 0;
+    behindArea = 1.0 - front;
     int behind = 0;
-    for (int i = 0; i < BITMASK_SAMPLES; ++i) {
+    // The bound, not the return above, skips the loop where the whole light is in front: on a
+    // SIMD rasteriser (llvmpipe) every lane runs a branch, masked, whichever lanes take it, but
+    // a loop ends once every lane has reached its bound (measured: 1.5 ms of a 4.5 ms resolve at
+    // 256^2).
+    int n = front < 1.0 ? BITMASK_SAMPLES : 0;
+    for (int i = 0; i < n; ++i) {
         vec2 st = lightSamples[i].xy;
         if (nc + st.x * nu + st.y * nv <= 0.0) {
             words[i >> 5] |= 1u << uint(i & 31);
@@ -108,7 +113,10 @@ void main() {
     int leastD = 1 << 30, mostD = 0; // over the hidden samples
     uint added = 0u, weighted = 0u;
     bool negative = false;
-    for (int layer = 0; layer < BITMASK_SAMPLES / 8; ++layer) {
+    // The layers to read: none where no wedge reached (returned above, but the lanes that
+    // returned run what follows, masked, unless a loop's bound ends it; see ownPlane).
+    int layers = (stencil & 0x80u) != 0u ? BITMASK_SAMPLES / 8 : 0;
+    for (int layer = 0; layer < layers; ++layer) {
         uint x = imageLoad(iCounts, ivec3(px, layer)).r;
         for (int j = 0; j < 8; ++j) {
             int d = int((x >> uint(4 * j)) & 15u) - 8;

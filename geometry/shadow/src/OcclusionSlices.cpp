@@ -1,6 +1,8 @@
 // The occlusion-texture frame and lookup (geometry/shadow/OcclusionSlices.h).
 #include <geometry/shadow/OcclusionSlices.h>
 
+#include <shared/Horizon.h>
+
 #include <cmath>
 #include <limits>
 
@@ -139,25 +141,9 @@ SliceLookup sliceLookup(const OcclusionFrame& f, const glm::vec3& p, int k) {
 }
 
 float horizonFraction(const RectLight& light, const glm::vec3& p, const glm::vec3& n) {
-    // Over the light's square (s, t) in [-1, 1]^2 the signed distance to the plane is affine:
-    // g = a + b s + c t. Clip the square to g >= 0 (one Sutherland-Hodgman step), take its area.
-    const float a = glm::dot(n, light.center - p), b = glm::dot(n, light.u),
-                c = glm::dot(n, light.v);
-    const glm::vec2 square[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    glm::vec2 clipped[5];
-    int count = 0;
-    for (int i = 0; i < 4; ++i) {
-        const glm::vec2 p0 = square[i], p1 = square[(i + 1) % 4];
-        const float g0 = a + b * p0.x + c * p0.y, g1 = a + b * p1.x + c * p1.y;
-        if (g0 >= 0.0f) clipped[count++] = p0;
-        if ((g0 >= 0.0f) != (g1 >= 0.0f)) clipped[count++] = p0 + (g0 / (g0 - g1)) * (p1 - p0);
-    }
-    float area2 = 0.0f;
-    for (int i = 0; i < count; ++i) {
-        const glm::vec2 p0 = clipped[i], p1 = clipped[(i + 1) % count];
-        area2 += p0.x * p1.y - p1.x * p0.y;
-    }
-    return std::clamp(0.125f * area2, 0.0f, 1.0f); // area / 4
+    // The shaders' closed form (shared/Horizon.h): g = a + b s + c t over the light's square.
+    return shader::horizonShare(glm::dot(n, light.center - p), glm::dot(n, light.u),
+                                glm::dot(n, light.v));
 }
 
 } // namespace geometry

@@ -11,6 +11,7 @@
 #include <geometry/scene/Primitives.h>
 #include <geometry/scene/Scene.h>
 #include <geometry/reference/Framing.h>
+#include <shared/Horizon.h>
 
 #include "TestRandom.h"
 
@@ -18,6 +19,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <vector>
 
 namespace {
 
@@ -229,6 +231,53 @@ TEST(OcclusionSlices, HorizonFractionIsTheLightInFrontOfThePlane) {
         partial += f > 0.05f && f < 0.95f;
     }
     EXPECT_GT(partial, 20); // the planes cut the light, not only miss it
+}
+
+// The closed form (shared/Horizon.h) against clipping the light's square to the plane's side
+// and taking the clipped polygon's area, on planes through the light in every direction and on
+// the cases the closed form treats apart: b or c zero (one axis along the plane), both zero
+// (the plane parallel to the light), the plane through a corner.
+TEST(OcclusionSlices, HorizonFractionEqualsTheClippedSquaresArea) {
+    const auto clippedShare = [](double a, double b, double c) {
+        const double square[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+        double poly[5][2];
+        int count = 0;
+        for (int i = 0; i < 4; ++i) {
+            const double* p0 = square[i];
+            const double* p1 = square[(i + 1) % 4];
+            const double g0 = a + b * p0[0] + c * p0[1], g1 = a + b * p1[0] + c * p1[1];
+            if (g0 >= 0.0) {
+                poly[count][0] = p0[0];
+                poly[count++][1] = p0[1];
+            }
+            if ((g0 >= 0.0) != (g1 >= 0.0)) {
+                const double t = g0 / (g0 - g1);
+                poly[count][0] = p0[0] + t * (p1[0] - p0[0]);
+                poly[count++][1] = p0[1] + t * (p1[1] - p0[1]);
+            }
+        }
+        double area2 = 0.0;
+        for (int i = 0; i < count; ++i) {
+            const double* p0 = poly[i];
+            const double* p1 = poly[(i + 1) % count];
+            area2 += p0[0] * p1[1] - p1[0] * p0[1];
+        }
+        return area2 / 8.0;
+    };
+    testutil::Rng rng(5);
+    std::vector<glm::vec3> planes = {{0.3f, 0.0f, 0.5f},  {-0.3f, 0.5f, 0.0f}, {0.0f, 0.0f, 0.0f},
+                                     {-1.0f, 0.0f, 0.0f}, {1.0f, 0.5f, 0.5f},  {-1.0f, 0.5f, 0.5f},
+                                     {0.2f, 0.4f, 0.4f},  {2.0f, 1.0f, 0.5f},  {-0.2f, 1e-7f, 1.0f}};
+    for (int i = 0; i < 2000; ++i) {
+        const float b = rng.uniform(-1, 1), c = rng.uniform(-1, 1);
+        planes.emplace_back(rng.uniform(-1.2f, 1.2f) * (std::abs(b) + std::abs(c)), b, c);
+    }
+    for (const glm::vec3& g : planes) {
+        const float f = shader::horizonShare(g.x, g.y, g.z);
+        EXPECT_NEAR(f, clippedShare(g.x, g.y, g.z), 2e-6) << g.x << " " << g.y << " " << g.z;
+    }
+    EXPECT_EQ(shader::horizonShare(0.0f, 0.0f, 0.0f), 1.0f); // in the plane: in front, as g >= 0
+    EXPECT_EQ(shader::horizonShare(-1e-3f, 0.0f, 0.0f), 0.0f);
 }
 
 } // namespace
