@@ -6,7 +6,12 @@
 // m_P(e) * area (the blended target: the exact integral of D over the light), S_u the share of
 // hidden samples, S_s the mean of D over the samples; A where no sample is hidden; every sample
 // hidden behind counts that differ: 1 (the ratio would only sample the layers' mix). Exact
-// wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 1
+// wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 2
+// (estimate=quadrants, the default): the same per quadrant of the light, A_q from the wedges'
+// per-quadrant target (shared/Parts.h edgeQuadrantCoverage) and the own plane's share behind in
+// the quadrant, S_u and S_s over the quadrant's samples (a 32-bit word of counts at a time: the
+// light-samples table's w names each word's quadrant); the mean over the quadrants, each
+// clamped; a quadrant none of whose samples is hidden takes the whole light's ratio. uEstimate 1
 // (estimate=samples): occluded = S_u.
 // The receiver's own plane: a light sample behind the plane of P's surface (the G-buffer's
 // facet normal, facing the viewer) is hidden, as `raytrace` and `reference` count it. For a
@@ -29,7 +34,7 @@
 
 layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform readonly uimage2DArray iCounts;
 layout(binding = TEXUNIT_STENCIL) uniform usampler2D tStencil;
-layout(binding = TEXUNIT_PARTS0) uniform sampler2D tArea;
+layout(binding = TEXUNIT_PARTS0) uniform sampler2D tArea; // per quadrant: the wedges' sum of m share
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
@@ -48,10 +53,12 @@ layout(location = 2) out uvec4 oMask1;
 #endif
 
 // 1 for each sample behind P's own plane, as bits of `words` (and their number), if P has a
-// surface and its plane crosses the light; `behindArea` the exact share behind.
-int ownPlane(ivec2 px, out uint words[8], out float behindArea) {
+// surface and its plane crosses the light; `behindArea` the exact share behind, and
+// `behindQuadrants` each quadrant's.
+int ownPlane(ivec2 px, out uint words[8], out float behindArea, out vec4 behindQuadrants) {
     for (int w = 0; w < 8; ++w) words[w] = 0u;
     behindArea = 0.0;
+    behindQuadrants = vec4(0.0);
     vec4 position = texelFetch(tPosition, px, 0);
     if (position.w == 0.0) return 0;
     vec3 N = texelFetch(tNormal, px, 0).xyz;
@@ -60,6 +67,14 @@ int ownPlane(ivec2 px, out uint words[8], out float behindArea) {
     float front = horizonShare(nc, nu, nv);
     if (front >= 1.0) return 0;
     behindArea = 1.0 - front;
+    // Per quadrant (signs (+,+), (-,+), (-,-), (+,-) of (s, t), as shared/Parts.h numbers them):
+    // the quadrant is the square of half-size 1/2 about (sx / 2, sy / 2).
+    int quadrants = front < 1.0 ? 4 : 0; // a bound, to skip the loop (below)
+    for (int q = 0; q < quadrants; ++q) {
+        vec2 sq = vec2(q == 0 || q == 3 ? 1.0 : -1.0, q < 2 ? 1.0 : -1.0);
+        behindQuadrants[q] =
+            1.0 - horizonShare(nc + 0.5 * (sq.x * nu + sq.y * nv), 0.5 * nu, 0.5 * nv);
+    }
     int behind = 0;
     // The bound, not the return above, skips the loop where the whole light is in front: on a
     // SIMD rasteriser (llvmpipe) every lane runs a branch, masked, whichever lanes take it, but
@@ -81,7 +96,8 @@ void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     uint planeWords[8];
     float planeArea;
-    int planeHidden = ownPlane(px, planeWords, planeArea);
+    vec4 planeQuadrants;
+    int planeHidden = ownPlane(px, planeWords, planeArea, planeQuadrants);
     // The stencil's count bits (0-6, wrapping: a signed count in [-64, 63]; VolumeStates.h).
     uint stencil = texelFetch(tStencil, px, 0).r;
     int centre = int(stencil & 0x7Fu);
@@ -110,6 +126,7 @@ void main() {
     }
     int hidden = 0;
     int sumD = 0;
+    ivec4 hiddenQ = ivec4(0), sumQ = ivec4(0);
     int leastD = 1 << 30, mostD = 0; // over the hidden samples
     uint added = 0u, weighted = 0u;
     bool negative = false;
@@ -118,6 +135,7 @@ void main() {
     int layers = (stencil & 0x80u) != 0u ? BITMASK_SAMPLES / 8 : 0;
     for (int layer = 0; layer < layers; ++layer) {
         uint x = imageLoad(iCounts, ivec3(px, layer)).r;
+        int hiddenRun = 0, sumRun = 0; // this word's 8 samples, all in one quadrant
         for (int j = 0; j < 8; ++j) {
             int d = int((x >> uint(4 * j)) & 15u) - 8;
             added += uint(d);
@@ -130,15 +148,25 @@ void main() {
                 ++hidden;
                 int layers = abs(D) + plane;
                 sumD += layers;
+                hiddenRun += 1;
+                sumRun += layers;
                 leastD = min(leastD, layers);
                 mostD = max(mostD, layers);
                 negative = negative || D < 0;
             }
         }
+        // The word's quadrant (the light-samples table's w: geometry::lightMaskRunQuadrants),
+        // one-hot: no dynamic index.
+        int q = int(lightSamples[8 * layer].w);
+        ivec4 inQ = ivec4(equal(ivec4(q), ivec4(0, 1, 2, 3)));
+        hiddenQ += inQ * hiddenRun;
+        sumQ += inQ * sumRun;
     }
     bool overflow = added != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8)).r ||
                     weighted != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1)).r;
-    float area = float(centre) + texelFetch(tArea, px, 0).r + planeArea;
+    // Per quadrant: D(P, c) + the wedges' m times the quadrant's share in R + the own plane's.
+    vec4 areaQ = vec4(float(centre)) + texelFetch(tArea, px, 0) + planeQuadrants;
+    float area = 0.25 * (areaQ.x + areaQ.y + areaQ.z + areaQ.w);
     float occluded;
     if (overflow) {
         occluded = area;
@@ -151,9 +179,20 @@ void main() {
         // hidden behind layers of different counts, A / mean D would only be the sampling
         // error of the layers' mix, seen as light leaking into the umbra: the samples' share.
         bool mixedUmbra = hidden == BITMASK_SAMPLES && leastD != mostD;
-        occluded = sumD == 0 ? area
-                   : mixedUmbra ? 1.0
-                                : area * float(hidden) / float(sumD);
+        if (uEstimate == 2u) {
+            // estimate=quadrants: the same per quadrant, each with its exact integral; a
+            // quadrant none of whose samples is hidden takes the whole light's ratio (1 where
+            // none is: its integral alone, as above).
+            float whole = sumD == 0 ? 1.0 : float(hidden) / float(sumD);
+            vec4 ratioQ = mix(vec4(whole), vec4(hiddenQ) / vec4(max(sumQ, ivec4(1))),
+                              greaterThan(sumQ, ivec4(0)));
+            vec4 occQ = clamp(areaQ * ratioQ, 0.0, 1.0);
+            occluded = mixedUmbra ? 1.0 : 0.25 * (occQ.x + occQ.y + occQ.z + occQ.w);
+        } else {
+            occluded = sumD == 0 ? area
+                       : mixedUmbra ? 1.0
+                                    : area * float(hidden) / float(sumD);
+        }
     }
     if (negative) atomicAdd(maskStats[MASK_STAT_NEGATIVE], 1u);
     oVisibility = 1.0 - clamp(occluded, 0.0, 1.0);

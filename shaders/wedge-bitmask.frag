@@ -6,10 +6,12 @@
 // tested), shifted per pixel with BITMASK_ROTATED (then all of them). Words 0-3 in target 0, 4-7 in
 // target 1 (256 samples). BITMASK_COUNTS: signed counts by image atomics instead (combine=counts).
 // BITMASK_POTENTIAL (silhouettes=potential): the edge's m_P(e) from its triangles, added to the
-// counts of R's samples, m_P(e) times R's area into a float target, and checksums of the adds.
+// counts of R's samples, m_P(e) times R's share of each quadrant into an RGBA float target, and
+// checksums of the adds.
 #include "lib/Bindings.h"
 #include "shared/Coverage.h"
 #include "shared/LightMask.h"
+#include "shared/Parts.h"
 #include "shared/WedgeHull.h"
 
 layout(early_fragment_tests) in;
@@ -40,9 +42,10 @@ flat in uint vBounded;
 #ifdef BITMASK_POTENTIAL
 flat in vec4 vTri0[3];
 flat in vec4 vTri1[3];
-// The edge's share of A = (1/|L|) integral of D over the light, m_P(e) times the area of R
-// (edgeCoverage's), summed over the wedges by additive blending.
-layout(location = 0) out float oArea;
+// The edge's share of A_q = (1/|L_q|) integral of D over quadrant q of the light, per quadrant:
+// m_P(e) times the share of the quadrant in R (edgeQuadrantCoverage; their mean is
+// edgeCoverage's), summed over the wedges by additive blending.
+layout(location = 0) out vec4 oArea;
 #endif
 #if defined(BITMASK_COUNTS) || defined(BITMASK_POTENTIAL)
 // combine=counts: per sample a 4-bit count biased by 8, eight to a layer; the edge adds its sign
@@ -158,7 +161,7 @@ void main() {
     for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
 #endif
 #ifdef BITMASK_POTENTIAL
-    oArea = float(m) * abs(edgeCoverage(p, vE0.xyz, vE1.xyz, light));
+    oArea = float(m) * abs(edgeQuadrantCoverage(p, vE0.xyz, vE1.xyz, light));
     if (any != 0u) {
         // Checksums of the adds (wedges-bitmask.md): the sum over samples of the added counts,
         // and the same weighted by 1 + the count's place in its 32-bit word, which the resolve

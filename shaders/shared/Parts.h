@@ -43,6 +43,12 @@ struct EdgePartSet {
     vec4 windings;  // per part: Σ_j 16^j w_j over its corners j that are not the centre
 };
 
+// The quadrant (numbered as above) that holds the light point (s, t); a point on an axis goes to
+// the side of its non-negative coordinate.
+SHARED_FN int partsQuadrantOf(vec2 y) {
+    return y.x >= 0.0f ? (y.y >= 0.0f ? 0 : 3) : (y.y >= 0.0f ? 1 : 2);
+}
+
 // A light-coordinate half-plane dot(h, (s, t, 1)) >= 0 in the part coordinates of the quadrant
 // with signs sg: the sign flips are exact.
 SHARED_FN vec3 partsHalf(vec3 h, vec2 sg) {
@@ -187,6 +193,30 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
                                     edgeSign));
     }
     return parts;
+}
+
+// Only edgeParts4's coverage: per quadrant the signed share of the quadrant in R_e, from the
+// same projection and half-planes as edgeCoverage (whose value is their sum over 4, up to
+// rounding). wedges-bitmask's potential wedges add it times m_P(e): per quadrant the exact
+// integral of D over the quadrant (estimate=quadrants, bitmask-potential-resolve.frag).
+SHARED_FN vec4 edgeQuadrantCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
+    vec4 coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    vec3 q0;
+    vec3 q1;
+    float hp;
+    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return coverage;
+    vec3 h0;
+    vec3 h1;
+    vec3 h2;
+    float sg;
+    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return coverage;
+    float edgeSign = hp > 0.0f ? sg : -sg;
+    for (int q = 0; q < 4; ++q) {
+        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        coverage[q] = edgeSign * partsQuadrantArea(partsHalf(h0, sq), partsHalf(h1, sq),
+                                                   partsHalf(h2, sq));
+    }
+    return coverage;
 }
 
 // --- Every R, with moments (edgePartSet) ---

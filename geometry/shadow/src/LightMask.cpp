@@ -3,12 +3,14 @@
 #include <geometry/shadow/LightMask.h>
 
 #include <shared/LightMask.h>
+#include <shared/Parts.h>
 
 #include <geometry/core/Error.h>
 #include <geometry/core/Sampling.h>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace geometry {
@@ -26,6 +28,23 @@ std::vector<glm::vec2> lightMaskPattern(int n, std::uint32_t seed) {
         return std::atan2(a.y, a.x) < std::atan2(b.y, b.x);
     });
     return points;
+}
+
+std::vector<int> lightMaskRunQuadrants(std::span<const glm::vec2> pattern) {
+    if (pattern.size() % 8 != 0)
+        throw std::logic_error("light-mask pattern: " + std::to_string(pattern.size()) +
+                               " samples are not whole runs of 8");
+    std::vector<int> quadrants;
+    for (std::size_t run = 0; run < pattern.size(); run += 8) {
+        const int q = shader::partsQuadrantOf(pattern[run]);
+        for (std::size_t i = run + 1; i < run + 8; ++i)
+            if (shader::partsQuadrantOf(pattern[i]) != q)
+                throw std::logic_error("light-mask pattern: samples " + std::to_string(run) +
+                                       ".." + std::to_string(run + 7) +
+                                       " lie in more than one quadrant of the light");
+        quadrants.push_back(q);
+    }
+    return quadrants;
 }
 
 float maskSampleAngle(glm::vec2 y) {

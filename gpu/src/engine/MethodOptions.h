@@ -31,7 +31,7 @@ struct BitmaskOptions {
     bool potential = false;
     // With potential: how V is estimated from the counts (bitmask-potential-resolve.frag's
     // uEstimate).
-    enum class Estimate { Ratio = 0, Samples = 1 };
+    enum class Estimate { Ratio = 0, Samples = 1, Quadrants = 2 };
     Estimate estimate = Estimate::Ratio;
 };
 BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given);

@@ -32,7 +32,7 @@ constexpr std::string_view kBitmaskSamples[] = {"32", "64", "128", "256"};
 constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
 constexpr std::string_view kBitmaskCombine[] = {"parity", "counts"};
 constexpr std::string_view kBitmaskSilhouettes[] = {"potential", "centre"};
-constexpr std::string_view kBitmaskEstimate[] = {"ratio", "samples"};
+constexpr std::string_view kBitmaskEstimate[] = {"ratio", "quadrants", "samples"};
 constexpr MethodParameter kBitmaskParameters[] = {
     {"samples", kBitmaskSamples, "64",
      "light samples per pixel and silhouette group, one bit each (the reference's stratified "
@@ -48,10 +48,11 @@ constexpr MethodParameter kBitmaskParameters[] = {
      "potential: per receiver, every edge that is a silhouette from some light point, one count "
      "per sample over all casters (exact to the samples for any caster and light); centre: the "
      "light centre's silhouette per group (the wedge papers' approximation)"},
-    {"estimate", kBitmaskEstimate, "ratio",
+    {"estimate", kBitmaskEstimate, "quadrants",
      "with silhouettes=potential: ratio (the exact integral of the counts times the sampled share "
-     "of hidden samples over their mean count: exact at any N where one layer hides the light) "
-     "or samples (the share of hidden samples)"},
+     "of hidden samples over their mean count: exact at any N where one layer hides the light), "
+     "quadrants (the same per quadrant of the light, each with its own exact integral: less "
+     "error where layers overlap) or samples (the share of hidden samples)"},
 };
 
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
@@ -273,6 +274,8 @@ BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
                      .potential = parameterValue(r, "silhouettes") == "potential",
                      .estimate = parameterValue(r, "estimate") == "samples"
                                      ? BitmaskOptions::Estimate::Samples
+                                 : parameterValue(r, "estimate") == "quadrants"
+                                     ? BitmaskOptions::Estimate::Quadrants
                                      : BitmaskOptions::Estimate::Ratio};
     if (o.potential && !o.counts)
         throw geometry::InputError("wedges-bitmask: combine=parity needs silhouettes=centre "

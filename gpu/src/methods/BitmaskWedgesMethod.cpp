@@ -116,7 +116,7 @@ public:
                                .layers = countLayers(), .format = GL_R32UI,
                                .label = "bitmask-counts"});
         if (mLayout.potential) {
-            mArea = Texture({.width = width, .height = height, .format = GL_R32F,
+            mArea = Texture({.width = width, .height = height, .format = GL_RGBA32F,
                              .label = "bitmask-area"});
             mAreaFbo = Framebuffer({.attachments = {{GL_COLOR_ATTACHMENT0, &mArea}},
                                     .label = "bitmask-area"});
@@ -130,7 +130,7 @@ public:
     std::size_t targetBytesPerPixel() const override {
         return 2 * std::size_t(mLayout.targets()) * mLayout.bytesPerTarget() +
                (mLayout.counts ? 4 * std::size_t(countLayers()) : 0) + // 4 bits a sample
-               (mLayout.potential ? 4 : 0);                             // A
+               (mLayout.potential ? 16 : 0); // A per quadrant (RGBA32F)
     }
 
     void execute(const FrameContext& ctx) override {
@@ -235,8 +235,8 @@ private:
             mResolveVisibility = t.visibility.id();
         }
         applyState(PipelineState{}); // colour writes on, no scissor: whole-frame clears
-        const float zero = 0.0f;
-        glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, &zero);
+        const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, zero);
         const GLuint bias = 0x88888888u, none = 0u;
         const int layers = mLayout.samples / 8;
         glClearTexSubImage(mCounts.id(), 0, 0, 0, 0, t.width, t.height, layers, GL_RED_INTEGER,
@@ -340,11 +340,15 @@ private:
 
     void uploadPattern(std::uint32_t seed) {
         if (mSamples.size() > 0 && seed == mSeed) return;
-        // (s, t, angle about the centre, 0) per sample, in the pattern's angle order
-        // (shaders/wedge-bitmask.frag finds the run between two rays by bisection).
+        // (s, t, angle about the centre, quadrant of its run of 8) per sample, in the
+        // pattern's angle order (shaders/wedge-bitmask.frag finds the run between two rays by
+        // bisection; bitmask-potential-resolve.frag sums per quadrant, a word at a time).
+        const std::vector<glm::vec2> pattern = geometry::lightMaskPattern(mLayout.samples, seed);
+        const std::vector<int> runQuadrants = geometry::lightMaskRunQuadrants(pattern);
         std::vector<glm::vec4> table;
-        for (const glm::vec2 y : geometry::lightMaskPattern(mLayout.samples, seed))
-            table.emplace_back(y, geometry::maskSampleAngle(y), 0.0f);
+        for (std::size_t i = 0; i < pattern.size(); ++i)
+            table.emplace_back(pattern[i], geometry::maskSampleAngle(pattern[i]),
+                               static_cast<float>(runQuadrants[i / 8]));
         mSamples = Buffer({.size = table.size() * sizeof(glm::vec4), .data = table.data(),
                            .flags = 0, .label = "light-samples"});
         mSeed = seed;
@@ -400,7 +404,7 @@ private:
     std::vector<CasterRange> mKeptRuns; // wedges and set-up runs
     const DrawSet* mDrawnWedges = nullptr; // the wedge set the last frame drew (debug view)
     PotentialSet mPotential;
-    Texture mArea; // silhouettes=potential: the wedges' sum of m coverage
+    Texture mArea; // silhouettes=potential: per quadrant, the wedges' sum of m coverage
     Framebuffer mAreaFbo, mResolveFbo;
     GLuint mResolveVisibility = 0;
     Texture mCounts; // combine=counts: 4 bits a sample, biased

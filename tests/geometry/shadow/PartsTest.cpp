@@ -6,6 +6,7 @@
 #include "TestRandom.h"
 #include <geometry/models/BlendModel.h>
 #include <geometry/shadow/Coverage.h>
+#include <geometry/shadow/LightMask.h>
 #include <geometry/shadow/Parts.h>
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace {
@@ -392,4 +394,48 @@ TEST(PartsTest, PartSetTiesAsTheModelForEveryR) {
         }
     }
     EXPECT_EQ(checked, 6 * 4 * (4 + 3 * 4 + 2 * 8));
+}
+
+// wedges-bitmask's estimate=quadrants: the wedges add edgeQuadrantCoverage, which must be
+// edgeParts4's coverage (the same statements, without the bounds and windings), and the light
+// samples' table gives each run of 8 (one 32-bit word of 4-bit counts) one quadrant.
+TEST(PartsTest, QuadrantCoverageIsEdgePartsCoverage) {
+    Rng rng(0x51ab);
+    int nonZero = 0;
+    for (int n = 0; n < 5000; ++n) {
+        const Case k = randomCase(rng);
+        const geometry::CoverageLight cl =
+            geometry::coverageLight(k.light.center, k.light.u, k.light.v);
+        const glm::vec4 q = shader::edgeQuadrantCoverage(k.p, k.e0, k.e1, cl);
+        const geometry::EdgeParts4 parts = geometry::edgeParts4(k.p, k.e0, k.e1, cl);
+        for (int i = 0; i < 4; ++i) {
+            EXPECT_EQ(q[i], parts.coverage[i]) << n << " quadrant " << i;
+            nonZero += q[i] != 0.0f;
+        }
+    }
+    EXPECT_GT(nonZero, 2000); // the edges reach the light's quadrants, not only miss them
+}
+
+TEST(PartsTest, EveryRunOfEightLightSamplesLiesInOneQuadrant) {
+    for (const int n : geometry::kLightMaskSampleCounts)
+        for (std::uint32_t seed = 1; seed <= 40; ++seed) {
+            const std::vector<glm::vec2> pattern = geometry::lightMaskPattern(n, seed);
+            const std::vector<int> runs = geometry::lightMaskRunQuadrants(pattern);
+            ASSERT_EQ(runs.size(), pattern.size() / 8);
+            int perQuadrant[4] = {0, 0, 0, 0};
+            for (std::size_t i = 0; i < pattern.size(); ++i) {
+                const int q = shader::partsQuadrantOf(pattern[i]);
+                EXPECT_EQ(q, runs[i / 8]) << "n " << n << " seed " << seed << " sample " << i;
+                // The quadrant's signs (shared/Parts.h): (+,+), (-,+), (-,-), (+,-).
+                EXPECT_EQ(pattern[i].x >= 0.0f, q == 0 || q == 3);
+                EXPECT_EQ(pattern[i].y >= 0.0f, q < 2);
+                ++perQuadrant[q];
+            }
+            for (const int c : perQuadrant) EXPECT_EQ(c, n / 4) << "n " << n << " seed " << seed;
+        }
+    // A run that straddles two quadrants is refused, not summed into one.
+    std::vector<glm::vec2> mixed(8, glm::vec2(0.5f, 0.5f));
+    mixed[3] = glm::vec2(-0.5f, 0.5f);
+    EXPECT_THROW(geometry::lightMaskRunQuadrants(mixed), std::logic_error);
+    EXPECT_THROW(geometry::lightMaskRunQuadrants(std::vector<glm::vec2>(7)), std::logic_error);
 }

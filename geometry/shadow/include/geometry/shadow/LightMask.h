@@ -36,6 +36,15 @@ std::vector<glm::vec2> lightMaskPattern(int n, std::uint32_t seed);
 // The angle of a sample about the centre, atan2(t, s) in (-pi, pi], as the GPU's table holds it.
 float maskSampleAngle(glm::vec2 y);
 
+// The quadrant of the light (shaders/shared/Parts.h's numbering: signs (+,+), (-,+), (-,-),
+// (+,-) of (s, t)) of each run of 8 consecutive samples of a lightMaskPattern: the 4-bit counts
+// of wedges-bitmask are stored eight to a 32-bit word, and its estimate=quadrants keeps its
+// sums per such word. The stratified pattern's strata never straddle an axis (its grid has an
+// even number of cells each way) and the angle order keeps each quadrant's N / 4 samples
+// together, so every run lies in one quadrant; a pattern where one does not is an internal
+// error (std::logic_error).
+std::vector<int> lightMaskRunQuadrants(std::span<const glm::vec2> pattern);
+
 // The per-pixel shift (the `rotated` pattern): a Cranley-Patterson rotation in [0, 2)^2 by a
 // hash of the pixel (x, y from the lower left), and a point shifted and wrapped back into
 // [-1, 1)^2. The shaders' own code (shaders/shared/LightMask.h).
