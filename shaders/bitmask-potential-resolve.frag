@@ -27,6 +27,7 @@
 // no wedge reached (the stencil's mark bit clear) skips the counts.
 #include "lib/Bindings.h"
 #include "lib/Horizon.glsl"
+#include "shared/Parts.h"
 
 #ifndef BITMASK_SAMPLES
 #define BITMASK_SAMPLES 64
@@ -71,7 +72,7 @@ int ownPlane(ivec2 px, out uint words[8], out float behindArea, out vec4 behindQ
     // the quadrant is the square of half-size 1/2 about (sx / 2, sy / 2).
     int quadrants = front < 1.0 ? 4 : 0; // a bound, to skip the loop (below)
     for (int q = 0; q < quadrants; ++q) {
-        vec2 sq = vec2(q == 0 || q == 3 ? 1.0 : -1.0, q < 2 ? 1.0 : -1.0);
+        vec2 sq = partsQuadrantSigns(q);
         behindQuadrants[q] =
             1.0 - horizonShare(nc + 0.5 * (sq.x * nu + sq.y * nv), 0.5 * nu, 0.5 * nv);
     }

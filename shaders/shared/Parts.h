@@ -49,6 +49,11 @@ SHARED_FN int partsQuadrantOf(vec2 y) {
     return y.x >= 0.0f ? (y.y >= 0.0f ? 0 : 3) : (y.y >= 0.0f ? 1 : 2);
 }
 
+// The signs (sx, sy) of quadrant q's coordinates, as numbered above.
+SHARED_FN vec2 partsQuadrantSigns(int q) {
+    return vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+}
+
 // A light-coordinate half-plane dot(h, (s, t, 1)) >= 0 in the part coordinates of the quadrant
 // with signs sg: the sign flips are exact.
 SHARED_FN vec3 partsHalf(vec3 h, vec2 sg) {
@@ -167,7 +172,7 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
     if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return parts;
     // The bounds need only the segment; the rest needs R_e to have area.
     for (int q = 0; q < 4; ++q) {
-        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        vec2 sq = partsQuadrantSigns(q);
         parts.bounds[q] = partsEdgeBounds(partsHalf(q0, sq), partsHalf(q1, sq));
     }
     vec3 h0;
@@ -177,7 +182,7 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
     if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return parts;
     float edgeSign = hp > 0.0f ? sg : -sg;
     for (int q = 0; q < 4; ++q) {
-        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        vec2 sq = partsQuadrantSigns(q);
         vec3 g0 = partsHalf(h0, sq);
         vec3 g1 = partsHalf(h1, sq);
         vec3 g2 = partsHalf(h2, sq);
@@ -212,7 +217,7 @@ SHARED_FN vec4 edgeQuadrantCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight ligh
     if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return coverage;
     float edgeSign = hp > 0.0f ? sg : -sg;
     for (int q = 0; q < 4; ++q) {
-        vec2 sq = vec2(q == 0 || q == 3 ? 1.0f : -1.0f, q < 2 ? 1.0f : -1.0f);
+        vec2 sq = partsQuadrantSigns(q);
         coverage[q] = edgeSign * partsQuadrantArea(partsHalf(h0, sq), partsHalf(h1, sq),
                                                    partsHalf(h2, sq));
     }
