@@ -13,6 +13,17 @@
 //   the 2 x 2 texels around P's ray weighted bilinearly (the comparison sampler), so that V
 //   changes continuously as P moves. Outside the map's extent or nearer to the light than every
 //   caster, lit.
+// A receiver in reach whose pyramid to the light holds no caster is lit from every sample in
+// front of its plane too (EARLY_OUT, early_out=on): a caster point X on a segment from P to a
+// light point, at depth z_X in [zNear, z_P] along n, lies in map k (the sample y_k nearest the
+// centre) at m_k(X) = m_k(P) + (t / (1 - t)) (d_y - d_k) / z_P, t / (1 - t) <= z_P / zNear - 1:
+// within m_k(P) +- E (1 / zNear - 1 / z_P) per axis (E = max |d_i - d_k|), where map k holds X
+// or a caster nearer to y_k (zNear / z >= zNear / z_X >= zNear / z_P). So where the largest
+// stored value over that rectangle (its max N-buffer, four reads), widened by the receiver's
+// offset and the texels' footprints, is below zNear / z of the offset receiver, no sample's
+// 2 x 2 texels can hide it and the loop would count every sample in front of the plane lit.
+// Exact up to the maps' rasterisation: a sliver that covers a texel centre of map i but none of
+// map k's within the margin is missed (tests/gpu/SampleMapsMethodTest.cpp counts such pixels).
 // A receiver outside the frame's reach (geometry::inReach, the same test: from the light's
 // centre, the casters' extent widened by the light's half extent times the spread of 1 / z
 // between the receiver and the casters) is lit from every sample in front of its plane: only
@@ -23,6 +34,10 @@ layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 layout(binding = TEXUNIT_SAMPLE_MAPS) uniform sampler2DArray tMaps; // zNear / z; 0: nothing
 
+#ifdef EARLY_OUT
+layout(binding = TEXUNIT_SAMPLE_MAP_NBUFFER) uniform sampler2DArray tNBuffer; // layer = level
+#endif
+
 layout(std430, binding = BINDING_SAMPLE_MAP_VIEWS) readonly buffer SampleMapViews {
     vec4 views[]; // per sample: (s, t, its lateral offset from the centre), (lo, 1 / (hi - lo))
 };
@@ -32,6 +47,38 @@ layout(location = 0) out float oVisibility;
 #define DEPTH_BIAS 1e-3
 #ifndef OFFSET_FLOOR
 #define OFFSET_FLOOR 0.25
+#endif
+
+#ifdef EARLY_OUT
+// Whether the largest stored value over the rectangle of map k that holds P's pyramid to the
+// light (see above) may hide the offset receiver from some sample.
+bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear) {
+    int k = int(sampleMaps.emptyTest.x);
+    int levels = int(sampleMaps.emptyTest.y);
+    float R = sampleMaps.params.y;
+    vec4 a = views[2 * k], b = views[2 * k + 1];
+    float zHi = zP * (1.0 + sampleMaps.emptyTest.z); // the offset receiver's largest depth
+    vec2 mk = (lateral - a.zw) / zP;
+    vec2 ext = sampleMaps.emptyExtent.xy * max(1.0 / zNear - 1.0 / zHi, 0.0) +
+               sampleMaps.emptyTest.z * (1.0 + length(mk)) / (1.0 - sampleMaps.emptyTest.z) +
+               sampleMaps.emptyTest.w;
+    vec2 lo = (mk - ext - b.xy) * b.zw, hi = (mk + ext - b.xy) * b.zw;
+    if (any(lessThan(hi, vec2(0.0))) || any(greaterThan(lo, vec2(1.0))))
+        return false; // beyond the map: no caster there
+    ivec2 i0 = ivec2(floor(clamp(lo, 0.0, 1.0) * R));
+    ivec2 i1 = ivec2(floor(clamp(hi, 0.0, 1.0) * R));
+    i0 = min(i0, ivec2(int(R) - 1));
+    i1 = min(i1, ivec2(int(R) - 1));
+    ivec2 span = i1 - i0 + 1;
+    int level = min(findMSB(max(span.x, span.y)), levels - 1); // 2^level <= the longer side
+    int w = 1 << level;
+    ivec2 j = max(i1 - w + 1, ivec2(0)); // windows [i0, i0 + w) and [j, j + w) cover [i0, i1]
+    float d = max(max(texelFetch(tNBuffer, ivec3(i0, level), 0).r,
+                      texelFetch(tNBuffer, ivec3(j.x, i0.y, level), 0).r),
+                  max(texelFetch(tNBuffer, ivec3(i0.x, j.y, level), 0).r,
+                      texelFetch(tNBuffer, ivec3(j, level), 0).r));
+    return d >= zNear / zHi;
+}
 #endif
 
 void main() {
@@ -77,6 +124,21 @@ void main() {
 #else
     if (!inReach) {
         oVisibility = 1.0;
+        return;
+    }
+#endif
+#ifdef EARLY_OUT
+    if (inReach && sampleMaps.emptyTest.y > 0.0 && !pyramidMayHoldCaster(lateral, zP, zNear)) {
+#ifdef OWN_PLANE
+        float front = 0.0;
+        for (int i = 0; i < samples; ++i) {
+            vec2 st = views[2 * i].xy;
+            front += nc + st.x * nu + st.y * nv > 0.0 ? 1.0 : 0.0;
+        }
+        oVisibility = front / float(samples);
+#else
+        oVisibility = 1.0;
+#endif
         return;
     }
 #endif

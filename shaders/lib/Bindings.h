@@ -43,6 +43,7 @@
 #define IMAGE_OCCLUSION_DST 2 // occlusion: the prefilter's output (N-buffer levels or SAT)
 #define IMAGE_GROUP_COUNTS 3 // wedges-bitmask combine=counts: r32ui array, 8 biased 4-bit counts a layer
                              // (silhouettes=potential: then two checksum layers)
+#define IMAGE_SAMPLE_MAP_NBUFFER 4 // sample-maps early_out=on: r32f array, the max N-buffer's levels
 
 // Explicit uniform locations (plain uniforms set per draw).
 #define UNIFORM_MATERIAL 0      // lib/Material.glsl: vec4 alpha cutoff, base alpha, textured
@@ -83,6 +84,7 @@
 #define TEXUNIT_STENCIL 22   // wedges-bitmask combine=counts: the frame's stencil (STENCIL_INDEX view)
 #define TEXUNIT_SHADING 23   // shade: the G-buffer's shading normal (the files' vertex normals)
 #define TEXUNIT_SAMPLE_MAPS 24 // sample-maps: the shadow maps, one layer per light sample
+#define TEXUNIT_SAMPLE_MAP_NBUFFER 25 // sample-maps early_out=on: the max N-buffer (layer = level)
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 #define PCSS_REACH_BOXES 16 // pcss: boxes around the casters for the reach test
@@ -158,6 +160,11 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
                  // texels, w: zNear (every view's)
     vec4 reach;  // SampleMapFrame::centreLo (xy), centreHi (zw) (geometry::inReach)
     vec4 reachSpread; // xy: SampleMapFrame::half, z: 1 / zFar, w: 1 if reachAll
+    // early_out=on (sample-maps-lookup.frag): x: the map k whose sample lies nearest the centre,
+    // y: its N-buffer's levels (0: no early out), z: the receiver offset's largest share of
+    // the receiver's depth, w: the tan-space margin (texel footprints and the offset's shift)
+    vec4 emptyTest;
+    vec4 emptyExtent; // xy: max over the samples of |offset_i - offset_k| along eu, ev
 PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
@@ -201,7 +208,7 @@ static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
-static_assert(sizeof(SampleMapUniforms) == 6 * 16, "SampleMapUniforms must match std140");
+static_assert(sizeof(SampleMapUniforms) == 8 * 16, "SampleMapUniforms must match std140");
 static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2 * PCSS_REACH_BOXES + 1) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader

@@ -65,6 +65,7 @@ struct SampleMapsOptions {
     int resolution = 0;       // side of each map in texels
     float normalOffset = 0.0f; // the receiver offset's grazing part: x sin(angle) map texels
     bool ownPlane = true;      // a sample behind the receiver's own plane is hidden
+    bool earlyOut = true;      // receivers whose pyramid to the light is empty skip the maps
 };
 SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given);
 

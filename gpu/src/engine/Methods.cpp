@@ -105,6 +105,7 @@ constexpr std::string_view kSampleMapsSamples[] = {"16", "32", "64", "128", "256
 constexpr std::string_view kSampleMapsResolution[] = {"256", "512", "1024"};
 constexpr std::string_view kSampleMapsBias[] = {"0.0", "0.5", "1.0", "2.0"};
 constexpr std::string_view kSampleMapsPlane[] = {"on", "off"};
+constexpr std::string_view kSampleMapsEarlyOut[] = {"on", "off"};
 constexpr MethodParameter kSampleMapsParameters[] = {
     {"samples", kSampleMapsSamples, "64",
      "light samples, one shadow map each (the reference's stratified pattern for the same count "
@@ -118,6 +119,11 @@ constexpr MethodParameter kSampleMapsParameters[] = {
     {"plane", kSampleMapsPlane, "on",
      "on: a sample behind the receiver's own plane is hidden (as raytrace counts it); off: only "
      "the casters hide (auto's composition, whose wedge path counts the plane)"},
+    {"early_out", kSampleMapsEarlyOut, "on",
+     "on: a receiver whose pyramid to the light holds no caster (four reads of a max N-buffer "
+     "of the map nearest the light's centre) is lit from every sample in front of its plane "
+     "without reading the N maps (the same V up to the maps' rasterisation); off: every "
+     "receiver in reach reads all N maps"},
 };
 
 // auto: which wedge method serves the objects it gives to wedges.
@@ -314,7 +320,8 @@ SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given) {
     return {.samples = intValue(r, "samples"),
             .resolution = intValue(r, "resolution"),
             .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
-            .ownPlane = parameterValue(r, "plane") == "on"};
+            .ownPlane = parameterValue(r, "plane") == "on",
+            .earlyOut = parameterValue(r, "early_out") == "on"};
 }
 
 AutoOptions autoOptions(std::span<const ParameterValue> given) {

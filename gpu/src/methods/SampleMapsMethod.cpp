@@ -13,6 +13,9 @@
 #include <geometry/core/Sampling.h>
 #include <geometry/shadow/SampleMapFrame.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,8 +49,7 @@ public:
         : mOptions(sampleMapsOptions(r.parameters)), mOpaque(loadMapProgram(r.shaders, false)),
           mAlphaTested(loadMapProgram(r.shaders, true)),
           mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{},
-                  mOptions.ownPlane ? std::vector<std::string>{"OWN_PLANE"}
-                                    : std::vector<std::string>{}),
+                  lookupDefines(mOptions)),
           mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}) {
         const std::size_t n = static_cast<std::size_t>(mOptions.samples);
         const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
@@ -68,6 +70,17 @@ public:
         for (int i = 0; i < mOptions.samples; ++i)
             mFbos.emplace_back(FramebufferDesc{
                 .attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, i}}, .label = "sample-map"});
+        if (mOptions.earlyOut) {
+            while ((1 << (mNBufferLevels - 1)) < mOptions.resolution) ++mNBufferLevels;
+            mNBuffer = Texture({.target = GL_TEXTURE_2D_ARRAY,
+                                .width = mOptions.resolution,
+                                .height = mOptions.resolution,
+                                .layers = mNBufferLevels,
+                                .format = GL_R32F,
+                                .label = "sample-map-nbuffer"});
+            mNBufferProgram = r.shaders.load({.stages = {{GL_COMPUTE_SHADER, "sample-maps-nbuffer.comp"}},
+                                              .label = "sample-maps-nbuffer"});
+        }
     }
 
     void execute(const FrameContext& ctx) override {
@@ -82,6 +95,11 @@ public:
         u.reach = glm::vec4(f.centreLo, f.centreHi);
         u.reachSpread = glm::vec4(f.half, f.zFar > 0.0f ? 1.0f / f.zFar : 0.0f,
                                   f.reachAll ? 1.0f : 0.0f);
+        const bool earlyOut = mOptions.earlyOut && !f.empty && !f.reachAll && mEmptyTestUsable;
+        u.emptyTest = glm::vec4(static_cast<float>(mNearest),
+                                earlyOut ? static_cast<float>(mNBufferLevels) : 0.0f, mOffsetShare,
+                                mFootprintMargin);
+        u.emptyExtent = glm::vec4(mNearestExtent, 0.0f, 0.0f);
         mUniforms.upload(&u, sizeof(u));
         glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_SAMPLE_MAPS_UBO, mUniforms.id());
 
@@ -102,6 +120,7 @@ public:
                 for (const std::size_t object : mObjects)
                     ctx.sceneGeometry.drawObject(object, programs);
             }
+            if (earlyOut) buildNBuffer();
         }
         mMapsDrawn = true;
         {
@@ -109,6 +128,7 @@ public:
             glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
             glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps.id());
+            if (mOptions.earlyOut) glBindTextureUnit(TEXUNIT_SAMPLE_MAP_NBUFFER, mNBuffer.id());
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_VIEWS, mViews.id());
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
@@ -122,6 +142,64 @@ public:
     }
 
 private:
+    static std::vector<std::string> lookupDefines(const SampleMapsOptions& o) {
+        std::vector<std::string> d;
+        if (o.ownPlane) d.emplace_back("OWN_PLANE");
+        if (o.earlyOut) d.emplace_back("EARLY_OUT");
+        return d;
+    }
+
+    // Map mNearest's max N-buffer (shaders/sample-maps-nbuffer.comp), from the maps just drawn.
+    void buildNBuffer() const {
+        glUseProgram(mNBufferProgram.id());
+        glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps.id());
+        glBindImageTexture(IMAGE_SAMPLE_MAP_NBUFFER, mNBuffer.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
+                           GL_R32F);
+        const GLuint groups = static_cast<GLuint>((mOptions.resolution + 7) / 8);
+        glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        for (int level = 0; level < mNBufferLevels; ++level) {
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // level l reads l - 1
+            glUniform1i(UNIFORM_PREFILTER_STEP, level);
+            glDispatchCompute(groups, groups, 1);
+        }
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT); // the lookup fetches the levels
+    }
+
+    // The early out's figures (sample-maps-lookup.frag, EARLY_OUT): the map whose sample lies
+    // nearest the centre, the largest lateral distance of another sample from it, and the
+    // receiver offset's and texel footprints' bounds from the widest map.
+    void fitEmptyTest() {
+        mNearest = 0;
+        float best = std::numeric_limits<float>::infinity();
+        float widest = 0.0f;
+        for (std::size_t i = 0; i < mFrame.views.size(); ++i) {
+            const geometry::SampleMapView& v = mFrame.views[i];
+            const float d = glm::dot(v.st, v.st);
+            if (d < best) {
+                best = d;
+                mNearest = static_cast<int>(i);
+            }
+            widest = std::max({widest, v.hi.x - v.lo.x, v.hi.y - v.lo.y});
+        }
+        mNearestExtent = glm::vec2(0.0f);
+        if (!mFrame.views.empty()) {
+            const glm::vec3 ck = mFrame.views[static_cast<std::size_t>(mNearest)].origin;
+            for (const geometry::SampleMapView& v : mFrame.views) {
+                const glm::vec3 d = v.origin - ck;
+                mNearestExtent = glm::max(mNearestExtent, glm::abs(glm::vec2(
+                                                              glm::dot(d, mFrame.eu),
+                                                              glm::dot(d, mFrame.ev))));
+            }
+        }
+        const float texel = widest / static_cast<float>(mOptions.resolution);
+        // The lookup moves the receiver by at most (0.25 + bias) texels of its map at its depth.
+        mOffsetShare = (0.25f + mOptions.normalOffset) * texel;
+        // The 2 x 2 texels a sample reads lie within sqrt(2) texels of its ray, and a caster
+        // there covers a texel centre of map k within one texel: 2.5 texels in all.
+        mFootprintMargin = 2.5f * texel;
+        mEmptyTestUsable = std::isfinite(mOffsetShare) && mOffsetShare < 0.25f;
+    }
+
     // Refits the frame (and marks the maps stale) when the light or the casters change.
     void update(const FrameContext& ctx) {
         std::vector<std::uint32_t> subset(ctx.casterSubset.begin(), ctx.casterSubset.end());
@@ -144,6 +222,7 @@ private:
             views.emplace_back(v.lo, 1.0f / (v.hi - v.lo));
         }
         if (views.empty()) views.emplace_back(0.0f); // a buffer is bound either way
+        fitEmptyTest();
         mViews = Buffer({.size = views.size() * sizeof(glm::vec4), .label = "sample-map-views"});
         mViews.upload(std::span<const glm::vec4>(views));
         mMapsDrawn = false;
@@ -159,6 +238,14 @@ private:
     FullscreenPass mLookup;
     Buffer mUniforms, mViews;
     Texture mMaps;
+    // early_out=on: map mNearest's max N-buffer, one layer per level.
+    Texture mNBuffer;
+    Program mNBufferProgram;
+    int mNBufferLevels = 1;
+    int mNearest = 0;
+    glm::vec2 mNearestExtent{0.0f};
+    float mOffsetShare = 0.0f, mFootprintMargin = 0.0f;
+    bool mEmptyTestUsable = false;
     std::vector<Framebuffer> mFbos;
     geometry::SampleMapFrame mFrame;
     bool mFitted = false, mMapsDrawn = false;
