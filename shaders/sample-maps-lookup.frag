@@ -50,19 +50,23 @@ layout(location = 0) out float oVisibility;
 #endif
 
 #ifdef EARLY_OUT
-// Whether the largest stored value over the rectangle of map k that holds P's pyramid to the
-// light (see above) may hide the offset receiver from some sample.
-bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear) {
+// Whether the largest stored value over the rectangle of map k that holds the segments from P
+// to the light points y with d_y - d_k in [offLo, offHi] (see above) may hide the offset
+// receiver from one of them.
+bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear, vec2 offLo, vec2 offHi) {
     int k = int(sampleMaps.emptyTest.x);
     int levels = int(sampleMaps.emptyTest.y);
     float R = sampleMaps.params.y;
     vec4 a = views[2 * k], b = views[2 * k + 1];
     float zHi = zP * (1.0 + sampleMaps.emptyTest.z); // the offset receiver's largest depth
     vec2 mk = (lateral - a.zw) / zP;
-    vec2 ext = sampleMaps.emptyExtent.xy * max(1.0 / zNear - 1.0 / zHi, 0.0) +
-               sampleMaps.emptyTest.z * (1.0 + length(mk)) / (1.0 - sampleMaps.emptyTest.z) +
-               sampleMaps.emptyTest.w;
-    vec2 lo = (mk - ext - b.xy) * b.zw, hi = (mk + ext - b.xy) * b.zw;
+    // t / (1 - t) (d_y - d_k) / z_P over t / (1 - t) in [0, z_P / zNear - 1]
+    float reach = max(1.0 / zNear - 1.0 / zHi, 0.0);
+    vec2 margin = vec2(sampleMaps.emptyTest.z * (1.0 + length(mk)) /
+                           (1.0 - sampleMaps.emptyTest.z) +
+                       sampleMaps.emptyTest.w);
+    vec2 lo = (mk + min(offLo * reach, 0.0) - margin - b.xy) * b.zw;
+    vec2 hi = (mk + max(offHi * reach, 0.0) + margin - b.xy) * b.zw;
     if (any(lessThan(hi, vec2(0.0))) || any(greaterThan(lo, vec2(1.0))))
         return false; // beyond the map: no caster there
     ivec2 i0 = ivec2(floor(clamp(lo, 0.0, 1.0) * R));
@@ -78,6 +82,11 @@ bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear) {
                   max(texelFetch(tNBuffer, ivec3(i0.x, j.y, level), 0).r,
                       texelFetch(tNBuffer, ivec3(j, level), 0).r));
     return d >= zNear / zHi;
+}
+
+// The light's quadrant of sample st (st in [-1, 1]^2), as SampleMapsMethod.cpp assigns them.
+int sampleQuadrant(vec2 st) {
+    return (st.x >= 0.0 ? 1 : 0) + (st.y >= 0.0 ? 2 : 0);
 }
 #endif
 
@@ -128,7 +137,24 @@ void main() {
     }
 #endif
 #ifdef EARLY_OUT
-    if (inReach && sampleMaps.emptyTest.y > 0.0 && !pyramidMayHoldCaster(lateral, zP, zNear)) {
+    // The whole light first, then (where some caster may lie in the pyramid) each quadrant's:
+    // the samples of a quadrant whose pyramid holds no caster are lit without their maps.
+    uint emptyQuadrants = 0u;
+    if (inReach && sampleMaps.emptyTest.y > 0.0) {
+        vec2 lo = min(min(sampleMaps.emptyQuadrant[0].xy, sampleMaps.emptyQuadrant[1].xy),
+                      min(sampleMaps.emptyQuadrant[2].xy, sampleMaps.emptyQuadrant[3].xy));
+        vec2 hi = max(max(sampleMaps.emptyQuadrant[0].zw, sampleMaps.emptyQuadrant[1].zw),
+                      max(sampleMaps.emptyQuadrant[2].zw, sampleMaps.emptyQuadrant[3].zw));
+        if (!pyramidMayHoldCaster(lateral, zP, zNear, lo, hi)) {
+            emptyQuadrants = 15u;
+        } else {
+            for (int q = 0; q < 4; ++q)
+                if (!pyramidMayHoldCaster(lateral, zP, zNear, sampleMaps.emptyQuadrant[q].xy,
+                                          sampleMaps.emptyQuadrant[q].zw))
+                    emptyQuadrants |= 1u << uint(q);
+        }
+    }
+    if (emptyQuadrants == 15u) {
 #ifdef OWN_PLANE
         float front = 0.0;
         for (int i = 0; i < samples; ++i) {
@@ -153,6 +179,12 @@ void main() {
             lit += 1.0;
             continue;
         }
+#ifdef EARLY_OUT
+        if ((emptyQuadrants & (1u << uint(sampleQuadrant(a.xy)))) != 0u) {
+            lit += 1.0; // no caster in this quadrant's pyramid
+            continue;
+        }
+#endif
         vec4 b = views[2 * i + 1];
         float d2 = cc + 2.0 * (a.x * cu + a.y * cv) + a.x * a.x * uu + a.y * a.y * vv +
                    2.0 * a.x * a.y * uvDot; // |y - P|^2

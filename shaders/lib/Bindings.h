@@ -164,7 +164,9 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
     // y: its N-buffer's levels (0: no early out), z: the receiver offset's largest share of
     // the receiver's depth, w: the tan-space margin (texel footprints and the offset's shift)
     vec4 emptyTest;
-    vec4 emptyExtent; // xy: max over the samples of |offset_i - offset_k| along eu, ev
+    // Per quadrant of the light (its samples' st: x >= 0 adds 1, y >= 0 adds 2): xy the least,
+    // zw the largest lateral offset d_i - d_k of its samples from sample k along eu, ev
+    vec4 emptyQuadrant[4];
 PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
@@ -208,7 +210,7 @@ static_assert(sizeof(GpuEdge) == 16, "GpuEdge must match std430");
 static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
-static_assert(sizeof(SampleMapUniforms) == 8 * 16, "SampleMapUniforms must match std140");
+static_assert(sizeof(SampleMapUniforms) == 11 * 16, "SampleMapUniforms must match std140");
 static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2 * PCSS_REACH_BOXES + 1) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader

@@ -14,6 +14,7 @@
 #include <geometry/shadow/SampleMapFrame.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -99,7 +100,7 @@ public:
         u.emptyTest = glm::vec4(static_cast<float>(mNearest),
                                 earlyOut ? static_cast<float>(mNBufferLevels) : 0.0f, mOffsetShare,
                                 mFootprintMargin);
-        u.emptyExtent = glm::vec4(mNearestExtent, 0.0f, 0.0f);
+        for (int q = 0; q < 4; ++q) u.emptyQuadrant[q] = mQuadrantOffsets[q];
         mUniforms.upload(&u, sizeof(u));
         glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_SAMPLE_MAPS_UBO, mUniforms.id());
 
@@ -166,7 +167,7 @@ private:
     }
 
     // The early out's figures (sample-maps-lookup.frag, EARLY_OUT): the map whose sample lies
-    // nearest the centre, the largest lateral distance of another sample from it, and the
+    // nearest the centre, the range of lateral offsets from it of each quadrant's samples, and the
     // receiver offset's and texel footprints' bounds from the widest map.
     void fitEmptyTest() {
         mNearest = 0;
@@ -181,16 +182,24 @@ private:
             }
             widest = std::max({widest, v.hi.x - v.lo.x, v.hi.y - v.lo.y});
         }
-        mNearestExtent = glm::vec2(0.0f);
+        // Per quadrant (the shader's sampleQuadrant), the range of its samples' lateral offsets
+        // from sample k; a quadrant without samples holds 0.
+        constexpr float inf = std::numeric_limits<float>::infinity();
+        std::array<glm::vec2, 4> lo, hi;
+        lo.fill(glm::vec2(inf));
+        hi.fill(glm::vec2(-inf));
         if (!mFrame.views.empty()) {
             const glm::vec3 ck = mFrame.views[static_cast<std::size_t>(mNearest)].origin;
             for (const geometry::SampleMapView& v : mFrame.views) {
                 const glm::vec3 d = v.origin - ck;
-                mNearestExtent = glm::max(mNearestExtent, glm::abs(glm::vec2(
-                                                              glm::dot(d, mFrame.eu),
-                                                              glm::dot(d, mFrame.ev))));
+                const glm::vec2 o(glm::dot(d, mFrame.eu), glm::dot(d, mFrame.ev));
+                const int q = (v.st.x >= 0.0f ? 1 : 0) + (v.st.y >= 0.0f ? 2 : 0);
+                lo[q] = glm::min(lo[q], o);
+                hi[q] = glm::max(hi[q], o);
             }
         }
+        for (int q = 0; q < 4; ++q)
+            mQuadrantOffsets[q] = lo[q].x <= hi[q].x ? glm::vec4(lo[q], hi[q]) : glm::vec4(0.0f);
         const float texel = widest / static_cast<float>(mOptions.resolution);
         // The lookup moves the receiver by at most (0.25 + bias) texels of its map at its depth.
         mOffsetShare = (0.25f + mOptions.normalOffset) * texel;
@@ -243,7 +252,7 @@ private:
     Program mNBufferProgram;
     int mNBufferLevels = 1;
     int mNearest = 0;
-    glm::vec2 mNearestExtent{0.0f};
+    std::array<glm::vec4, 4> mQuadrantOffsets{}; // per quadrant: least (xy), largest (zw)
     float mOffsetShare = 0.0f, mFootprintMargin = 0.0f;
     bool mEmptyTestUsable = false;
     std::vector<Framebuffer> mFbos;
