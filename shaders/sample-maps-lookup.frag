@@ -15,15 +15,20 @@
 //   caster, lit.
 // A receiver in reach whose pyramid to the light holds no caster is lit from every sample in
 // front of its plane too (EARLY_OUT, early_out=on): a caster point X on a segment from P to a
-// light point, at depth z_X in [zNear, z_P] along n, lies in map k (the sample y_k nearest the
-// centre) at m_k(X) = m_k(P) + (t / (1 - t)) (d_y - d_k) / z_P, t / (1 - t) <= z_P / zNear - 1:
-// within m_k(P) +- E (1 / zNear - 1 / z_P) per axis (E = max |d_i - d_k|), where map k holds X
-// or a caster nearer to y_k (zNear / z >= zNear / z_X >= zNear / z_P). So where the largest
-// stored value over that rectangle (its max N-buffer, four reads), widened by the receiver's
-// offset and the texels' footprints, is below zNear / z of the offset receiver, no sample's
-// 2 x 2 texels can hide it and the loop would count every sample in front of the plane lit.
-// Exact up to the maps' rasterisation: a sliver that covers a texel centre of map i but none of
-// map k's within the margin is missed (tests/gpu/SampleMapsMethodTest.cpp counts such pixels).
+// light point y, at depth z_X in [zNear, z_P] along n, lies in map k (the sample y_k nearest
+// the centre) at m_k(X) = m_k(P) + s (d_y - d_k), s = 1 / z_X - 1 / z_P in
+// [0, 1 / zNear - 1 / z_P] (d: the samples' lateral offsets): within the rectangle from m_k(P)
+// spanned by s times the range of d_y - d_k over the samples, per axis, and map k holds X or a
+// caster nearer to y_k (zNear / z >= zNear / z_X). So where the largest stored value over that
+// rectangle (its max N-buffer, four reads) — with z_P the offset receiver's largest depth zHi,
+// widened by the offset's shift and the texels' footprints — is below zNear / zHi, no sample's
+// 2 x 2 texels can hide the receiver and the loop would count every sample in front of the
+// plane lit. Where it is not, the same test runs for each quadrant of the light (the range of
+// that quadrant's samples), and a quadrant whose pyramid is empty skips its samples' maps. A
+// receiver whose own texel of map k holds a caster at its depth (a leaf, on a tree) fails every
+// such test, so one read of that texel skips them. Exact up to the maps' rasterisation: a
+// sliver that covers a texel centre of map i but none of map k's within the margin is missed
+// (tests/gpu/SampleMapsMethodTest.cpp counts differing pixels). Counted: SAMPLE_MAP_STAT_*.
 // A receiver outside the frame's reach (geometry::inReach, the same test: from the light's
 // centre, the casters' extent widened by the light's half extent times the spread of 1 / z
 // between the receiver and the casters) is lit from every sample in front of its plane: only
@@ -36,6 +41,9 @@ layout(binding = TEXUNIT_SAMPLE_MAPS) uniform sampler2DArray tMaps; // zNear / z
 
 #ifdef EARLY_OUT
 layout(binding = TEXUNIT_SAMPLE_MAP_NBUFFER) uniform sampler2DArray tNBuffer; // layer = level
+layout(std430, binding = BINDING_SAMPLE_MAP_STATS) buffer SampleMapStats {
+    uint sampleMapStats[SAMPLE_MAP_STAT_COUNT];
+};
 #endif
 
 layout(std430, binding = BINDING_SAMPLE_MAP_VIEWS) readonly buffer SampleMapViews {
@@ -82,6 +90,18 @@ bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear, vec2 offLo, vec2 
                   max(texelFetch(tNBuffer, ivec3(i0.x, j.y, level), 0).r,
                       texelFetch(tNBuffer, ivec3(j, level), 0).r));
     return d >= zNear / zHi;
+}
+
+// Whether P's own texel of map k holds a caster at P's depth or nearer (P is a caster itself):
+// that texel lies in every rectangle above, so every test would say "may hold".
+bool ownTexelHoldsCaster(vec2 lateral, float zP, float zNear) {
+    int k = int(sampleMaps.emptyTest.x);
+    float R = sampleMaps.params.y;
+    vec4 a = views[2 * k], b = views[2 * k + 1];
+    vec2 uv = ((lateral - a.zw) / zP - b.xy) * b.zw;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
+    float zHi = zP * (1.0 + sampleMaps.emptyTest.z);
+    return texelFetch(tNBuffer, ivec3(ivec2(uv * R), 0), 0).r >= zNear / zHi;
 }
 
 // The light's quadrant of sample st (st in [-1, 1]^2), as SampleMapsMethod.cpp assigns them.
@@ -139,21 +159,38 @@ void main() {
 #ifdef EARLY_OUT
     // The whole light first, then (where some caster may lie in the pyramid) each quadrant's:
     // the samples of a quadrant whose pyramid holds no caster are lit without their maps.
+    // As a loop with a per-pixel bound (0: no test), so that llvmpipe, which runs both sides of
+    // a branch under a lane mask, skips the tests where no pixel of a SIMD group makes them.
     uint emptyQuadrants = 0u;
-    if (inReach && sampleMaps.emptyTest.y > 0.0) {
-        vec2 lo = min(min(sampleMaps.emptyQuadrant[0].xy, sampleMaps.emptyQuadrant[1].xy),
-                      min(sampleMaps.emptyQuadrant[2].xy, sampleMaps.emptyQuadrant[3].xy));
-        vec2 hi = max(max(sampleMaps.emptyQuadrant[0].zw, sampleMaps.emptyQuadrant[1].zw),
-                      max(sampleMaps.emptyQuadrant[2].zw, sampleMaps.emptyQuadrant[3].zw));
-        if (!pyramidMayHoldCaster(lateral, zP, zNear, lo, hi)) {
-            emptyQuadrants = 15u;
+    int tests = inReach && sampleMaps.emptyTest.y > 0.0 &&
+                        !ownTexelHoldsCaster(lateral, zP, zNear)
+                    ? 5
+                    : 0;
+    for (int t = 0; t < tests; ++t) {
+        vec2 lo, hi;
+        if (t == 0) { // the whole light: the range over the four quadrants
+            lo = min(min(sampleMaps.emptyQuadrant[0].xy, sampleMaps.emptyQuadrant[1].xy),
+                     min(sampleMaps.emptyQuadrant[2].xy, sampleMaps.emptyQuadrant[3].xy));
+            hi = max(max(sampleMaps.emptyQuadrant[0].zw, sampleMaps.emptyQuadrant[1].zw),
+                     max(sampleMaps.emptyQuadrant[2].zw, sampleMaps.emptyQuadrant[3].zw));
         } else {
-            for (int q = 0; q < 4; ++q)
-                if (!pyramidMayHoldCaster(lateral, zP, zNear, sampleMaps.emptyQuadrant[q].xy,
-                                          sampleMaps.emptyQuadrant[q].zw))
-                    emptyQuadrants |= 1u << uint(q);
+            lo = sampleMaps.emptyQuadrant[t - 1].xy;
+            hi = sampleMaps.emptyQuadrant[t - 1].zw;
+        }
+        if (!pyramidMayHoldCaster(lateral, zP, zNear, lo, hi)) {
+            if (t == 0) {
+                emptyQuadrants = 15u;
+                break;
+            }
+            emptyQuadrants |= 1u << uint(t - 1);
         }
     }
+    // (Four empty quadrants make an empty light even where the whole light's rectangle, their
+    // bounding box, holds a caster.)
+    if (emptyQuadrants != 0u)
+        atomicAdd(sampleMapStats[emptyQuadrants == 15u ? SAMPLE_MAP_STAT_EMPTY
+                                                       : SAMPLE_MAP_STAT_QUADRANTS],
+                  1u);
     if (emptyQuadrants == 15u) {
 #ifdef OWN_PLANE
         float front = 0.0;

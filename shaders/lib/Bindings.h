@@ -37,6 +37,11 @@
 // sample-maps: per light sample, its view (SampleMapView: vec4 s, t and its lateral offset from
 // the light's centre in (eu, ev); vec4 lo, 1 / (hi - lo)).
 #define BINDING_SAMPLE_MAP_VIEWS 13
+// sample-maps early_out=on: uint counters of the lookup (SAMPLE_MAP_STAT_*).
+#define BINDING_SAMPLE_MAP_STATS 14
+#define SAMPLE_MAP_STAT_EMPTY 0     // pixels in reach whose whole pyramid holds no caster
+#define SAMPLE_MAP_STAT_QUADRANTS 1 // pixels that skipped the maps of some (not all) quadrants
+#define SAMPLE_MAP_STAT_COUNT 2
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
@@ -49,7 +54,7 @@
 #define UNIFORM_MATERIAL 0      // lib/Material.glsl: vec4 alpha cutoff, base alpha, textured
 #define UNIFORM_MATERIAL_UV 1   // lib/Material.glsl: mat3 (locations 1..3)
 #define UNIFORM_SLICE_LEAKFIX 4 // occlusion-slice.frag: int, 1 = also write the next slice
-#define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter compute: int (N-buffer level, SAT pass)
+#define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter, sample-maps N-buffer: int (level, SAT pass)
 #define UNIFORM_PCSS_SIDE 6      // pcss-shadow.vert: int, the face drawn (PcssFrame::faces)
 #define UNIFORM_SAMPLE_MAP_VIEW 7 // pcss-shadow.vert with SAMPLE_MAP: mat4 (locations 7..10)
 
@@ -162,7 +167,8 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
     vec4 reachSpread; // xy: SampleMapFrame::half, z: 1 / zFar, w: 1 if reachAll
     // early_out=on (sample-maps-lookup.frag): x: the map k whose sample lies nearest the centre,
     // y: its N-buffer's levels (0: no early out), z: the receiver offset's largest share of
-    // the receiver's depth, w: the tan-space margin (texel footprints and the offset's shift)
+    // the receiver's depth, w: the texel footprints' margin in map coordinates (2.5 texels of
+    // the widest map; the offset's shift is added per pixel from z)
     vec4 emptyTest;
     // Per quadrant of the light (its samples' st: x >= 0 adds 1, y >= 0 adds 2): xy the least,
     // zw the largest lateral offset d_i - d_k of its samples from sample k along eu, ev

@@ -112,12 +112,21 @@ TEST_F(SampleMapsMethod, EarlyOutGivesTheVOfEveryMap) {
         const Diff d = diff(on, off, 1e-6f);
         std::size_t shadowed = 0;
         for (const float v : off.visibility.data) shadowed += std::isfinite(v) && v < 0.99f;
+        const double empty = testutil::counter(on.stats, "sample_maps_early_out_pixels");
+        const double quadrants = testutil::counter(on.stats, "sample_maps_quadrant_skip_pixels");
         std::printf("  tree-oak 128², ground receiving, plane=%s: early_out on vs off: %zu of %zu "
-                    "pixels differ (mean %.6f); %zu pixels shadowed\n",
-                    plane, d.off, d.pixels, d.mean, shadowed);
+                    "pixels differ (mean %.6f); %zu pixels shadowed; %.0f pixels read no map, "
+                    "%.0f skipped some quadrants' maps\n",
+                    plane, d.off, d.pixels, d.mean, shadowed, empty, quadrants);
         EXPECT_GT(shadowed, 2000u); // the oak's shadow is on the ground
-        // Measured: none differ (a sliver that map k misses would make one differ).
-        EXPECT_EQ(d.off, 0u);
+        // Both tests skip work here (so the comparison tests them), and off counts nothing.
+        EXPECT_GT(empty, 500.0);
+        EXPECT_GT(quadrants, 200.0);
+        EXPECT_EQ(testutil::counter(off.stats, "sample_maps_early_out_pixels"), 0.0);
+        // Measured on llvmpipe: none differ. The early out is exact up to the maps'
+        // rasterisation (a sliver map k misses), so another rasteriser may differ in a few.
+        EXPECT_LE(d.off, d.pixels / 1000);
+        EXPECT_LT(d.mean, 1e-5);
     }
 }
 

@@ -24,7 +24,8 @@ namespace gpu {
 
 namespace {
 
-// Maps larger than this in all are refused with the figure (N x R^2 x 4 bytes).
+// Maps larger than this in all are refused with the figure (N x R^2 x 4 bytes; the early
+// out's N-buffer comes on top).
 constexpr std::size_t kMaxMapBytes = std::size_t(256) << 20;
 
 Program loadMapProgram(const ShaderLoader& shaders, bool alphaTested) {
@@ -51,15 +52,21 @@ public:
           mAlphaTested(loadMapProgram(r.shaders, true)),
           mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{},
                   lookupDefines(mOptions)),
-          mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}) {
-        const std::size_t n = static_cast<std::size_t>(mOptions.samples);
+          mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}),
+          mStats({.size = SAMPLE_MAP_STAT_COUNT * sizeof(std::uint32_t),
+                  .label = "sample-map-stats"}) {
+        if (mOptions.earlyOut)
+            while ((1 << (mNBufferLevels - 1)) < mOptions.resolution) ++mNBufferLevels;
+        // The maps (the early out's N-buffer adds log2(R) + 1 layers of R^2 floats: 44 MiB at
+        // resolution=1024, not counted against the limit).
+        const std::size_t layers = static_cast<std::size_t>(mOptions.samples);
         const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
                                static_cast<std::size_t>(mOptions.resolution);
-        if (n * r2 * 4 > kMaxMapBytes)
+        if (layers * r2 * 4 > kMaxMapBytes)
             throw geometry::InputError(
-                "sample-maps: samples=" + std::to_string(n) + " at resolution=" +
+                "sample-maps: samples=" + std::to_string(mOptions.samples) + " at resolution=" +
                 std::to_string(mOptions.resolution) + " needs " +
-                std::to_string(n * r2 * 4 >> 20) + " MiB of shadow maps, over the " +
+                std::to_string(layers * r2 * 4 >> 20) + " MiB of shadow maps, over the " +
                 std::to_string(kMaxMapBytes >> 20) + " MiB limit; lower one of them");
         mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
                          .width = mOptions.resolution,
@@ -72,15 +79,15 @@ public:
             mFbos.emplace_back(FramebufferDesc{
                 .attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, i}}, .label = "sample-map"});
         if (mOptions.earlyOut) {
-            while ((1 << (mNBufferLevels - 1)) < mOptions.resolution) ++mNBufferLevels;
             mNBuffer = Texture({.target = GL_TEXTURE_2D_ARRAY,
                                 .width = mOptions.resolution,
                                 .height = mOptions.resolution,
                                 .layers = mNBufferLevels,
                                 .format = GL_R32F,
                                 .label = "sample-map-nbuffer"});
-            mNBufferProgram = r.shaders.load({.stages = {{GL_COMPUTE_SHADER, "sample-maps-nbuffer.comp"}},
-                                              .label = "sample-maps-nbuffer"});
+            mNBufferProgram =
+                r.shaders.load({.stages = {{GL_COMPUTE_SHADER, "sample-maps-nbuffer.comp"}},
+                                .label = "sample-maps-nbuffer"});
         }
     }
 
@@ -124,15 +131,29 @@ public:
             if (earlyOut) buildNBuffer();
         }
         mMapsDrawn = true;
+        const std::uint32_t zero = 0;
+        if (mOptions.earlyOut)
+            glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         {
             ScopedPass pass(&ctx.timers, "sample-maps-lookup");
             glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
             glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps.id());
-            if (mOptions.earlyOut) glBindTextureUnit(TEXUNIT_SAMPLE_MAP_NBUFFER, mNBuffer.id());
+            if (mOptions.earlyOut) {
+                glBindTextureUnit(TEXUNIT_SAMPLE_MAP_NBUFFER, mNBuffer.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_STATS, mStats.id());
+            }
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_VIEWS, mViews.id());
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
+        std::uint32_t stats[SAMPLE_MAP_STAT_COUNT] = {};
+        if (mOptions.earlyOut) {
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
+            glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
+        }
+        // Pixels in reach that read no map, and pixels that skipped some quadrants' maps.
+        ctx.addCounter("sample_maps_early_out_pixels", stats[SAMPLE_MAP_STAT_EMPTY]);
+        ctx.addCounter("sample_maps_quadrant_skip_pixels", stats[SAMPLE_MAP_STAT_QUADRANTS]);
         ctx.addCounter("sample_maps", f.empty ? 0.0 : static_cast<double>(f.views.size()));
         ctx.addCounter("sample_maps_resolution", mOptions.resolution);
         ctx.addCounter("sample_maps_cached", cached ? 1.0 : 0.0);
@@ -157,7 +178,6 @@ private:
         glBindImageTexture(IMAGE_SAMPLE_MAP_NBUFFER, mNBuffer.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                            GL_R32F);
         const GLuint groups = static_cast<GLuint>((mOptions.resolution + 7) / 8);
-        glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         for (int level = 0; level < mNBufferLevels; ++level) {
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // level l reads l - 1
             glUniform1i(UNIFORM_PREFILTER_STEP, level);
@@ -203,8 +223,8 @@ private:
         const float texel = widest / static_cast<float>(mOptions.resolution);
         // The lookup moves the receiver by at most (0.25 + bias) texels of its map at its depth.
         mOffsetShare = (0.25f + mOptions.normalOffset) * texel;
-        // The 2 x 2 texels a sample reads lie within sqrt(2) texels of its ray, and a caster
-        // there covers a texel centre of map k within one texel: 2.5 texels in all.
+        // Per axis, the 2 x 2 texels a sample reads lie within one texel of its ray, and a caster
+        // there covers a texel centre of map k within about one texel: 2.5 texels in all.
         mFootprintMargin = 2.5f * texel;
         mEmptyTestUsable = std::isfinite(mOffsetShare) && mOffsetShare < 0.25f;
     }
@@ -245,7 +265,7 @@ private:
     SampleMapsOptions mOptions;
     Program mOpaque, mAlphaTested;
     FullscreenPass mLookup;
-    Buffer mUniforms, mViews;
+    Buffer mUniforms, mStats, mViews;
     Texture mMaps;
     // early_out=on: map mNearest's max N-buffer, one layer per level.
     Texture mNBuffer;
