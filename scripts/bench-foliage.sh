@@ -5,7 +5,8 @@
 #   N = 64 (the sampling error of 64 samples alone), each --frames 5; the error is the mean
 #   |dV| over the tree's pixels (those with a surface: the tree is all there is);
 # - data/tree-oak.json at 256x256: auto with each alpha path against raytrace N = 1024 over
-#   every pixel, and the frame of hard with the oak removed ("method": "none") for the ratio.
+#   every pixel, and the frame of hard with the oak removed ("method": "none") for the ratio,
+#   ROUNDS (default 3) rounds alternating, frames the medians over the rounds.
 # Prints one markdown table per part, with GL_RENDERER and the CPU.
 # Usage: bash scripts/bench-foliage.sh   (build penumbra-render first; OUT defaults to out/bench-foliage)
 set -euo pipefail
@@ -33,14 +34,18 @@ done
 echo "== tree-oak.json" >&2
 o=$root/tree-oak
 "$render" --scene data/tree-oak.json --method raytrace --samples 1024 --size 256x256 --out $o/truth --quiet
-for a in sample-maps pcss occlusion; do
-    "$render" --scene data/tree-oak.json --method auto --param alpha=$a --frames 5 --size 256x256 \
-        --out $o/auto-$a --compare $o/truth/visibility.pfm --quiet
-done
 sed 's|"file": "../../shared/foliage/oak_hungarian_1.glb"}|"file": "../../shared/foliage/oak_hungarian_1.glb", "method": "none"}|' \
     data/tree-oak.json > $root/tree-oak-none.json
 # the file's relative path resolves from the scene's directory: keep it beside data/
 cp $root/tree-oak-none.json data/.tree-oak-none.json
-"$render" --scene data/.tree-oak-none.json --method hard --frames 5 --size 256x256 --out $o/hard-no-oak --quiet
+# ROUNDS (default 3) rounds, the four frames alternating; the table takes medians over them.
+for r in $(seq "${ROUNDS:-3}"); do
+    for a in sample-maps pcss occlusion; do
+        "$render" --scene data/tree-oak.json --method auto --param alpha=$a --frames 5 --size 256x256 \
+            --out $o/auto-$a-r$r --compare $o/truth/visibility.pfm --quiet
+    done
+    "$render" --scene data/.tree-oak-none.json --method hard --frames 5 --size 256x256 \
+        --out $o/hard-no-oak-r$r --quiet
+done
 rm -f data/.tree-oak-none.json
 /usr/bin/python3 scripts/foliage_table.py "$root" "${trees[@]}" -- "${variants[@]}"

@@ -5,8 +5,8 @@
 # (alpha-aware: it tests the textured levels' grates and flames). Both sets of levels: the
 # untextured ones and ../shared/levels/textured/ (the same triangles with their game materials).
 # Per method: mean |V - V_truth| over the pixels with a surface, the pixels off by more than
-# 0.05, and the frame (median of 4) over `hard`'s of the same view; then each view's frames,
-# textured against untextured.
+# 0.05, and the frame (median of 4) over `hard`'s of the same view; then each view's frames
+# of hard and auto, textured against untextured, ROUNDS (default 3) rounds alternating.
 # Writes docs/levels-lamp.md. Usage: bash scripts/levels-lamp.sh [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -60,6 +60,22 @@ PY
   done
 done
 done
+# Textured against untextured on the same run: hard and auto on each view, the two levels
+# alternating, ROUNDS (default 3) rounds; the table takes each one's median over the rounds.
+ROUNDS=${ROUNDS:-3}
+for level in kaos2 oa_dm1 oa_dm4 oa_dm5; do
+  for camera in $CAMERAS; do
+    echo "== $level camera $camera: frames, untextured and textured alternating" >&2
+    for r in $(seq "$ROUNDS"); do
+      for set in "" textured/; do
+        for m in hard auto; do
+          "${run[@]}" "$viewer" ../shared/levels/$set$level.glb --camera "$camera" --method "$m" \
+              --size 320x180 --frames 4 --hide-ui --report "$OUT/ab-${set%/}$level-$camera-$m-$r.json" >/dev/null
+        done
+      done
+    done
+  done
+done
 first=${CAMERAS%% *}
 renderer=$(/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['gl_renderer'] + ', CPU ' + d['cpu'])" "$OUT/kaos2-$first-hard.json")
 {
@@ -74,13 +90,16 @@ renderer=$(/usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1]));
     echo "|---|$(printf -- '---|%.0s' "${methods[@]}")"
     printf '%s\n' "${rows[@]}"
     echo
-    echo "The same views' frames in milliseconds (median of 4), textured level against untextured:"
-    echo "what the game materials (G-buffer textures, the alpha-tested part's shadows) add."
+    echo "The same views' frames in milliseconds, textured level against untextured: what the game"
+    echo "materials (G-buffer textures, the alpha-tested part's shadows) add. Each the median over"
+    echo "$ROUNDS rounds (the two levels alternating) of a median of 4 frames."
     echo
-    /usr/bin/python3 - "$OUT" "$CAMERAS" <<'PY'
-import json, sys
-out, cameras = sys.argv[1], sys.argv[2].split()
-ms = lambda view, m: json.load(open(f"{out}/{view}-{m}.json"))["frame_ms_median"]
+    /usr/bin/python3 - "$OUT" "$CAMERAS" "$ROUNDS" <<'PY'
+import json, statistics, sys
+out, cameras, rounds = sys.argv[1], sys.argv[2].split(), int(sys.argv[3])
+ms = lambda view, m: statistics.median(
+    json.load(open(f"{out}/ab-{view}-{m}-{r}.json"))["frame_ms_median"]
+    for r in range(1, rounds + 1))
 print("| view | hard: untextured / textured | auto: untextured / textured |")
 print("|---|---|---|")
 for level in ["kaos2", "oa_dm1", "oa_dm4", "oa_dm5"]:
