@@ -29,8 +29,16 @@ void main() {
 #ifdef ALPHA_TEST
     if (materialCutOut(materialTexel(vTexcoord))) discard; // no leaf here: casts nothing
 #endif
-    // The casters' depth range was fitted on the CPU: clamping only catches rounding.
-    const float u = (occlusionDepth(vWorld) - occlusion.range.x) / occlusion.range.y;
+    // Behind the light's plane (or in it) a surface hides no receiver from the light (a
+    // segment from a receiver in front of the plane to the light never crosses it), yet the
+    // projection from the centre of projection, copDistance behind the light, still rasterises
+    // what lies between the two planes: the ceiling over a lamp hung in a room. Clamped into
+    // the first slab it would cover every receiver the frustum holds.
+    const float z = occlusionDepth(vWorld);
+    if (!(z > 0.0)) discard;
+    // The casters' depth range in front of the light was fitted on the CPU
+    // (geometry::fitOcclusionFrame, clipped to z >= 0): clamping only catches rounding.
+    const float u = (z - occlusion.range.x) / occlusion.range.y;
     const int k = clamp(int(floor(u)), 0, SLICES - 1);
     vec4 marks[4] = vec4[4](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
     marks[k >> 2][k & 3] = 1.0;
