@@ -58,23 +58,37 @@ layout(location = 0) out float oVisibility;
 #endif
 
 #ifdef EARLY_OUT
+// P in map k, once per pixel for every test below.
+struct MapK {
+    vec2 m;        // m_k(P)
+    vec4 window;   // map k's lo (xy), 1 / (hi - lo) (zw)
+    float zHi;     // the offset receiver's largest depth
+    float reach;   // 1 / zNear - 1 / zHi: the range of s = 1 / z_X - 1 / z_P
+    float margin;  // the offset's shift and the texels' footprints, in map coordinates
+    float nearest; // zNear / zHi: a stored value at least this may hide the receiver
+};
+
+MapK mapK(vec2 lateral, float zP, float zNear) {
+    int k = int(sampleMaps.emptyTest.x);
+    MapK q;
+    q.m = (lateral - views[2 * k].zw) / zP;
+    q.window = views[2 * k + 1];
+    q.zHi = zP * (1.0 + sampleMaps.emptyTest.z);
+    q.reach = max(1.0 / zNear - 1.0 / q.zHi, 0.0);
+    q.margin = sampleMaps.emptyTest.z * (1.0 + length(q.m)) / (1.0 - sampleMaps.emptyTest.z) +
+               sampleMaps.emptyTest.w;
+    q.nearest = zNear / q.zHi;
+    return q;
+}
+
 // Whether the largest stored value over the rectangle of map k that holds the segments from P
 // to the light points y with d_y - d_k in [offLo, offHi] (see above) may hide the offset
 // receiver from one of them.
-bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear, vec2 offLo, vec2 offHi) {
-    int k = int(sampleMaps.emptyTest.x);
+bool pyramidMayHoldCaster(MapK q, vec2 offLo, vec2 offHi) {
     int levels = int(sampleMaps.emptyTest.y);
     float R = sampleMaps.params.y;
-    vec4 a = views[2 * k], b = views[2 * k + 1];
-    float zHi = zP * (1.0 + sampleMaps.emptyTest.z); // the offset receiver's largest depth
-    vec2 mk = (lateral - a.zw) / zP;
-    // t / (1 - t) (d_y - d_k) / z_P over t / (1 - t) in [0, z_P / zNear - 1]
-    float reach = max(1.0 / zNear - 1.0 / zHi, 0.0);
-    vec2 margin = vec2(sampleMaps.emptyTest.z * (1.0 + length(mk)) /
-                           (1.0 - sampleMaps.emptyTest.z) +
-                       sampleMaps.emptyTest.w);
-    vec2 lo = (mk + min(offLo * reach, 0.0) - margin - b.xy) * b.zw;
-    vec2 hi = (mk + max(offHi * reach, 0.0) + margin - b.xy) * b.zw;
+    vec2 lo = (q.m + min(offLo * q.reach, 0.0) - q.margin - q.window.xy) * q.window.zw;
+    vec2 hi = (q.m + max(offHi * q.reach, 0.0) + q.margin - q.window.xy) * q.window.zw;
     if (any(lessThan(hi, vec2(0.0))) || any(greaterThan(lo, vec2(1.0))))
         return false; // beyond the map: no caster there
     ivec2 i0 = ivec2(floor(clamp(lo, 0.0, 1.0) * R));
@@ -89,19 +103,15 @@ bool pyramidMayHoldCaster(vec2 lateral, float zP, float zNear, vec2 offLo, vec2 
                       texelFetch(tNBuffer, ivec3(j.x, i0.y, level), 0).r),
                   max(texelFetch(tNBuffer, ivec3(i0.x, j.y, level), 0).r,
                       texelFetch(tNBuffer, ivec3(j, level), 0).r));
-    return d >= zNear / zHi;
+    return d >= q.nearest;
 }
 
 // Whether P's own texel of map k holds a caster at P's depth or nearer (P is a caster itself):
 // that texel lies in every rectangle above, so every test would say "may hold".
-bool ownTexelHoldsCaster(vec2 lateral, float zP, float zNear) {
-    int k = int(sampleMaps.emptyTest.x);
-    float R = sampleMaps.params.y;
-    vec4 a = views[2 * k], b = views[2 * k + 1];
-    vec2 uv = ((lateral - a.zw) / zP - b.xy) * b.zw;
+bool ownTexelHoldsCaster(MapK q) {
+    vec2 uv = (q.m - q.window.xy) * q.window.zw;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
-    float zHi = zP * (1.0 + sampleMaps.emptyTest.z);
-    return texelFetch(tNBuffer, ivec3(ivec2(uv * R), 0), 0).r >= zNear / zHi;
+    return texelFetch(tNBuffer, ivec3(ivec2(uv * sampleMaps.params.y), 0), 0).r >= q.nearest;
 }
 
 // The light's quadrant of sample st (st in [-1, 1]^2), as SampleMapsMethod.cpp assigns them.
@@ -162,10 +172,8 @@ void main() {
     // As a loop with a per-pixel bound (0: no test), so that llvmpipe, which runs both sides of
     // a branch under a lane mask, skips the tests where no pixel of a SIMD group makes them.
     uint emptyQuadrants = 0u;
-    int tests = inReach && sampleMaps.emptyTest.y > 0.0 &&
-                        !ownTexelHoldsCaster(lateral, zP, zNear)
-                    ? 5
-                    : 0;
+    MapK q = mapK(lateral, zP, zNear);
+    int tests = inReach && sampleMaps.emptyTest.y > 0.0 && !ownTexelHoldsCaster(q) ? 5 : 0;
     for (int t = 0; t < tests; ++t) {
         vec2 lo, hi;
         if (t == 0) { // the whole light: the range over the four quadrants
@@ -177,7 +185,7 @@ void main() {
             lo = sampleMaps.emptyQuadrant[t - 1].xy;
             hi = sampleMaps.emptyQuadrant[t - 1].zw;
         }
-        if (!pyramidMayHoldCaster(lateral, zP, zNear, lo, hi)) {
+        if (!pyramidMayHoldCaster(q, lo, hi)) {
             if (t == 0) {
                 emptyQuadrants = 15u;
                 break;
