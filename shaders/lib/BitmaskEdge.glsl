@@ -1,0 +1,168 @@
+// wedges-bitmask: what one silhouette edge adds at one receiver P, shared by the wedge pass's
+// fragment shader (wedge-bitmask.frag: one fragment per pixel and wedge, adds by image atomics)
+// and the tiled evaluation (wedge-bitmask-tiles.comp: one invocation per pixel over its tile's
+// list, adds in registers), so that both compute the same masks from the same arithmetic.
+// The includer declares lightSamples[] (the light-samples buffer: (s, t, angle about the centre,
+// quadrant of its run of 8), by angle) and defines BITMASK_SAMPLES (lib: shared/LightMask.h).
+#ifndef PENUMBRA_LIB_BITMASK_EDGE_GLSL
+#define PENUMBRA_LIB_BITMASK_EDGE_GLSL
+
+#include "shared/Coverage.h"
+#include "shared/LightMask.h"
+#include "shared/Parts.h"
+
+// The first sample whose angle is >= a (BITMASK_SAMPLES when none).
+int firstAtOrAfter(float a) {
+    int lo = 0;
+    int hi = BITMASK_SAMPLES;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (lightSamples[mid].z < a)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+CoverageLight frameCoverageLight() {
+    CoverageLight light;
+    light.c = frame.lightCenter.xyz;
+    light.u = frame.lightU.xyz;
+    light.v = frame.lightV.xyz;
+    light.n = frame.lightN.xyz;
+    light.uStar = frame.lightUStar.xyz;
+    light.vStar = frame.lightVStar.xyz;
+    return light;
+}
+
+#ifdef BITMASK_POTENTIAL
+// One triangle's share of m_P(e): +1 when its third vertex lies on the far side of the plane
+// through P and the edge from the light centre (crossing the edge's projection, a segment from P
+// starts crossing the triangle), -1 on the centre's side (it stops), 0 without a triangle.
+// sc: the centre's side, as sign(orient(P, e0, e1, c)). orient(P, a, b, c) = dot(a - P,
+// (b - a) x (c - a)): the plane's normal from the triangle alone, so that far small triangles
+// keep their sign. P in the triangle's plane (within float noise: P's own triangle, a coplanar
+// neighbour) is taken a little towards the camera, as the stencil's polygon offset takes it
+// (the visible side of a two-sided surface): the orientation of the eye instead.
+// (triangleSide: the sign of orient(P, e0, e1, apex); triangleShare: its share given sc.)
+// t: the triangle's corners in ascending vertex-id order, w the sign that turns orient(P,
+// corners) into orient(P, e0, e1, apex) (wedge.vert's triangleCorners; 0: no triangle).
+int triangleSide(vec4 t[3], vec3 p) {
+    if (t[0].w == 0.0) return 0;
+    vec3 a = t[0].xyz;
+    vec3 n = cross(t[1].xyz - a, t[2].xyz - a);
+    float d = t[0].w * dot(a - p, n);
+    float tol = 4e-6 * length(n) * (length(a - p) + length(p));
+    if (!(abs(d) > tol)) {
+        vec3 eye = frame.eye.xyz;
+        d = t[0].w * dot(a - eye, n);
+        if (!(abs(d) > 4e-6 * length(n) * (length(a - eye) + length(eye)))) return 0;
+    }
+    return d > 0.0 ? 1 : -1;
+}
+int triangleShare(int side, float sc) {
+    return side == 0 ? 0 : (side > 0) == (sc < 0.0) ? 1 : -1;
+}
+#endif
+
+// The light samples in the edge's region R seen from P (shared/LightMask.h), as bits of
+// `words`, and their union `any`; with BITMASK_POTENTIAL, m = m_P(e) from the edge's triangles
+// tri0, tri1. False where the edge adds nothing at P: R misses the light, or (potential) the
+// edge is no silhouette seen from P (m = 0). `light` and `sg` (R's orientation) for the caller.
+bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
+#ifdef BITMASK_POTENTIAL
+                 vec4 tri0[3], vec4 tri1[3], out int m,
+#endif
+                 out CoverageLight light, out float sg, out uint words[8], out uint any) {
+    for (int w = 0; w < 8; ++w) words[w] = 0u;
+    any = 0u;
+    sg = 0.0;
+    light = frameCoverageLight();
+#ifdef BITMASK_POTENTIAL
+    m = 0;
+    // The two triangles on opposite sides of the plane through P and the edge: no silhouette
+    // seen from P, m = 0 whatever the centre's side (most pairs of most potential edges):
+    // before the projection.
+    int side0 = triangleSide(tri0, p);
+    int side1 = triangleSide(tri1, p);
+    if (side0 == -side1) return false;
+#endif
+    vec3 h0, h1, h2;
+    if (!edgeRegion(p, e0, e1, light, h0, h1, h2, sg)) return false;
+#ifdef BITMASK_POTENTIAL
+    // The centre's side of the plane through P and the edge: -sign(cr) sign(hp) from the same
+    // projection that bounds R (R lies on the far side), so the two cannot disagree.
+    float hp = dot(light.n, p - light.c);
+    float sc = hp > 0.0 ? -sg : sg;
+    m = triangleShare(side0, sc) + triangleShare(side1, sc);
+    if (m == 0) return false; // no silhouette seen from P: D does not change across it
+#endif
+#ifdef BITMASK_ROTATED
+    // Shifted per pixel, the samples are in no order: every one is tested.
+    vec2 shift = maskPixelShift(px);
+    for (int w = 0; w < BITMASK_WORDS; ++w) {
+        uint bits = 0u;
+        for (int b = 0; b < 32; ++b) {
+            vec2 y = maskShifted(lightSamples[32 * w + b].xy, shift);
+            if (regionHolds(h0, h1, h2, sg, y)) bits |= 1u << uint(b);
+        }
+        words[w] = bits;
+        any |= bits;
+    }
+#else
+    // The samples between the rays are a run of the angle-ordered pattern: from the first at
+    // or after the sector's start, counter-clockwise, to the first at or after its end (a
+    // sample on the start ray is in, on the end ray out: regionHolds' rule). The sector is
+    // under pi: a span near 2 pi is the rounding of a sector of almost nothing (empty), one a
+    // little over pi that of a sector of almost pi (the edge's line passing by the centre).
+    // The rays' directions from their half-planes (h0 = sg (-q0.y, q0.x), h1 = sg (q1.y, -q1.x),
+    // exact): counter-clockwise from q0 to q1 when sg > 0, from q1 to q0 otherwise.
+    vec2 q0 = sg * vec2(h0.y, -h0.x);
+    vec2 q1 = sg * vec2(-h1.y, h1.x);
+    vec2 r0 = sg > 0.0 ? q0 : q1; // the start ray's direction
+    vec2 r1 = sg > 0.0 ? q1 : q0; // the end ray's
+    float from = atan(r0.y, r0.x);
+    float to = atan(r1.y, r1.x);
+    float span = to - from;
+    if (span < 0.0) span += 6.28318530718;
+    if (span > 4.71238898038) return false; // over 3 pi / 2: empty
+    int first = firstAtOrAfter(from);
+    int count = firstAtOrAfter(to) - first;
+    if (count < 0) count += BITMASK_SAMPLES;
+    for (int k = 0; k < count; ++k) {
+        int i = (first + k) & (BITMASK_SAMPLES - 1);
+        vec2 y = lightSamples[i].xy;
+        if (dot(h2, vec3(y, 1.0)) >= 0.0) words[i >> 5] |= 1u << uint(i & 31);
+    }
+    for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
+#endif
+    return true;
+}
+
+// Bit j of a byte to bit 4 j: a 1 in each 4-bit count whose sample the byte holds.
+uint bitmaskLanes(uint byteBits) {
+    uint lanes = (byteBits | (byteBits << 12u)) & 0x000F000Fu;
+    lanes = (lanes | (lanes << 6u)) & 0x03030303u;
+    return (lanes | (lanes << 3u)) & 0x11111111u;
+}
+
+// Checksums of one edge's adds (wedges-bitmask.md): the number of samples it adds to, and the
+// same weighted by 1 + the count's place in its 32-bit word; times m, summed over the edges,
+// the resolve compares them with the decoded counts: a count past [-8, 7] carries into its
+// neighbour (or out of the word) and changes them.
+ivec2 bitmaskChecksums(uint words[8]) {
+    int added = 0, weighted = 0;
+    for (int w = 0; w < BITMASK_WORDS; ++w) {
+        uint x = words[w];
+        for (int k = 0; k < 4; ++k) {
+            uint b = (x >> uint(8 * k)) & 0xFFu;
+            int c = bitCount(b);
+            added += c;
+            weighted += c + bitCount(b & 0xAAu) + 2 * bitCount(b & 0xCCu) + 4 * bitCount(b & 0xF0u);
+        }
+    }
+    return ivec2(added, weighted);
+}
+
+#endif // PENUMBRA_LIB_BITMASK_EDGE_GLSL
