@@ -24,7 +24,8 @@
 // (MASK_STAT_OWN_PLANE).
 // The two checksum layers after the counts (wedge-bitmask.frag) tell a count that did not fit
 // its 4 bits: such a pixel is counted (MASK_STAT_OVERFLOW) and takes A alone, clamped. A pixel
-// no wedge reached (the stencil's mark bit clear) skips the counts.
+// no wedge reached (the stencil's mark bit clear; with BITMASK_TILED, evaluate=tiles, the mark
+// layer after the checksums) skips the counts.
 #include "lib/Bindings.h"
 #include "lib/Horizon.glsl"
 #include "shared/Parts.h"
@@ -104,7 +105,13 @@ void main() {
     int centre = int(stencil & 0x7Fu);
     if (centre >= 64) centre -= 128;
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-    if ((stencil & 0x80u) == 0u) {
+#ifdef BITMASK_TILED
+    // evaluate=tiles: the tiled evaluation's mark, in the layer after the checksums.
+    bool touched = imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 2)).r != 0u;
+#else
+    bool touched = (stencil & 0x80u) != 0u;
+#endif
+    if (!touched) {
         // No wedge fragment reached the pixel (the wedge pass marks the stencil's top bit): every
         // sample's D is D(P, c), no count was added and A is D(P, c). What the loop below
         // gives then, without reading the counts: all samples hidden or none, V 0 or 1.
@@ -133,7 +140,7 @@ void main() {
     bool negative = false;
     // The layers to read: none where no wedge reached (returned above, but the lanes that
     // returned run what follows, masked, unless a loop's bound ends it; see ownPlane).
-    int layers = (stencil & 0x80u) != 0u ? BITMASK_SAMPLES / 8 : 0;
+    int layers = touched ? BITMASK_SAMPLES / 8 : 0;
     for (int layer = 0; layer < layers; ++layer) {
         uint x = imageLoad(iCounts, ivec3(px, layer)).r;
         int hiddenRun = 0, sumRun = 0; // this word's 8 samples, all in one quadrant

@@ -1,4 +1,5 @@
-// World-space bounds of the visible surface per 16x16 pixel tile (the G-buffer's positions), for
+// World-space bounds of the visible surface per SURFACE_TILE^2 pixel tile (16 x 16 unless
+// defined; the G-buffer's positions), for
 // the per-silhouette methods' batching (gpu/src/methods/GroupBatches.h): a group can change a
 // pixel only where the pixel's surface point lies in the group's influence region, so a tile
 // whose surface box misses that region needs none of the group's passes. Two vec4 per tile
@@ -9,6 +10,10 @@
 // with barriers slowly, and a tile is only 256 texel reads); 8 tiles of a row per work group,
 // so that SIMD lanes have work.
 layout(local_size_x = 8) in;
+
+#ifndef SURFACE_TILE
+#define SURFACE_TILE 16
+#endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 
@@ -22,8 +27,8 @@ void main() {
     ivec2 tileXY = ivec2(gl_GlobalInvocationID.xy);
     if (tileXY.x >= uTilesX) return;
     ivec2 size = textureSize(tPosition, 0);
-    ivec2 origin = tileXY * 16;
-    ivec2 end = min(origin + 16, size);
+    ivec2 origin = tileXY * SURFACE_TILE;
+    ivec2 end = min(origin + SURFACE_TILE, size);
     vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
     for (int y = origin.y; y < end.y; ++y)
         for (int x = origin.x; x < end.x; ++x) {

@@ -17,6 +17,7 @@ layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
     vec4 lightSamples[]; // (s, t, angle about the centre, 0), by angle (geometry/shadow/LightMask.h)
 };
+#define LIGHT_SAMPLE(i) lightSamples[i]
 
 #include "lib/BitmaskEdge.glsl"
 

@@ -42,6 +42,22 @@
 #define SAMPLE_MAP_STAT_EMPTY 0     // pixels in reach whose whole pyramid holds no caster
 #define SAMPLE_MAP_STAT_QUADRANTS 1 // pixels that skipped the maps of some (not all) quadrants
 #define SAMPLE_MAP_STAT_COUNT 2
+// wedges-bitmask evaluate=tiles (gpu/src/passes/WedgeTilePass.h): per wedge slot a TileWedge
+// (shaders/lib/WedgeTiles.glsl); the tiles' heads (per tile: count, first, cursor; then the
+// total and the pass's counters: WEDGE_TILES_*) followed by the lists of wedge slots.
+#define BINDING_WEDGE_TILE_RECORDS 15
+#define BINDING_WEDGE_TILE_LISTS 16
+#define BINDING_WEDGE_SUPERTILES 17 // the surface's bounds per 32 x 32 pixels (2 vec4)
+#define WEDGE_TILES_TOTAL 0        // list entries over all tiles (after the heads' 3 per tile)
+#define WEDGE_TILES_PAIRS_ADDED 1  // (pixel, wedge) pairs that added to the counts
+#define WEDGE_TILES_OVERFLOW 2     // 1: the total passed 2^32 - 1 (the lists cannot be held)
+#define WEDGE_TILES_TRUNCATED 3    // invocations that stopped at WEDGE_TILES_LOOP_BUDGET
+// Loop iterations one invocation of the tiled passes may run: Mesa's llvmpipe ends every loop of
+// an invocation silently once their iterations add up to 65535 (gallivm's limit on loops), so a
+// pass that could run longer counts its iterations, stops short of that and says so; the frame
+// then rasterises its wedges instead.
+#define WEDGE_TILES_LOOP_BUDGET 60000
+#define WEDGE_TILES_HEADER 4       // uints after the 3 per tile
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
@@ -49,6 +65,7 @@
 #define IMAGE_GROUP_COUNTS 3 // wedges-bitmask combine=counts: r32ui array, 8 biased 4-bit counts a layer
                              // (silhouettes=potential: then two checksum layers)
 #define IMAGE_SAMPLE_MAP_NBUFFER 4 // sample-maps early_out=on: r32f array, the max N-buffer's levels
+#define IMAGE_BITMASK_AREA 5 // wedges-bitmask evaluate=tiles: rgba32f, per quadrant the sum of m coverage
 
 // Explicit uniform locations (plain uniforms set per draw).
 #define UNIFORM_MATERIAL 0      // lib/Material.glsl: vec4 alpha cutoff, base alpha, textured
@@ -90,6 +107,9 @@
 #define TEXUNIT_SHADING 23   // shade: the G-buffer's shading normal (the files' vertex normals)
 #define TEXUNIT_SAMPLE_MAPS 24 // sample-maps: the shadow maps, one layer per light sample
 #define TEXUNIT_SAMPLE_MAP_NBUFFER 25 // sample-maps early_out=on: the max N-buffer (layer = level)
+#define TEXUNIT_WEDGE_TILE_RECORDS 26 // wedges-bitmask evaluate=tiles: the TileWedges as RGBA32F texels
+#define TEXUNIT_WEDGE_TILE_LISTS 27   // the same: the tiles' heads and lists as R32UI texels
+#define TEXUNIT_WEDGE_TILE_SAMPLES 28 // the same: the light-samples table as RGBA32F texels
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 #define PCSS_REACH_BOXES 16 // pcss: boxes around the casters for the reach test

@@ -2,8 +2,9 @@
 // fragment shader (wedge-bitmask.frag: one fragment per pixel and wedge, adds by image atomics)
 // and the tiled evaluation (wedge-bitmask-tiles.comp: one invocation per pixel over its tile's
 // list, adds in registers), so that both compute the same masks from the same arithmetic.
-// The includer declares lightSamples[] (the light-samples buffer: (s, t, angle about the centre,
-// quadrant of its run of 8), by angle) and defines BITMASK_SAMPLES (lib: shared/LightMask.h).
+// The includer defines LIGHT_SAMPLE(i), light sample i of the light-samples table ((s, t, angle
+// about the centre, quadrant of its run of 8), by angle: a storage buffer or a buffer texture),
+// and BITMASK_SAMPLES (lib: shared/LightMask.h).
 #ifndef PENUMBRA_LIB_BITMASK_EDGE_GLSL
 #define PENUMBRA_LIB_BITMASK_EDGE_GLSL
 
@@ -17,7 +18,7 @@ int firstAtOrAfter(float a) {
     int hi = BITMASK_SAMPLES;
     while (lo < hi) {
         int mid = (lo + hi) >> 1;
-        if (lightSamples[mid].z < a)
+        if (LIGHT_SAMPLE(mid).z < a)
             lo = mid + 1;
         else
             hi = mid;
@@ -104,7 +105,7 @@ bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
     for (int w = 0; w < BITMASK_WORDS; ++w) {
         uint bits = 0u;
         for (int b = 0; b < 32; ++b) {
-            vec2 y = maskShifted(lightSamples[32 * w + b].xy, shift);
+            vec2 y = maskShifted(LIGHT_SAMPLE(32 * w + b).xy, shift);
             if (regionHolds(h0, h1, h2, sg, y)) bits |= 1u << uint(b);
         }
         words[w] = bits;
@@ -132,7 +133,7 @@ bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
     if (count < 0) count += BITMASK_SAMPLES;
     for (int k = 0; k < count; ++k) {
         int i = (first + k) & (BITMASK_SAMPLES - 1);
-        vec2 y = lightSamples[i].xy;
+        vec2 y = LIGHT_SAMPLE(i).xy;
         if (dot(h2, vec3(y, 1.0)) >= 0.0) words[i >> 5] |= 1u << uint(i & 31);
     }
     for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];

@@ -89,6 +89,10 @@ struct RenderSettings {
     int height = 512;
     // The memory budget of that check in bytes; 0: from the device as described there.
     std::size_t targetMemoryBudget = 0;
+    // wedges-bitmask evaluate=tiles: the most (tile, wedge) list entries a frame may hold before
+    // it rasterises the hulls instead (counted: wedge_tiles_over_limit); 0: what one buffer
+    // texture holds (GL_MAX_TEXTURE_BUFFER_SIZE). Lower only to test that fallback.
+    std::size_t wedgeTileEntryLimit = 0;
     int samples = 1024;       // reference methods: light samples per pixel
     std::uint32_t seed = 1;   // reference methods: sample pattern
     float ambient = 0.15f;    // shading only; V never includes it

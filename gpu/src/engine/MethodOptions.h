@@ -33,6 +33,9 @@ struct BitmaskOptions {
     // uEstimate).
     enum class Estimate { Ratio = 0, Samples = 1, Quadrants = 2 };
     Estimate estimate = Estimate::Ratio;
+    // With potential: the wedges evaluated per pixel over screen tiles' lists (a compute pass,
+    // passes/WedgeTilePass.h) instead of rasterised as hulls; the same counts.
+    bool tiles = false;
 };
 BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given);
 

@@ -20,6 +20,7 @@
 #include "engine/DebugViews.h"
 #include "engine/Method.h"
 #include "engine/PotentialSet.h"
+#include "passes/WedgeTilePass.h"
 #include "passes/FullscreenPass.h"
 #include "passes/StencilVolumePass.h"
 #include "passes/WedgePass.h"
@@ -32,6 +33,7 @@
 #include <geometry/shadow/LightMask.h>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -48,6 +50,12 @@ struct MaskLayout : BitmaskOptions {
         return samples == 32 ? GL_R32UI : samples == 64 ? GL_RG32UI : GL_RGBA32UI;
     }
     std::size_t bytesPerTarget() const { return samples == 32 ? 4 : samples == 64 ? 8 : 16; }
+    // The tiled evaluation's resolve (the mark in a layer of its own, not the stencil).
+    std::vector<std::string> tiledDefines() const {
+        std::vector<std::string> d = defines();
+        d.push_back("BITMASK_TILED 1");
+        return d;
+    }
     std::vector<std::string> defines() const {
         std::vector<std::string> d{"BITMASK_SAMPLES " + std::to_string(samples)};
         if (rotated) d.push_back("BITMASK_ROTATED 1");
@@ -95,6 +103,15 @@ public:
                    mLayout.defines()),
           mPotentialResolve(r.shaders, "bitmask-potential-resolve.frag", "bitmask-potential-resolve",
                             PipelineState{}, mLayout.defines()),
+          mTiles(layout.potential && layout.tiles
+                     ? std::make_unique<WedgeTilePass>(r.shaders, layout.defines())
+                     : nullptr),
+          mTiledResolve(layout.potential && layout.tiles
+                            ? std::make_unique<FullscreenPass>(
+                                  r.shaders, "bitmask-potential-resolve.frag",
+                                  "bitmask-potential-resolve-tiled", PipelineState{},
+                                  layout.tiledDefines())
+                            : nullptr),
           mSamples({.size = 0, .label = "light-samples"}),
           mMaskStats({.size = MASK_STAT_COUNT * sizeof(std::uint32_t), .label = "mask-stats"}) {}
 
@@ -209,9 +226,12 @@ public:
     }
 
 private:
-    // Layers of the counts array: eight 4-bit counts each, and with silhouettes=potential two
-    // checksum layers.
-    int countLayers() const { return mLayout.samples / 8 + (mLayout.potential ? 2 : 0); }
+    // Layers of the counts array: eight 4-bit counts each, with silhouettes=potential two
+    // checksum layers, and with evaluate=tiles the tiled evaluation's mark layer.
+    int countLayers() const {
+        return mLayout.samples / 8 + (mLayout.potential ? 2 : 0) + (tiled() ? 1 : 0);
+    }
+    bool tiled() const { return mLayout.potential && mLayout.tiles; }
 
     // silhouettes=potential: one stencil pass (D(P, c), two-sided, every caster), one wedge
     // pass over every potential silhouette edge (counts and A), one resolve.
@@ -234,15 +254,7 @@ private:
             mResolveFbo = Framebuffer({.attachments = a, .label = "bitmask-potential-resolve"});
             mResolveVisibility = t.visibility.id();
         }
-        applyState(PipelineState{}); // colour writes on, no scissor: whole-frame clears
-        const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, zero);
-        const GLuint bias = 0x88888888u, none = 0u;
-        const int layers = mLayout.samples / 8;
-        glClearTexSubImage(mCounts.id(), 0, 0, 0, 0, t.width, t.height, layers, GL_RED_INTEGER,
-                           GL_UNSIGNED_INT, &bias);
-        glClearTexSubImage(mCounts.id(), 0, 0, 0, layers, t.width, t.height, 2, GL_RED_INTEGER,
-                           GL_UNSIGNED_INT, &none);
+        const GLuint none = 0u;
         glClearNamedBufferData(mMaskStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
         glBindImageTexture(IMAGE_GROUP_COUNTS, mCounts.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                            GL_R32UI);
@@ -275,8 +287,26 @@ private:
             ScopedPass pass(&ctx.timers, "shadow-volume");
             mVolumes.drawCentre(t.visibilityFbo, t, mPotential.volumes());
         }
-        {
+        // evaluate=tiles; the raster pass where it is off, or where this frame's tile lists
+        // would pass their limit (counted: wedge_tiles_over_limit).
+        bool tiledFrame = false;
+        if (tiled()) {
             ScopedPass pass(&ctx.timers, "wedges");
+            mWedges.bindWedges();
+            tiledFrame = mTiles->run(t, *wedgeSet, mPotential.wedgeSlots(), mArea, mSamples,
+                                     ctx.settings.wedgeTileEntryLimit);
+        }
+        if (!tiledFrame) {
+            ScopedPass pass(&ctx.timers, "wedges");
+            applyState(PipelineState{}); // colour writes on, no scissor: whole-frame clears
+            const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            glClearNamedFramebufferfv(mAreaFbo.id(), GL_COLOR, 0, zero);
+            const GLuint bias = 0x88888888u;
+            const int layers = mLayout.samples / 8;
+            glClearTexSubImage(mCounts.id(), 0, 0, 0, 0, t.width, t.height, layers,
+                               GL_RED_INTEGER, GL_UNSIGNED_INT, &bias);
+            glClearTexSubImage(mCounts.id(), 0, 0, 0, layers, t.width, t.height, 2,
+                               GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
             // Marking the stencil where a wedge reached: the resolve skips the other pixels.
             mWedges.draw(mAreaFbo, t, *wedgeSet, nullptr, /*markTouched=*/true);
         }
@@ -289,12 +319,25 @@ private:
             glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MASK_STATS, mMaskStats.id());
             const GLuint estimate = GLuint(mLayout.estimate);
-            mPotentialResolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
-                                      [&] { glUniform1ui(0, estimate); });
+            const FullscreenPass& resolve = tiledFrame ? *mTiledResolve : mPotentialResolve;
+            resolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
+                            [&] { glUniform1ui(0, estimate); });
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                             GL_BUFFER_UPDATE_BARRIER_BIT);
         }
-        const WedgeCounts counts = mWedges.counts();
+        WedgeCounts counts = mWedges.counts();
+        if (tiled()) {
+            const WedgeTileStats& tileStats = mTiles->stats();
+            ctx.addCounter("wedge_tiles_over_limit", tiledFrame ? 0.0 : 1.0);
+            ctx.addCounter("wedge_tiles_truncated", static_cast<double>(tileStats.truncated));
+            if (tiledFrame) {
+                // The pairs that passed the fragment shader's discards (the raster pass's
+                // fragments that pass them: its samples-passed query on llvmpipe).
+                counts.fragments = tileStats.pairsAdded;
+                ctx.addCounter("wedge_tile_entries", static_cast<double>(tileStats.entries));
+                ctx.addCounter("wedge_tiles", static_cast<double>(tileStats.tiles));
+            }
+        }
         addWedgeCounters(ctx, counts, mPotential.wedgeRuns());
         ctx.addCounter("wedges_silhouette_cones", counts.cones);
         ctx.addCounter("wedges_hidden", static_cast<double>(hiddenWedges));
@@ -404,6 +447,8 @@ private:
     std::vector<CasterRange> mKeptRuns; // wedges and set-up runs
     const DrawSet* mDrawnWedges = nullptr; // the wedge set the last frame drew (debug view)
     PotentialSet mPotential;
+    std::unique_ptr<WedgeTilePass> mTiles;         // silhouettes=potential evaluate=tiles
+    std::unique_ptr<FullscreenPass> mTiledResolve; // its resolve
     Texture mArea; // silhouettes=potential: per quadrant, the wedges' sum of m coverage
     Framebuffer mAreaFbo, mResolveFbo;
     GLuint mResolveVisibility = 0;

@@ -5,25 +5,38 @@
 
 namespace gpu {
 
-SurfaceTilePass::SurfaceTilePass(const ShaderLoader& shaders)
-    : mProgram(shaders.load(
-          {.stages = {{GL_COMPUTE_SHADER, "surface-tiles.comp"}}, .label = "surface-tiles"})) {}
+SurfaceTilePass::SurfaceTilePass(const ShaderLoader& shaders, int tile)
+    : mTile(tile),
+      mProgram(shaders.load({.stages = {{GL_COMPUTE_SHADER, "surface-tiles.comp"}},
+                             .defines = {"SURFACE_TILE " + std::to_string(tile)},
+                             .label = "surface-tiles"})) {}
 
-SurfaceTiles SurfaceTilePass::measure(const Targets& t) {
-    SurfaceTiles out;
-    out.tile = kTile;
-    out.tilesX = (t.width + kTile - 1) / kTile;
-    out.tilesY = (t.height + kTile - 1) / kTile;
-    const std::size_t tiles = static_cast<std::size_t>(out.tilesX) * out.tilesY;
-    const std::size_t bytes = 2 * tiles * sizeof(glm::vec4);
+glm::ivec2 SurfaceTilePass::dispatch(const Targets& t) {
+    const glm::ivec2 tiles((t.width + mTile - 1) / mTile, (t.height + mTile - 1) / mTile);
+    const std::size_t bytes = 2 * static_cast<std::size_t>(tiles.x) * tiles.y * sizeof(glm::vec4);
     if (mTiles.size() < bytes)
         mTiles = Buffer({.size = bytes, .flags = 0, .label = "surface-tiles"});
     glUseProgram(mProgram.id());
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SURFACE_TILES, mTiles.id());
+    bind();
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    glUniform1i(0, out.tilesX);
-    glDispatchCompute(static_cast<GLuint>((out.tilesX + 7) / 8), static_cast<GLuint>(out.tilesY), 1);
+    glUniform1i(0, tiles.x);
+    glDispatchCompute(static_cast<GLuint>((tiles.x + 7) / 8), static_cast<GLuint>(tiles.y), 1);
+    return tiles;
+}
+
+void SurfaceTilePass::bind(GLuint binding) const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, mTiles.id());
+}
+
+SurfaceTiles SurfaceTilePass::measure(const Targets& t) {
+    SurfaceTiles out;
+    out.tile = mTile;
+    const glm::ivec2 n = dispatch(t);
+    out.tilesX = n.x;
+    out.tilesY = n.y;
+    const std::size_t tiles = static_cast<std::size_t>(out.tilesX) * out.tilesY;
+    const std::size_t bytes = 2 * tiles * sizeof(glm::vec4);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     mScratch.resize(2 * tiles);
     glGetNamedBufferSubData(mTiles.id(), 0, static_cast<GLsizeiptr>(bytes), mScratch.data());

@@ -6,6 +6,8 @@
 #include <gpu/gl/Objects.h>
 #include <gpu/gl/ShaderLoader.h>
 
+#include "engine/ShaderBindings.h"
+
 #include <geometry/core/Types.h>
 
 #include <glm/glm.hpp>
@@ -28,10 +30,18 @@ struct SurfaceTiles {
 class SurfaceTilePass {
 public:
     static constexpr int kTile = 16; // pixels per tile side (shaders/surface-tiles.comp)
-    explicit SurfaceTilePass(const ShaderLoader& shaders);
+    // `tile`: pixels per tile side (kTile for the batching; WedgeTilePass its own).
+    explicit SurfaceTilePass(const ShaderLoader& shaders, int tile = kTile);
+    int tile() const { return mTile; }
     SurfaceTiles measure(const Targets& t);
+    // The same on the GPU only, bound at BINDING_SURFACE_TILES, not read back (the tiled wedge
+    // evaluation bins on the GPU); tiles across and down.
+    glm::ivec2 dispatch(const Targets& t);
+    // Binds the last dispatch's (or measure's) tiles at `binding`.
+    void bind(GLuint binding = BINDING_SURFACE_TILES) const;
 
 private:
+    int mTile = kTile;
     Program mProgram;
     Buffer mTiles;
     std::vector<glm::vec4> mScratch;

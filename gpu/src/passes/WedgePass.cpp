@@ -154,6 +154,10 @@ void WedgePass::drawHulls(const Framebuffer& target, const Targets& t, const Dra
     }
 }
 
+void WedgePass::bindWedges() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGES, mWedges.id());
+}
+
 void WedgePass::resolve(const Targets& t) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     glUseProgram(mResolve.id());

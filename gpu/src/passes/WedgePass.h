@@ -111,6 +111,8 @@ public:
     void drawHulls(const Framebuffer& target, const Targets& t, const DrawSet& set,
                    GLuint program, const PipelineState& state);
     void resolve(const Targets& t);
+    // Binds this pass's wedge buffer at BINDING_WEDGES (for another reader: WedgeTilePass).
+    void bindWedges() const;
     // Reads the counters back (waits for the GPU).
     WedgeCounts counts();
 

@@ -1,0 +1,148 @@
+#include "passes/WedgeTilePass.h"
+
+#include "engine/ShaderBindings.h"
+
+#include <algorithm>
+#include <array>
+
+namespace gpu {
+
+namespace {
+
+constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/WedgeTiles.glsl)
+
+Program binning(const ShaderLoader& shaders, int stage, int tile, const char* label) {
+    return shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-tiles.comp"}},
+                         .defines = {"WEDGE_TILES_STAGE " + std::to_string(stage),
+                                     "WEDGE_TILE " + std::to_string(tile)},
+                         .label = label});
+}
+
+std::vector<std::string> withTile(std::vector<std::string> defines, int tile) {
+    defines.push_back("WEDGE_TILE " + std::to_string(tile));
+    return defines;
+}
+
+} // namespace
+
+WedgeTilePass::WedgeTilePass(const ShaderLoader& shaders, const std::vector<std::string>& defines)
+    : mSurface(shaders, kTile),
+      mSupertiles(shaders, 32),
+      mRecord(binning(shaders, 0, kTile, "wedge-tiles-record")),
+      mCount(binning(shaders, 1, kTile, "wedge-tiles-count")),
+      mScan(binning(shaders, 2, kTile, "wedge-tiles-scan")),
+      mFill(binning(shaders, 3, kTile, "wedge-tiles-fill")),
+      mEvaluate(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-bitmask-tiles.comp"}},
+                              .defines = withTile(defines, kTile),
+                              .label = "wedge-bitmask-tiles"})) {
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    mMaxTexels = static_cast<std::size_t>(std::max(texels, 0));
+}
+
+bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slots,
+                        const Texture& area, const Buffer& samples, std::size_t entryLimit) {
+    mSupertiles.dispatch(t);
+    mSupertiles.bind(BINDING_WEDGE_SUPERTILES);
+    mTiles = mSurface.dispatch(t);
+    const std::size_t tiles = static_cast<std::size_t>(mTiles.x) * mTiles.y;
+    const std::size_t headWords = 3 * tiles + WEDGE_TILES_HEADER;
+    // The set's slots as one list (a level's set is a hundred runs of kept edges: one dispatch
+    // per stage instead of one per run).
+    mSlots.clear();
+    for (std::size_t r = 0; r < set.edgeFirst.size(); ++r)
+        for (GLsizei i = 0; i < set.edgeCount[r]; ++i)
+            mSlots.push_back(static_cast<std::uint32_t>(set.edgeFirst[r] + i));
+    const std::size_t listBase = headWords + mSlots.size();
+    const std::size_t recordBytes = std::max<std::size_t>(slots, 1) * kTileWedgeBytes;
+    mStats = WedgeTileStats{.tiles = tiles};
+    // The prefix sum is one invocation's loop over the tiles (WEDGE_TILES_LOOP_BUDGET).
+    if (recordBytes / 16 > mMaxTexels || listBase > mMaxTexels ||
+        tiles >= std::size_t(WEDGE_TILES_LOOP_BUDGET))
+        return false;
+    if (mRecords.size() < recordBytes)
+        mRecords = Buffer({.size = recordBytes, .flags = 0, .label = "wedge-tile-records"});
+    // Sized for the lists of the last frame, grown below when this frame's are longer.
+    const std::size_t guess = (listBase + std::max<std::size_t>(mEntries, 1)) * 4;
+    if (mLists.size() < guess)
+        mLists = Buffer({.size = guess + guess / 2, .label = "wedge-tile-lists"});
+    const GLuint zero = 0;
+    glClearNamedBufferSubData(mLists.id(), GL_R32UI, 0, static_cast<GLsizeiptr>(headWords * 4),
+                              GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    if (!mSlots.empty()) mLists.upload(mSlots.data(), mSlots.size() * 4, headWords * 4);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_RECORDS, mRecords.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_LISTS, mLists.id());
+    const GLint size[2] = {t.width, t.height};
+    const auto slotCount = static_cast<GLuint>(mSlots.size());
+    const auto binning = [&](const Program& program, GLuint groups) {
+        glUseProgram(program.id());
+        glUniform2ui(0, static_cast<GLuint>(headWords), slotCount);
+        glUniform2i(1, mTiles.x, mTiles.y);
+        glUniform2iv(2, 1, size);
+        glUniform1ui(3, static_cast<GLuint>(listBase));
+        glDispatchCompute(groups, 1, 1);
+    };
+    // The slots' records, a count per tile, then first entries by a prefix sum.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (slotCount > 0) binning(mRecord, (slotCount + 63) / 64);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if (slotCount > 0) binning(mCount, (slotCount + 63) / 64);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    binning(mScan, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    // The lists' length decides the buffer's: the total and its flags read back.
+    std::array<std::uint32_t, WEDGE_TILES_HEADER> header{};
+    glGetNamedBufferSubData(mLists.id(), static_cast<GLintptr>(3 * tiles * 4),
+                            static_cast<GLsizeiptr>(sizeof(header)), header.data());
+    mStats.truncated = header[WEDGE_TILES_TRUNCATED];
+    if (header[WEDGE_TILES_OVERFLOW] != 0 || header[WEDGE_TILES_TRUNCATED] != 0 ||
+        listBase + header[WEDGE_TILES_TOTAL] > mMaxTexels ||
+        (entryLimit > 0 && header[WEDGE_TILES_TOTAL] > entryLimit)) {
+        mEntries = 0;
+        return false;
+    }
+    mEntries = header[WEDGE_TILES_TOTAL];
+    const std::size_t needed = (listBase + std::max<std::size_t>(mEntries, 1)) * 4;
+    if (mLists.size() < needed) {
+        Buffer grown({.size = needed + needed / 2, .label = "wedge-tile-lists"});
+        glCopyNamedBufferSubData(mLists.id(), grown.id(), 0, 0, static_cast<GLsizeiptr>(listBase * 4));
+        mLists = std::move(grown);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_LISTS, mLists.id());
+    }
+    if (slotCount > 0) binning(mFill, (slotCount + 63) / 64);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // Every pixel over its tile's list, reading records and lists as texels.
+    const auto texels = [](Handle<TextureDeleter>& tex, GLenum format, const Buffer& buffer,
+                           GLuint unit) {
+        if (!tex) {
+            GLuint id = 0;
+            glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
+            tex = Handle<TextureDeleter>(id);
+        }
+        glTextureBuffer(tex.id(), format, buffer.id());
+        glBindTextureUnit(unit, tex.id());
+    };
+    texels(mRecordTexels, GL_RGBA32F, mRecords, TEXUNIT_WEDGE_TILE_RECORDS);
+    texels(mListTexels, GL_R32UI, mLists, TEXUNIT_WEDGE_TILE_LISTS);
+    texels(mSampleTexels, GL_RGBA32F, samples, TEXUNIT_WEDGE_TILE_SAMPLES);
+    glUseProgram(mEvaluate.id());
+    glUniform2i(1, mTiles.x, mTiles.y);
+    glUniform2iv(2, 1, size);
+    glUniform1ui(3, static_cast<GLuint>(listBase));
+    glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
+    glBindImageTexture(IMAGE_BITMASK_AREA, area.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(static_cast<GLuint>((t.width + 7) / 8), static_cast<GLuint>((t.height + 7) / 8),
+                      1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    // The evaluation's counters; a pixel that ran out of its loop budget makes the frame's
+    // counts incomplete: the caller rasterises instead.
+    glGetNamedBufferSubData(mLists.id(), static_cast<GLintptr>(3 * tiles * 4),
+                            static_cast<GLsizeiptr>(sizeof(header)), header.data());
+    mStats.entries = mEntries;
+    mStats.pairsAdded = header[WEDGE_TILES_PAIRS_ADDED];
+    mStats.truncated = header[WEDGE_TILES_TRUNCATED];
+    return mStats.truncated == 0;
+}
+
+} // namespace gpu

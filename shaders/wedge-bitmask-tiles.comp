@@ -1,0 +1,147 @@
+// wedges-bitmask silhouettes=potential evaluate=tiles: the wedge pass without rasterising the
+// hulls. One invocation per pixel runs over its tile's list of wedges (wedge-tiles.comp) and
+// adds what each edge adds at P (lib/BitmaskEdge.glsl, the fragment shader's own arithmetic)
+// in registers; then writes what wedge-bitmask.frag's atomics and blending would have left:
+// the biased 4-bit counts, the two checksums, per quadrant the sum of m times R's share
+// (IMAGE_BITMASK_AREA), and whether any edge added (the raster pass's stencil mark), in the
+// layer after the checksums. The area is summed in 64-bit fixed point (2^-29), so that the
+// lists' order, which the binning's atomics decide, does not change it.
+#include "lib/Bindings.h"
+#include "shared/WedgeHull.h"
+
+#ifndef BITMASK_SAMPLES
+#define BITMASK_SAMPLES 64
+#endif
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
+// The light samples ((s, t, angle about the centre, quadrant of its run), by angle) as texels.
+layout(binding = TEXUNIT_WEDGE_TILE_SAMPLES) uniform samplerBuffer tSamples;
+#define LIGHT_SAMPLE(i) texelFetch(tSamples, i)
+layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform writeonly uimage2DArray iCounts;
+layout(binding = IMAGE_BITMASK_AREA, rgba32f) uniform writeonly image2D iArea;
+
+#include "lib/BitmaskEdge.glsl"
+#define WEDGE_TILES_TEXELS 1
+#include "lib/WedgeTiles.glsl"
+
+// The records and lists as buffer textures: llvmpipe fetches texels per SIMD vector, faster
+// than its per-lane storage-buffer loads (this loop's cost).
+layout(binding = TEXUNIT_WEDGE_TILE_RECORDS) uniform samplerBuffer tRecords;
+layout(binding = TEXUNIT_WEDGE_TILE_LISTS) uniform usamplerBuffer tLists;
+
+vec4 record(uint slot, int k) {
+    return texelFetch(tRecords, int(slot) * TILE_WEDGE_TEXELS + k);
+}
+// TileWedge's fields by texel: e0 0, e1 1, planes 2-5, tri0 6-8, tri1 9-11, rect 12, far 13,
+// tiles 14, kind 15.
+
+layout(location = 1) uniform ivec2 uTiles; // tiles across, down
+layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
+
+const float kAreaScale = 536870912.0; // 2^29: |m share| <= 2 fits a signed 32-bit step
+
+// acc += x, as a 64-bit two's-complement integer (lo, hi).
+void add64(inout uvec2 acc, int x) {
+    uint lo = acc.x + uint(x);
+    acc.y += (lo < acc.x ? 1u : 0u) + (x < 0 ? 0xFFFFFFFFu : 0u);
+    acc.x = lo;
+}
+float value64(uvec2 acc) {
+    return float(double(int(acc.y)) * 4294967296.0 + double(acc.x)) / kAreaScale;
+}
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, uSize))) return;
+    int T = uTiles.x * uTiles.y;
+    vec4 position = texelFetch(tPosition, px, 0);
+    uint touched = 0u;
+    if (position.w != 0.0) {
+        vec3 p = position.xyz;
+        vec3 eye = frame.eye.xyz;
+        vec2 ndc = (vec2(px) + 0.5) / vec2(uSize) * 2.0 - 1.0;
+        int t = (px.y / WEDGE_TILE) * uTiles.x + px.x / WEDGE_TILE;
+        uint n = texelFetch(tLists, t).r, first = texelFetch(tLists, T + t).r;
+        uint counts[BITMASK_SAMPLES / 8];
+        for (int i = 0; i < BITMASK_SAMPLES / 8; ++i) counts[i] = 0x88888888u;
+        int added = 0, weighted = 0;
+        uvec2 area[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
+        uint pairs = 0u;
+        // The list in runs of 32: first the hulls' plane tests (or a full-screen wedge's
+        // rectangle), most pairs end there, as bits; then the full arithmetic for the set
+        // bits only. On a SIMD machine (llvmpipe: 8 pixels of a row a vector) the second
+        // loop runs as often as the busiest lane needs, not once per entry some lane needs.
+        // The list in runs of 32: first the hulls' plane tests (or a full-screen wedge's
+        // rectangle), where most pairs end, as bits; then the full
+        // arithmetic for the set bits only. On a SIMD machine (llvmpipe: 8 pixels of a row a
+        // vector) the second loop runs as often as the busiest lane needs, not once per entry
+        // some lane needs.
+        // Each run and entry counts 1 against the loop budget, each pair tested in full the
+        // most its loops may take (the samples between two rays, two bisections).
+        const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
+        int budget = WEDGE_TILES_LOOP_BUDGET;
+        for (uint base = 0u; base < n; base += 32u) {
+            uint run = min(32u, n - base);
+            budget -= 1 + int(run);
+            if (budget < 0) break;
+            uint inside = 0u;
+            for (uint j = 0u; j < run; ++j) {
+                uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
+                // (kind and eyeInside are integers stored in float texels: compared as bits,
+                // 0 and 1 being zero and a denormal)
+                uvec2 kind = floatBitsToUint(record(slot, 15).xy);
+                vec4 planes[4] = vec4[4](record(slot, 2), record(slot, 3), record(slot, 4),
+                                         record(slot, 5));
+                vec4 rect = record(slot, 12);
+                bool holds = kind.x == WEDGE_BOUNDED
+                                 ? tileWedgeHolds(planes, record(slot, 13), kind.y != 0u, eye, p)
+                                 : all(greaterThanEqual(ndc, rect.xy)) && all(lessThanEqual(ndc, rect.zw));
+                if (holds) inside |= 1u << j;
+            }
+            while (inside != 0u) {
+                budget -= pairCost;
+                if (budget < 0) break;
+                uint j = uint(findLSB(inside));
+                inside &= inside - 1u;
+                uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
+                vec3 e0 = record(slot, 0).xyz, e1 = record(slot, 1).xyz;
+                vec4 tri0[3] = vec4[3](record(slot, 6), record(slot, 7), record(slot, 8));
+                vec4 tri1[3] = vec4[3](record(slot, 9), record(slot, 10), record(slot, 11));
+                CoverageLight light;
+                float sg;
+                uint words[8];
+                uint hit;
+                int m;
+                if (!bitmaskEdge(px, p, e0, e1, tri0, tri1, m, light, sg, words, hit))
+                    continue;
+                vec4 a = float(m) * abs(edgeQuadrantCoverage(p, e0, e1, light));
+                for (int q = 0; q < 4; ++q) add64(area[q], int(round(a[q] * kAreaScale)));
+                if (hit != 0u) {
+                    ivec2 sums = bitmaskChecksums(words);
+                    added += m * sums.x;
+                    weighted += m * sums.y;
+                }
+                for (int wd = 0; wd < BITMASK_WORDS; ++wd)
+                    for (int b = 0; b < 4; ++b) {
+                        uint lanes = (words[wd] >> uint(8 * b)) & 0xFFu;
+                        counts[4 * wd + b] += uint(m) * bitmaskLanes(lanes);
+                    }
+                ++pairs;
+            }
+        }
+        if (budget < 0) atomicAdd(heads[3 * T + WEDGE_TILES_TRUNCATED], 1u);
+        if (pairs > 0u) {
+            touched = 1u;
+            for (int i = 0; i < BITMASK_SAMPLES / 8; ++i)
+                imageStore(iCounts, ivec3(px, i), uvec4(counts[i]));
+            imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8), uvec4(uint(added)));
+            imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1), uvec4(uint(weighted)));
+            imageStore(iArea, px, vec4(value64(area[0]), value64(area[1]), value64(area[2]),
+                                       value64(area[3])));
+            atomicAdd(heads[3 * T + WEDGE_TILES_PAIRS_ADDED], pairs);
+        }
+    }
+    imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 2), uvec4(touched));
+}
