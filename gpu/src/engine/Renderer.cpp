@@ -446,6 +446,10 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
         stats.gpuFrameMs = whole.empty() ? 0.0 : whole.front().ms;
         return stats;
     }
+    // Submitted, not waited for: the viewer's buffer swap flushes too, but a headless caller
+    // that does not wait would leave the frame queued (llvmpipe runs nothing until a flush), and
+    // its timer queries would complete only when some later frame fills the queue.
+    glFlush();
     // The two rings complete independently (a frame's passes end before its span does): each
     // keeps its newest result, and the frame reports the newest pair measured in one frame.
     stats.frameMs = msSince(frameStart);
