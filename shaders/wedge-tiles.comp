@@ -5,7 +5,7 @@
 //   wedge.vert hands the fragment shader) and the tiles of its hull's screen rectangle;
 // 1 per slot: one more entry in heads[t] for each tile t whose surface box (and its 32 x 32
 //   super-tile's) may meet the hull;
-// 2 one invocation: the tiles' first entries and fill cursors (a prefix sum), the total;
+// 2 the tiles' first entries and fill cursors (a prefix sum, by rows), the total;
 // 3 per slot: the same tiles again, its slot into each one's list.
 // A wedge reaches a pixel's list wherever the rasterised hull would give the pixel a fragment
 // inside its planes (the fragment shader's early out): the tiled evaluation processes the same
@@ -18,17 +18,16 @@
 #define WEDGE_TILES_STAGE 0
 #endif
 
-#if WEDGE_TILES_STAGE == 2
-layout(local_size_x = 1) in;
-#else
 layout(local_size_x = 64) in;
-#endif
 
 #include "lib/WedgeTiles.glsl"
 
 layout(location = 0) uniform uvec2 uRun;  // where the slot list starts in heads[], its length
 layout(location = 1) uniform ivec2 uTiles; // tiles across, down
 layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
+#if WEDGE_TILES_STAGE == 2
+layout(location = 4) uniform int uScanStep;
+#endif
 
 #if WEDGE_TILES_STAGE == 1 || WEDGE_TILES_STAGE == 3
 layout(std430, binding = BINDING_SURFACE_TILES) readonly buffer SurfaceTiles {
@@ -94,16 +93,44 @@ bool boundsMayHold(TileWedge w, vec4 lo, vec4 hi) {
 void main() {
     int T = uTiles.x * uTiles.y;
 #if WEDGE_TILES_STAGE == 2
-    uint total = 0u, overflow = 0u;
-    for (int t = 0; t < T; ++t) {
-        uint c = heads[t];
-        heads[T + t] = total;
-        heads[2 * T + t] = total;
-        if (total + c < total) overflow = 1u;
-        total += c;
+    // The prefix sum in three steps (uScanStep), so that no invocation loops over more than a
+    // row or a column of tiles (WEDGE_TILES_LOOP_BUDGET): 0, per row, the offsets within the
+    // row and the row's total (kept in the cursor of its first tile); 1, one invocation, the
+    // rows' offsets (in the same place) and the total; 2, per row, first entries and cursors.
+    int row = int(gl_GlobalInvocationID.x);
+    if (uScanStep == 1) {
+        if (row != 0) return;
+        uint total = 0u, overflow = heads[3 * T + WEDGE_TILES_OVERFLOW];
+        for (int y = 0; y < uTiles.y; ++y) {
+            uint c = heads[2 * T + y * uTiles.x];
+            heads[2 * T + y * uTiles.x] = total;
+            if (total + c < total) overflow = 1u;
+            total += c;
+        }
+        heads[3 * T + WEDGE_TILES_TOTAL] = total;
+        heads[3 * T + WEDGE_TILES_OVERFLOW] = overflow;
+        return;
     }
-    heads[3 * T + WEDGE_TILES_TOTAL] = total;
-    heads[3 * T + WEDGE_TILES_OVERFLOW] = overflow;
+    if (row >= uTiles.y) return;
+    int t0 = row * uTiles.x;
+    if (uScanStep == 0) {
+        uint total = 0u;
+        for (int x = 0; x < uTiles.x; ++x) {
+            uint c = heads[t0 + x];
+            heads[T + t0 + x] = total;
+            if (total + c < total) atomicOr(heads[3 * T + WEDGE_TILES_OVERFLOW], 1u);
+            total += c;
+        }
+        heads[2 * T + t0] = total;
+    } else {
+        uint offset = heads[2 * T + t0];
+        for (int x = 0; x < uTiles.x; ++x) {
+            uint first = heads[T + t0 + x] + offset;
+            if (first < offset) atomicOr(heads[3 * T + WEDGE_TILES_OVERFLOW], 1u);
+            heads[T + t0 + x] = first;
+            heads[2 * T + t0 + x] = first;
+        }
+    }
 #else
     if (gl_GlobalInvocationID.x >= uRun.y) return;
     uint slot = heads[uRun.x + gl_GlobalInvocationID.x];
@@ -157,9 +184,10 @@ void main() {
     int budget = WEDGE_TILES_LOOP_BUDGET;
     for (int sy = w.tiles.y / per; sy <= w.tiles.w / per && budget > 0; ++sy)
         for (int sx = w.tiles.x / per; sx <= w.tiles.z / per && budget > 0; ++sx) {
-            budget -= 1 + per * per;
+            budget -= 1;
             int s = sy * superX + sx;
             if (!boundsMayHold(w, supertileBounds[2 * s], supertileBounds[2 * s + 1])) continue;
+            budget -= per * per;
             for (int ty = max(w.tiles.y, sy * per); ty <= min(w.tiles.w, sy * per + per - 1); ++ty)
                 for (int tx = max(w.tiles.x, sx * per); tx <= min(w.tiles.z, sx * per + per - 1); ++tx) {
                     int t = ty * uTiles.x + tx;

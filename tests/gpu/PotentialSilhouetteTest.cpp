@@ -237,7 +237,7 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
     renderer.renderFrame(s);
     const geometry::FloatImage rv = renderer.visibility();
     const gpu::LightMasks rm = renderer.lightMasks();
-    s.parameters = {};
+    s.parameters = {{"evaluate", "tiles"}};
     s.wedgeTileEntryLimit = 16;
     const gpu::FrameStats over = renderer.renderFrame(s);
     EXPECT_EQ(counter(over, "wedge_tiles_over_limit"), 1.0);
@@ -267,7 +267,7 @@ TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     renderer.renderFrame(s);
     const geometry::FloatImage rv = renderer.visibility();
     const gpu::LightMasks rm = renderer.lightMasks();
-    s.parameters = {};
+    s.parameters = {{"evaluate", "tiles"}};
     const gpu::FrameStats tiled = renderer.renderFrame(s);
     std::printf("  600-segment sphere at 32²: %.0f pixels past the loop budget\n",
                 counter(tiled, "wedge_tiles_truncated"));
@@ -275,6 +275,20 @@ TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     EXPECT_EQ(counter(tiled, "wedge_tiles_over_limit"), 1.0);
     EXPECT_EQ(testutil::countDiffering(renderer.visibility(), rv, 0.0), 0u);
     EXPECT_TRUE(renderer.lightMasks().words == rm.words);
+}
+
+// evaluate=auto (the default) takes the tiled evaluation from BitmaskOptions::kAutoTiledEdges
+// potential edges drawn (the sphere's 803) and the raster pass below (the plates' 16), and says
+// which (wedge_evaluation_tiled).
+TEST_F(PotentialSilhouettes, AutoEvaluationTilesManyEdgesAndRasterisesFew) {
+    for (const auto& [file, tiled] : {std::pair{"sphere.json", 1.0}, {"plates-three.json", 0.0}}) {
+        SCOPED_TRACE(file);
+        const Rendered r = testutil::render(geometry::loadScene(testutil::dataPath(file)),
+                                            "wedges-bitmask", 48, 48, 1);
+        EXPECT_EQ(counter(r.stats, "wedge_evaluation_tiled"), tiled);
+        const double drawn = counter(r.stats, "wedges") - counter(r.stats, "wedges_hidden");
+        EXPECT_EQ(drawn >= 512.0, tiled == 1.0); // BitmaskOptions::kAutoTiledEdges
+    }
 }
 
 // Against the reference of the same samples (the same N and seed: what the masks estimate), on

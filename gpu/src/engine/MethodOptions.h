@@ -8,6 +8,7 @@
 
 #include <gpu/Methods.h>
 
+#include <cstddef>
 #include <span>
 #include <string>
 
@@ -34,8 +35,11 @@ struct BitmaskOptions {
     enum class Estimate { Ratio = 0, Samples = 1, Quadrants = 2 };
     Estimate estimate = Estimate::Ratio;
     // With potential: the wedges evaluated per pixel over screen tiles' lists (a compute pass,
-    // passes/WedgeTilePass.h) instead of rasterised as hulls; the same counts.
-    bool tiles = false;
+    // passes/WedgeTilePass.h) or rasterised as hulls (the same counts), or per frame by the
+    // number of potential edges drawn (Auto: tiles from kAutoTiledEdges).
+    enum class Evaluate { Auto, Tiles, Raster };
+    Evaluate evaluate = Evaluate::Auto;
+    static constexpr std::size_t kAutoTiledEdges = 512;
 };
 BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given);
 

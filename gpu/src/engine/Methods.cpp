@@ -33,7 +33,7 @@ constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
 constexpr std::string_view kBitmaskCombine[] = {"parity", "counts"};
 constexpr std::string_view kBitmaskSilhouettes[] = {"potential", "centre"};
 constexpr std::string_view kBitmaskEstimate[] = {"ratio", "quadrants", "samples"};
-constexpr std::string_view kBitmaskEvaluate[] = {"tiles", "raster"};
+constexpr std::string_view kBitmaskEvaluate[] = {"auto", "tiles", "raster"};
 constexpr MethodParameter kBitmaskParameters[] = {
     {"samples", kBitmaskSamples, "64",
      "light samples per pixel and silhouette group, one bit each (the reference's stratified "
@@ -54,10 +54,12 @@ constexpr MethodParameter kBitmaskParameters[] = {
      "of hidden samples over their mean count: exact at any N where one layer hides the light), "
      "quadrants (the same per quadrant of the light, each with its own exact integral: less "
      "error where layers overlap) or samples (the share of hidden samples)"},
-    {"evaluate", kBitmaskEvaluate, "tiles",
-     "with silhouettes=potential: tiles (the wedges binned to 16x16 pixel tiles whose surface "
-     "they may reach, then every pixel over its tile's list in one compute pass) or raster (the "
-     "wedge hulls rasterised, one fragment per pixel and wedge); the same counts"},
+    {"evaluate", kBitmaskEvaluate, "auto",
+     "with silhouettes=potential: tiles (the wedges binned to 8x8 pixel tiles whose surface they "
+     "may reach, then every pixel over its tile's list in one compute pass), raster (the wedge "
+     "hulls rasterised, one fragment per pixel and wedge; also any frame whose tile lists pass "
+     "their limits) or auto (tiles from 512 potential edges drawn in the frame, raster below: "
+     "the crossover measured by scripts/bench-tiles.sh); the same counts and V"},
 };
 
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
@@ -288,7 +290,9 @@ BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
                                  : parameterValue(r, "estimate") == "quadrants"
                                      ? BitmaskOptions::Estimate::Quadrants
                                      : BitmaskOptions::Estimate::Ratio,
-                     .tiles = parameterValue(r, "evaluate") == "tiles"};
+                     .evaluate = parameterValue(r, "evaluate") == "tiles"    ? BitmaskOptions::Evaluate::Tiles
+                                 : parameterValue(r, "evaluate") == "raster" ? BitmaskOptions::Evaluate::Raster
+                                                                             : BitmaskOptions::Evaluate::Auto};
     if (o.potential && !o.counts)
         throw geometry::InputError("wedges-bitmask: combine=parity needs silhouettes=centre "
                                    "(silhouettes=potential always counts)");

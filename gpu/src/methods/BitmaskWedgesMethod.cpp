@@ -103,10 +103,10 @@ public:
                    mLayout.defines()),
           mPotentialResolve(r.shaders, "bitmask-potential-resolve.frag", "bitmask-potential-resolve",
                             PipelineState{}, mLayout.defines()),
-          mTiles(layout.potential && layout.tiles
+          mTiles(layout.potential && layout.evaluate != BitmaskOptions::Evaluate::Raster
                      ? std::make_unique<WedgeTilePass>(r.shaders, layout.defines())
                      : nullptr),
-          mTiledResolve(layout.potential && layout.tiles
+          mTiledResolve(layout.potential && layout.evaluate != BitmaskOptions::Evaluate::Raster
                             ? std::make_unique<FullscreenPass>(
                                   r.shaders, "bitmask-potential-resolve.frag",
                                   "bitmask-potential-resolve-tiled", PipelineState{},
@@ -231,7 +231,11 @@ private:
     int countLayers() const {
         return mLayout.samples / 8 + (mLayout.potential ? 2 : 0) + (tiled() ? 1 : 0);
     }
-    bool tiled() const { return mLayout.potential && mLayout.tiles; }
+    // evaluate=tiles or auto: the tiled evaluation's passes exist (the counts array holds its
+    // mark layer).
+    bool tiled() const {
+        return mLayout.potential && mLayout.evaluate != BitmaskOptions::Evaluate::Raster;
+    }
 
     // silhouettes=potential: one stencil pass (D(P, c), two-sided, every caster), one wedge
     // pass over every potential silhouette edge (counts and A), one resolve.
@@ -287,10 +291,18 @@ private:
             ScopedPass pass(&ctx.timers, "shadow-volume");
             mVolumes.drawCentre(t.visibilityFbo, t, mPotential.volumes());
         }
-        // evaluate=tiles; the raster pass where it is off, or where this frame's tile lists
-        // would pass their limit (counted: wedge_tiles_over_limit).
+        // evaluate=tiles (or auto with kAutoTiledEdges potential edges drawn or more: on fewer
+        // the raster pass wastes little and the tiled passes' fixed cost shows; bench-tiles.md);
+        // the raster pass otherwise, or where this frame's tile lists would pass their limits
+        // (counted: wedge_tiles_over_limit).
+        std::size_t drawnEdges = 0;
+        for (const GLsizei n : wedgeSet->edgeCount) drawnEdges += static_cast<std::size_t>(n);
+        drawnEdges /= 2; // the set holds each edge's twin slot too
+        const bool tryTiles =
+            tiled() && (mLayout.evaluate == BitmaskOptions::Evaluate::Tiles ||
+                        drawnEdges >= BitmaskOptions::kAutoTiledEdges);
         bool tiledFrame = false;
-        if (tiled()) {
+        if (tryTiles) {
             ScopedPass pass(&ctx.timers, "wedges");
             mWedges.bindWedges();
             tiledFrame = mTiles->run(t, *wedgeSet, mPotential.wedgeSlots(), mArea, mSamples,
@@ -326,7 +338,8 @@ private:
                             GL_BUFFER_UPDATE_BARRIER_BIT);
         }
         WedgeCounts counts = mWedges.counts();
-        if (tiled()) {
+        if (tiled()) ctx.addCounter("wedge_evaluation_tiled", tiledFrame ? 1.0 : 0.0);
+        if (tryTiles) {
             const WedgeTileStats& tileStats = mTiles->stats();
             ctx.addCounter("wedge_tiles_over_limit", tiledFrame ? 0.0 : 1.0);
             ctx.addCounter("wedge_tiles_truncated", static_cast<double>(tileStats.truncated));

@@ -56,10 +56,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     const std::size_t listBase = headWords + mSlots.size();
     const std::size_t recordBytes = std::max<std::size_t>(slots, 1) * kTileWedgeBytes;
     mStats = WedgeTileStats{.tiles = tiles};
-    // The prefix sum is one invocation's loop over the tiles (WEDGE_TILES_LOOP_BUDGET).
-    if (recordBytes / 16 > mMaxTexels || listBase > mMaxTexels ||
-        tiles >= std::size_t(WEDGE_TILES_LOOP_BUDGET))
-        return false;
+    if (recordBytes / 16 > mMaxTexels || listBase > mMaxTexels) return false;
     if (mRecords.size() < recordBytes)
         mRecords = Buffer({.size = recordBytes, .flags = 0, .label = "wedge-tile-records"});
     // Sized for the lists of the last frame, grown below when this frame's are longer.
@@ -88,7 +85,11 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     if (slotCount > 0) binning(mCount, (slotCount + 63) / 64);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    binning(mScan, 1);
+    for (GLint step = 0; step < 3; ++step) {
+        glProgramUniform1i(mScan.id(), 4, step);
+        binning(mScan, (static_cast<GLuint>(mTiles.y) + 63) / 64);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     // The lists' length decides the buffer's: the total and its flags read back.
     std::array<std::uint32_t, WEDGE_TILES_HEADER> header{};
