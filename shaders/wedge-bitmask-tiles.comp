@@ -69,17 +69,13 @@ void main() {
         int added = 0, weighted = 0;
         uvec2 area[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
         uint pairs = 0u;
-        // The list in runs of 32: first the hulls' plane tests (or a full-screen wedge's
-        // rectangle), most pairs end there, as bits; then the full arithmetic for the set
-        // bits only. On a SIMD machine (llvmpipe: 8 pixels of a row a vector) the second
-        // loop runs as often as the busiest lane needs, not once per entry some lane needs.
-        // The list in runs of 32: first the hulls' plane tests (or a full-screen wedge's
-        // rectangle), where most pairs end, as bits; then the full
+        // The list in runs of 32: first the hull tests (lib/WedgeTiles.glsl tileWedgeHolds, or
+        // a full-screen wedge's rectangle), where most pairs end, as bits; then the full
         // arithmetic for the set bits only. On a SIMD machine (llvmpipe: 8 pixels of a row a
         // vector) the second loop runs as often as the busiest lane needs, not once per entry
-        // some lane needs.
-        // Each run and entry counts 1 against the loop budget, each pair tested in full the
-        // most its loops may take (the samples between two rays, two bisections).
+        // some lane needs. Each run and entry counts 1 against the loop budget, each pair
+        // tested in full the most its loops may take (the samples between two rays, two
+        // bisections).
         const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
         int budget = WEDGE_TILES_LOOP_BUDGET;
         for (uint base = 0u; base < n; base += 32u) {

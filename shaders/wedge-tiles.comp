@@ -1,6 +1,7 @@
 // wedges-bitmask evaluate=tiles: the wedges of the frame's set binned to the 8 x 8 pixel tiles
 // whose visible surface their hulls may reach (the surface's world box per tile and per 32 x 32
-// super-tile: surface-tiles.comp), in four dispatches (WEDGE_TILES_STAGE):
+// super-tile: surface-tiles.comp), in four stages (WEDGE_TILES_STAGE; the prefix sum in three
+// dispatches):
 // 0 per wedge slot of the frame's set (a list of slots, heads[uRun.x ...]): its TileWedge (what
 //   wedge.vert hands the fragment shader) and the tiles of its hull's screen rectangle;
 // 1 per slot: one more entry in heads[t] for each tile t whose surface box (and its 32 x 32
