@@ -12,14 +12,8 @@ SIZE=${SIZE:-256x256}
 FRAMES=${FRAMES:-5}
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-scenes=(data/overlap.json data/plates-three.json data/bars-cross.json data/diamonds.json
-        data/parallel-square.json data/plate-tilted.json data/box.json data/sphere.json
-        data/torus.json data/torus-box.json data/spheres-nine.json data/demo.json
-        data/stability/large-light-small-occluder.json data/stability/light-grazing.json
-        data/stability/sphere-grid.json data/stability/plates-stacked.json
-        data/stability/faceted-sphere.json data/stability/open-nonmanifold.json
-        data/stability/near-clip.json data/stability/camera-in-volume.json
-        data/stability/camera-in-wedge.json)
+source scripts/wedge-scenes.sh
+scenes=("${wedge_scenes[@]}")
 # name|method|params
 variants=("hard|hard|" "blend|wedges-blend|" "centre 64|wedges-bitmask|silhouettes=centre"
           "samples 64|wedges-bitmask|estimate=samples" "ratio 64|wedges-bitmask|estimate=ratio"

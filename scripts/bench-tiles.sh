@@ -18,15 +18,8 @@ FRAMES=${FRAMES:-5}
 ROUNDS=${ROUNDS:-3}
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-scenes=(data/overlap.json data/plates-three.json data/bars-cross.json data/diamonds.json
-        data/parallel-square.json data/plate-tilted.json data/box.json data/sphere.json
-        data/torus.json data/torus-box.json data/spheres-nine.json data/demo.json
-        data/stability/large-light-small-occluder.json data/stability/light-grazing.json
-        data/stability/sphere-grid.json data/stability/plates-stacked.json
-        data/stability/faceted-sphere.json data/stability/open-nonmanifold.json
-        data/stability/near-clip.json data/stability/camera-in-volume.json
-        data/stability/camera-in-wedge.json
-        ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0)
+source scripts/wedge-scenes.sh
+scenes=("${wedge_scenes[@]}" ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0)
 # tag|method|params
 variants=("hard|hard|" "centre|wedges-bitmask|silhouettes=centre"
           "raster|wedges-bitmask|evaluate=raster" "tiles|wedges-bitmask|evaluate=tiles"

@@ -154,6 +154,29 @@ TEST_F(PotentialSilhouettes, MasksEqualTheDefinitionBitForBit) {
     }
 }
 
+// One wedges-bitmask frame with evaluate=raster, then one with evaluate=tiles and `tiled`'s
+// other settings, on `renderer`, at `size`²: each frame's stats, V and masks.
+struct RasterAndTiled {
+    gpu::FrameStats rasterStats, tiledStats;
+    geometry::FloatImage rasterV, tiledV;
+    gpu::LightMasks rasterMasks, tiledMasks;
+};
+RasterAndTiled rasterThenTiled(gpu::Renderer& renderer, int size, gpu::RenderSettings tiled = {}) {
+    RasterAndTiled out;
+    gpu::RenderSettings s;
+    s.method = tiled.method = "wedges-bitmask";
+    s.width = s.height = tiled.width = tiled.height = size;
+    s.parameters = {{"evaluate", "raster"}};
+    out.rasterStats = renderer.renderFrame(s);
+    out.rasterV = renderer.visibility();
+    out.rasterMasks = renderer.lightMasks();
+    tiled.parameters = {{"evaluate", "tiles"}};
+    out.tiledStats = renderer.renderFrame(tiled);
+    out.tiledV = renderer.visibility();
+    out.tiledMasks = renderer.lightMasks();
+    return out;
+}
+
 // evaluate=tiles (the default: the wedges binned to 8 x 8 pixel tiles, then every pixel over
 // its tile's list in one compute pass, the fragment shader's arithmetic in lib/BitmaskEdge.glsl)
 // against evaluate=raster (the hulls rasterised, a fragment per pixel and wedge) on one
@@ -180,17 +203,10 @@ TEST_F(PotentialSilhouettes, TiledEvaluationEqualsTheRasterPass) {
         SCOPED_TRACE(k.name);
         gpu::ShaderLoader shaders(gpu::defaultShaderDir());
         gpu::Renderer renderer(k.scene, shaders);
-        gpu::RenderSettings s;
-        s.method = "wedges-bitmask";
-        s.width = s.height = 96;
-        s.parameters = {{"evaluate", "raster"}};
-        const gpu::FrameStats rs = renderer.renderFrame(s);
-        const geometry::FloatImage rv = renderer.visibility();
-        const gpu::LightMasks rm = renderer.lightMasks();
-        s.parameters = {{"evaluate", "tiles"}};
-        const gpu::FrameStats ts = renderer.renderFrame(s);
-        const geometry::FloatImage tv = renderer.visibility();
-        const gpu::LightMasks tm = renderer.lightMasks();
+        const RasterAndTiled f = rasterThenTiled(renderer, 96);
+        const gpu::FrameStats &rs = f.rasterStats, &ts = f.tiledStats;
+        const geometry::FloatImage &rv = f.rasterV, &tv = f.tiledV;
+        const gpu::LightMasks &rm = f.rasterMasks, &tm = f.tiledMasks;
         ASSERT_EQ(rm.words.size(), tm.words.size());
         const int words = tm.samples / 32;
         std::size_t maskPixels = 0, vPixels = 0, nanPixels = 0;
@@ -230,20 +246,14 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("sphere.json"));
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
-    s.method = "wedges-bitmask";
-    s.width = s.height = 64;
-    s.parameters = {{"evaluate", "raster"}};
-    renderer.renderFrame(s);
-    const geometry::FloatImage rv = renderer.visibility();
-    const gpu::LightMasks rm = renderer.lightMasks();
+    gpu::RenderSettings limited;
+    limited.wedgeTileEntryLimit = 16;
+    const RasterAndTiled f = rasterThenTiled(renderer, 64, limited);
+    EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
+    EXPECT_EQ(testutil::countDiffering(f.tiledV, f.rasterV, 0.0), 0u);
+    EXPECT_TRUE(f.tiledMasks.words == f.rasterMasks.words);
+    gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 64, 64);
     s.parameters = {{"evaluate", "tiles"}};
-    s.wedgeTileEntryLimit = 16;
-    const gpu::FrameStats over = renderer.renderFrame(s);
-    EXPECT_EQ(counter(over, "wedge_tiles_over_limit"), 1.0);
-    EXPECT_EQ(testutil::countDiffering(renderer.visibility(), rv, 0.0), 0u);
-    EXPECT_TRUE(renderer.lightMasks().words == rm.words);
-    s.wedgeTileEntryLimit = 0;
     const gpu::FrameStats under = renderer.renderFrame(s);
     EXPECT_EQ(counter(under, "wedge_tiles_over_limit"), 0.0);
     EXPECT_GT(counter(under, "wedge_tile_entries"), 16.0);
@@ -251,7 +261,7 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
 
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe
 // ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere seen
-// at 32², 115 000 wedges over 16 tiles. Counted (wedge_tiles_truncated, measured 85 pixels), the
+// at 32², 115 000 wedges over 16 tiles. Counted (wedge_tiles_truncated, 81-85 pixels across runs), the
 // frame rasterised instead: V and the masks are the raster pass's, bit for bit. Before the
 // budget such a frame dropped pairs silently (the 10^6-triangle sphere of EdgeCases at 128²:
 // 178 pixels off the reference of the same samples, 2 with the raster pass).
@@ -260,21 +270,13 @@ TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     scene.objects[1].mesh = geometry::makeSphere({0.0f, 1.0f, 0.0f}, 0.5f, 600);
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
-    gpu::RenderSettings s;
-    s.method = "wedges-bitmask";
-    s.width = s.height = 32;
-    s.parameters = {{"evaluate", "raster"}};
-    renderer.renderFrame(s);
-    const geometry::FloatImage rv = renderer.visibility();
-    const gpu::LightMasks rm = renderer.lightMasks();
-    s.parameters = {{"evaluate", "tiles"}};
-    const gpu::FrameStats tiled = renderer.renderFrame(s);
+    const RasterAndTiled f = rasterThenTiled(renderer, 32);
     std::printf("  600-segment sphere at 32²: %.0f pixels past the loop budget\n",
-                counter(tiled, "wedge_tiles_truncated"));
-    EXPECT_GT(counter(tiled, "wedge_tiles_truncated"), 0.0);
-    EXPECT_EQ(counter(tiled, "wedge_tiles_over_limit"), 1.0);
-    EXPECT_EQ(testutil::countDiffering(renderer.visibility(), rv, 0.0), 0u);
-    EXPECT_TRUE(renderer.lightMasks().words == rm.words);
+                counter(f.tiledStats, "wedge_tiles_truncated"));
+    EXPECT_GT(counter(f.tiledStats, "wedge_tiles_truncated"), 0.0);
+    EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
+    EXPECT_EQ(testutil::countDiffering(f.tiledV, f.rasterV, 0.0), 0u);
+    EXPECT_TRUE(f.tiledMasks.words == f.rasterMasks.words);
 }
 
 // evaluate=auto (the default) takes the tiled evaluation from BitmaskOptions::kAutoTiledEdges

@@ -32,7 +32,6 @@ public:
     static constexpr int kTile = 16; // pixels per tile side (shaders/surface-tiles.comp)
     // `tile`: pixels per tile side (kTile for the batching; WedgeTilePass its own).
     explicit SurfaceTilePass(const ShaderLoader& shaders, int tile = kTile);
-    int tile() const { return mTile; }
     SurfaceTiles measure(const Targets& t);
     // The same on the GPU only, bound at BINDING_SURFACE_TILES, not read back (the tiled wedge
     // evaluation bins on the GPU); tiles across and down.

@@ -1,6 +1,7 @@
 // wedges-bitmask silhouettes=potential evaluate=tiles: the wedge pass without rasterising the
-// hulls. The hulls are binned to the 16 x 16 pixel tiles whose visible surface they may reach
-// (shaders/wedge-tiles.comp, against SurfaceTilePass's boxes), then one compute invocation per
+// hulls. The hulls are binned to the 8 x 8 pixel tiles whose visible surface they may reach
+// (shaders/wedge-tiles.comp, against SurfaceTilePass's boxes per tile and per 32 x 32
+// super-tile), then one compute invocation per
 // pixel runs over its tile's list with the fragment shader's own arithmetic
 // (shaders/lib/BitmaskEdge.glsl) and writes the counts, checksums and areas that the raster
 // pass's atomics and blending would leave (shaders/wedge-bitmask-tiles.comp), for the same
