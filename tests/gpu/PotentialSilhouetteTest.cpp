@@ -261,10 +261,10 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
 
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe
 // ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere seen
-// at 32², 115 000 wedges over 16 tiles. Counted (wedge_tiles_truncated, 81-85 pixels across runs), the
-// frame rasterised instead: V and the masks are the raster pass's, bit for bit. Before the
-// budget such a frame dropped pairs silently (the 10^6-triangle sphere of EdgeCases at 128²:
-// 178 pixels off the reference of the same samples, 2 with the raster pass).
+// at 32², 115 000 wedges over 16 tiles. Counted (wedge_tiles_truncated, 81-85 pixels across
+// runs), the frame rasterised instead: V and the masks are the raster pass's, bit for bit.
+// Before the budget such a frame dropped pairs silently (the 10^6-triangle sphere of EdgeCases
+// at 128²: 178 pixels off the reference of the same samples, 2 with the raster pass).
 TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     geometry::Scene scene = geometry::loadScene(testutil::dataPath("sphere.json"));
     scene.objects[1].mesh = geometry::makeSphere({0.0f, 1.0f, 0.0f}, 0.5f, 600);
