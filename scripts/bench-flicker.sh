@@ -31,7 +31,7 @@ renderer=$(grep -m1 -o 'on .*; truth' "$OUT/log.txt" | sed 's/^on //; s/; truth$
     # The bitmask columns by their swept parameter alone.
     for metric in flicker err; do
         /usr/bin/python3 scripts/bench_table.py "$OUT/results.csv" --metric "$metric" |
-            sed -E 's/wedges-bitmask samples=64 pattern=fixed combine=counts silhouettes=(potential|centre) estimate=quadrants/wedges-bitmask \1/g'
+            sed -E 's/wedges-bitmask samples=64 pattern=fixed combine=counts silhouettes=(potential|centre)( [a-z_]+=[a-z0-9]+)*/wedges-bitmask \1/g'
         echo
     done
 } > docs/bench-flicker.md

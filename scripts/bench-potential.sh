@@ -17,8 +17,8 @@ scenes=("${wedge_scenes[@]}")
 # name|method|params
 variants=("hard|hard|" "blend|wedges-blend|" "centre 64|wedges-bitmask|silhouettes=centre"
           "samples 64|wedges-bitmask|estimate=samples" "ratio 64|wedges-bitmask|estimate=ratio"
-          "quadrants 32|wedges-bitmask|samples=32" "quadrants 64|wedges-bitmask|"
-          "quadrants 128|wedges-bitmask|samples=128")
+          "quadrants 64|wedges-bitmask|estimate=quadrants" "moments 32|wedges-bitmask|samples=32"
+          "moments 64|wedges-bitmask|" "moments 128|wedges-bitmask|samples=128")
 rows=()
 renderer=""
 for scene in "${scenes[@]}"; do
@@ -45,7 +45,7 @@ PY
         renderer=$gl
         [ "$tag" = hard ] && hard=$ms
         ratio=$(/usr/bin/python3 -c "print('%.1f' % ($ms / $hard))")
-        if [ "$method" = wedges-bitmask ] && [ "$tag" = "quadrants 64" -o "$tag" = "centre 64" ]; then
+        if [ "$method" = wedges-bitmask ] && [ "$tag" = "moments 64" -o "$tag" = "centre 64" ]; then
             row="$row $err / ${ratio}× ($wedges w) |"
         else
             row="$row $err / ${ratio}× |"
@@ -59,8 +59,8 @@ done
     echo "of $FRAMES frames after a warm-up; (w): wedges drawn. GL_RENDERER ${renderer//_/ }, CPU"
     echo "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') ($(nproc) cores)."
     echo
-    echo "| scene | hard | blend | bitmask centre 64 | potential, samples 64 | potential, ratio 64 | potential, quadrants 32 | potential, quadrants 64 (default) | potential, quadrants 128 |"
-    echo "|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | hard | blend | bitmask centre 64 | potential, samples 64 | potential, ratio 64 | potential, quadrants 64 | potential, moments 32 | potential, moments 64 (default) | potential, moments 128 |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
     printf '%s\n' "${rows[@]}"
 } > docs/bench-potential.md
 cat docs/bench-potential.md

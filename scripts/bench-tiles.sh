@@ -2,10 +2,12 @@
 # wedges-bitmask's wedge pass two ways, one run: evaluate=raster (the hulls rasterised, one
 # fragment per pixel and wedge) against evaluate=tiles (the wedges binned to 8x8 pixel tiles
 # whose surface they may reach, then every pixel over its tile's list in one compute pass), and
-# evaluate=auto (the default: tiles from 512 potential edges drawn), beside `hard` and
-# silhouettes=centre (the method before per-receiver silhouettes), on every data/ scene, the
-# stability suite's hard cases and two levels' spawn views with the lamp.
-# ROUNDS rounds (default 3) run the five variants alternately; each run's frame is the median of
+# evaluate=auto (tiles from 512 potential edges drawn), all three with estimate=quadrants (which
+# either evaluation serves), beside `hard`, silhouettes=centre (the method before per-receiver
+# silhouettes) and the default (estimate=moments, which takes the tiled evaluation on every
+# frame), on every data/ scene, the stability suite's hard cases and two levels' spawn views
+# with the lamp.
+# ROUNDS rounds (default 3) run the six variants alternately; each run's frame is the median of
 # FRAMES frames after a warm-up, and the table gives the median over the rounds, as ratios to
 # `hard`'s frame of the same round; also the largest |V_tiles - V_raster| and the work counts.
 # Writes docs/bench-tiles.md. Usage: bash scripts/bench-tiles.sh [build-dir]
@@ -22,8 +24,9 @@ source scripts/wedge-scenes.sh
 scenes=("${wedge_scenes[@]}" ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0)
 # tag|method|params
 variants=("hard|hard|" "centre|wedges-bitmask|silhouettes=centre"
-          "raster|wedges-bitmask|evaluate=raster" "tiles|wedges-bitmask|evaluate=tiles"
-          "auto|wedges-bitmask|")
+          "raster|wedges-bitmask|evaluate=raster estimate=quadrants"
+          "tiles|wedges-bitmask|evaluate=tiles estimate=quadrants"
+          "auto|wedges-bitmask|estimate=quadrants" "default|wedges-bitmask|")
 rows=()
 renderer=""
 for entry in "${scenes[@]}"; do
@@ -47,7 +50,7 @@ for entry in "${scenes[@]}"; do
 import json, sys
 out, r = sys.argv[1], sys.argv[2]
 rep = {t: json.load(open(f"{out}/{r}-{t}/report.json"))
-       for t in ("hard", "centre", "raster", "tiles", "auto")}
+       for t in ("hard", "centre", "raster", "tiles", "auto", "default")}
 c = rep["tiles"]["counters"]
 drawn = int(c.get("wedges", 0) - c.get("wedges_hidden", 0))
 picked = "tiles" if rep["auto"]["counters"].get("wedge_evaluation_tiled", 0) else "raster"
@@ -55,7 +58,8 @@ print(" ".join(str(x) for x in (
     rep["hard"]["frame_ms"], rep["centre"]["frame_ms"], rep["raster"]["frame_ms"],
     rep["tiles"]["frame_ms"], drawn, int(c.get("wedge_tile_entries", 0)),
     int(rep["raster"]["counters"].get("wedge_fragments", 0)), int(c.get("wedge_fragments", 0)),
-    rep["tiles"]["gl_renderer"].replace(" ", "_"), rep["auto"]["frame_ms"], picked)))
+    rep["tiles"]["gl_renderer"].replace(" ", "_"), rep["auto"]["frame_ms"], picked,
+    rep["default"]["frame_ms"])))
 PY
     done
     read -r gl row <<<"$(/usr/bin/python3 - "$OUT" "$name" <<'PY'
@@ -78,6 +82,7 @@ diff = max((abs(x - y) for x, y in zip(a, b) if x == x and y == y), default=0.0)
 last = rows[-1]
 print(last[8], f"| {name} | {statistics.median(hard):.1f} | {over(1):.1f}× | {over(2):.1f}× "
       f"| {over(3):.1f}× | {ratio(3, 2):.2f} | {over(9):.1f}× ({last[10]}) | {ratio(9, 1):.1f} "
+      f"| {over(11):.1f}× | {ratio(11, 1):.1f} "
       f"| {diff:.1g} | {last[4]} | {last[5]} | {last[6]} / {last[7]} |")
 PY
 )"
@@ -87,18 +92,19 @@ PY
 done
 {
     echo "<!-- written by scripts/bench-tiles.sh; do not edit by hand -->"
-    echo "wedges-bitmask (silhouettes=potential, N = 64) with its wedges rasterised"
-    echo "(\`evaluate=raster\`), evaluated per tile (\`evaluate=tiles\`) or either (\`auto\`), $SIZE: frame"
+    echo "wedges-bitmask (silhouettes=potential, N = 64, estimate=quadrants) with its wedges rasterised"
+    echo "(\`evaluate=raster\`), evaluated per tile (\`evaluate=tiles\`) or either (\`auto\`), and the default"
+    echo "(estimate=moments, always tiled), $SIZE: frame"
     echo "over \`hard\`'s of the same round, median of $ROUNDS alternating rounds (each run the median"
     echo "of $FRAMES frames after a warm-up). GL_RENDERER ${renderer//_/ }, CPU"
     echo "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') ($(nproc) cores)."
-    echo "auto: the default, and the evaluation it took; max |ΔV|: between the raster and tiled"
+    echo "auto: evaluate=auto, and the evaluation it took; max |ΔV|: between the raster and tiled"
     echo "evaluations' V (first round); edges: potential edges drawn (after depth-aware culling);"
     echo "entries: (tile, wedge) pairs binned; pairs: (pixel, wedge) pairs that added to the counts"
     echo "(raster: its fragments that passed the shader's discards)."
     echo
-    echo "| view | hard ms | centre / hard | raster / hard | tiles / hard | tiles / raster | auto / hard | auto / centre | max \|ΔV\| | edges | entries | pairs raster / tiles |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+    echo "| view | hard ms | centre / hard | raster / hard | tiles / hard | tiles / raster | auto / hard | auto / centre | default / hard | default / centre | max \|ΔV\| | edges | entries | pairs raster / tiles |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     printf '%s\n' "${rows[@]}"
 } > docs/bench-tiles.md
 cat docs/bench-tiles.md

@@ -11,8 +11,10 @@
 // per-quadrant target (shared/Parts.h edgeQuadrantCoverage) and the own plane's share behind in
 // the quadrant, S_u and S_s over the quadrant's samples (a 32-bit word of counts at a time: the
 // light-samples table's w names each word's quadrant); the mean over the quadrants, each
-// clamped; a quadrant none of whose samples is hidden takes the whole light's ratio. uEstimate 1
-// (estimate=samples): occluded = S_u.
+// clamped; a quadrant none of whose samples is hidden takes the whole light's ratio. uEstimate 3
+// (estimate=moments, the default; BITMASK_TILED only): quadrants, but where the hidden samples
+// lie behind two or more layer counts, from the counts' exact first and second moments (below).
+// uEstimate 1 (estimate=samples): occluded = S_u.
 // The receiver's own plane: a light sample behind the plane of P's surface (the G-buffer's
 // facet normal, facing the viewer) is hidden, as `raytrace` and `reference` count it. For a
 // closed mesh the segment to it crosses the mesh itself and D already says so; for open and
@@ -133,11 +135,12 @@ void main() {
         return;
     }
     int hidden = 0;
-    int sumD = 0;
+    int sumD = 0, sumD2 = 0; // over the hidden samples: their layers, and its square
     ivec4 hiddenQ = ivec4(0), sumQ = ivec4(0);
     int leastD = 1 << 30, mostD = 0; // over the hidden samples
     uint added = 0u, weighted = 0u;
     bool negative = false;
+    uint seen = 0u; // bit k: some hidden sample lies behind k layers (k = 31: 31 or more)
     // The layers to read: none where no wedge reached (returned above, but the lanes that
     // returned run what follows, masked, unless a loop's bound ends it; see ownPlane).
     int layers = touched ? BITMASK_SAMPLES / 8 : 0;
@@ -156,8 +159,10 @@ void main() {
                 ++hidden;
                 int layers = abs(D) + plane;
                 sumD += layers;
+                sumD2 += layers * layers;
                 hiddenRun += 1;
                 sumRun += layers;
+                seen |= 1u << uint(min(layers, 31));
                 leastD = min(leastD, layers);
                 mostD = max(mostD, layers);
                 negative = negative || D < 0;
@@ -187,7 +192,7 @@ void main() {
         // hidden behind layers of different counts, A / mean D would only be the sampling
         // error of the layers' mix, seen as light leaking into the umbra: the samples' share.
         bool mixedUmbra = hidden == BITMASK_SAMPLES && leastD != mostD;
-        if (uEstimate == 2u) {
+        if (uEstimate >= 2u) {
             // estimate=quadrants: the same per quadrant, each with its exact integral; a
             // quadrant none of whose samples is hidden takes the whole light's ratio (1 where
             // none is: its integral alone, as above).
@@ -196,6 +201,51 @@ void main() {
                               greaterThan(sumQ, ivec4(0)));
             vec4 occQ = clamp(areaQ * ratioQ, 0.0, 1.0);
             occluded = mixedUmbra ? 1.0 : 0.25 * (occQ.x + occQ.y + occQ.z + occQ.w);
+#ifdef BITMASK_TILED
+            // estimate=moments: where the hidden samples lie behind two or more layer counts
+            // d_i and nothing else (not the own plane) hides, the light splits into a_0 (lit)
+            // and a_i (D = d_i), whose exact first and second moments are known: M1 = A and
+            // M2 = D(P, c)^2 + 2 D(P, c) (A - D(P, c)) + the tiled pass's P. The samples' shares
+            // of each count, moved the least (in the squared sense) to match both moments:
+            // a = s - D^T (D D^T)^-1 (D s - M), D the 2 x k matrix of d_i and d_i^2. With two
+            // counts this is the one exact solution, at any N, wherever no third count hides
+            // some of the light unseen; with more it keeps what the samples say in the
+            // directions the moments leave free. occluded = sum of a_i; one outside [0, 1]
+            // says the moments and samples disagree: quadrants, as above.
+            bool momentsGave = false;
+            float moment = uEstimate == 3u
+                               ? uintBitsToFloat(imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3)).r)
+                               : 0.0;
+            if (uEstimate == 3u && bitCount(seen) >= 2 && planeHidden == 0 && planeArea == 0.0 &&
+                !negative && !isnan(moment)) {
+                float c = float(centre);
+                float m1 = area;
+                float m2 = moment + 2.0 * c * (area - c) + c * c;
+                float n = float(BITMASK_SAMPLES);
+                float s0 = float(hidden) / n, s1 = float(sumD) / n, s2 = float(sumD2) / n;
+                // Over the counts present: sums of d, d^2, d^3, d^4.
+                float p1 = 0.0, p2 = 0.0, p3 = 0.0, p4 = 0.0;
+                for (uint rest = seen; rest != 0u; rest &= rest - 1u) {
+                    float d = float(findLSB(rest));
+                    p1 += d;
+                    p2 += d * d;
+                    p3 += d * d * d;
+                    p4 += d * d * d * d;
+                }
+                float det = p2 * p4 - p3 * p3;
+                vec2 r = vec2(s1 - m1, s2 - m2);
+                vec2 lambda = vec2(p4 * r.x - p3 * r.y, p2 * r.y - p3 * r.x) / det;
+                float union_ = s0 - (p1 * lambda.x + p2 * lambda.y);
+                const float slack = 1e-3;
+                if (det > 0.0 && union_ >= -slack && union_ <= 1.0 + slack) {
+                    occluded = union_;
+                    momentsGave = true;
+                    atomicAdd(maskStats[MASK_STAT_MOMENTS], 1u);
+                }
+            }
+            if (uEstimate == 3u && bitCount(seen) >= 2 && !momentsGave)
+                atomicAdd(maskStats[MASK_STAT_MOMENTS_FALLBACK], 1u);
+#endif
         } else {
             occluded = sumD == 0 ? area
                        : mixedUmbra ? 1.0

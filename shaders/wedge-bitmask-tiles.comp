@@ -5,7 +5,8 @@
 // the biased 4-bit counts, the two checksums, per quadrant the sum of m times R's share
 // (IMAGE_BITMASK_AREA), and whether any edge added (the raster pass's stencil mark), in the
 // layer after the checksums. The area is summed in 64-bit fixed point (2^-29), so that the
-// lists' order, which the binning's atomics decide, does not change it.
+// lists' order, which the binning's atomics decide, does not change it. With estimate=moments
+// (uMoments) also P, the second moment of the wedges' sum over the light, in the layer after.
 #include "lib/Bindings.h"
 #include "shared/WedgeHull.h"
 
@@ -21,6 +22,8 @@ layout(binding = TEXUNIT_WEDGE_TILE_SAMPLES) uniform samplerBuffer tSamples;
 #define LIGHT_SAMPLE(i) texelFetch(tSamples, i)
 layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform writeonly uimage2DArray iCounts;
 layout(binding = IMAGE_BITMASK_AREA, rgba32f) uniform writeonly image2D iArea;
+// estimate=moments: the stencil's D(P, c) (bits 0-6, signed), to find the pixels that need P.
+layout(binding = TEXUNIT_STENCIL) uniform usampler2D tStencil;
 
 #include "lib/BitmaskEdge.glsl"
 #define WEDGE_TILES_TEXELS 1
@@ -39,6 +42,13 @@ vec4 record(uint slot, int k) {
 
 layout(location = 1) uniform ivec2 uTiles; // tiles across, down
 layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
+// estimate=moments: also the second moment of the counts over the light (below), in the layer
+// after the mark; 0: not computed.
+layout(location = 4) uniform uint uMoments;
+
+// estimate=moments keeps the regions of at most this many edges per pixel; a pixel with more
+// gets no second moment (its resolve estimates by quadrants).
+#define MOMENT_EDGES 16
 
 const float kAreaScale = 536870912.0; // 2^29: |m share| <= 2 fits a signed 32-bit step
 
@@ -58,6 +68,7 @@ void main() {
     int T = uTiles.x * uTiles.y;
     vec4 position = texelFetch(tPosition, px, 0);
     uint touched = 0u;
+    float moment = uintBitsToFloat(0x7FC00000u); // estimate=moments: NaN where not kept
     if (position.w != 0.0) {
         vec3 p = position.xyz;
         vec3 eye = frame.eye.xyz;
@@ -69,6 +80,14 @@ void main() {
         int added = 0, weighted = 0;
         uvec2 area[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
         uint pairs = 0u;
+        // estimate=moments: R's sector and line (as the area takes them), m and m |R ∩ L| / |L|
+        // of every edge that added, for the pairs' overlaps after the list.
+        vec4 regionSector[MOMENT_EDGES]; // (from, to): its rays (shared/Parts.h)
+        vec3 regionLine[MOMENT_EDGES];
+        int regionM[MOMENT_EDGES];
+        float regionShare[MOMENT_EDGES]; // m |R ∩ L| / |L|
+        int regions = 0;
+        bool momentsKept = uMoments != 0u;
         // The list in runs of 32: first the hull tests (lib/WedgeTiles.glsl tileWedgeHolds, or
         // a full-screen wedge's rectangle), where most pairs end, as bits; then the full
         // arithmetic for the set bits only. On a SIMD machine (llvmpipe: 8 pixels of a row a
@@ -112,7 +131,22 @@ void main() {
                 int m;
                 if (!bitmaskEdge(px, p, e0, e1, tri0, tri1, m, light, sg, words, hit))
                     continue;
-                vec4 a = float(m) * abs(edgeQuadrantCoverage(p, e0, e1, light));
+                vec3 g0, g1, g2;
+                float gs, edgeSign;
+                vec4 a = vec4(0.0);
+                if (edgeAreaRegion(p, e0, e1, light, g0, g1, g2, gs, edgeSign)) {
+                    a = float(m) * abs(regionQuadrantCoverage(g0, g1, g2, edgeSign));
+                    if (regions < MOMENT_EDGES) {
+                        regionSector[regions] = vec4(partsSectorFrom(g0, g1, gs),
+                                                     partsSectorTo(g0, g1, gs));
+                        regionLine[regions] = g2;
+                        regionM[regions] = m;
+                        regionShare[regions] = 0.25 * (a.x + a.y + a.z + a.w);
+                        ++regions;
+                    } else {
+                        momentsKept = false;
+                    }
+                }
                 for (int q = 0; q < 4; ++q) add64(area[q], int(round(a[q] * kAreaScale)));
                 if (hit != 0u) {
                     ivec2 sums = bitmaskChecksums(words);
@@ -127,6 +161,38 @@ void main() {
                 ++pairs;
             }
         }
+        // estimate=moments: P = the integral over the light of (sum over the edges of m times
+        // R's indicator)^2, over |L|: sum_e m_e^2 |R_e| + 2 sum_{e < f} m_e m_f |R_e ∩ R_f|.
+        // With D(P, c) and A the resolve has the second moment of D from it; NaN: not kept.
+        // Only pixels whose samples see two or more non-zero counts need it (the resolve uses it
+        // nowhere else): the counts are decoded with D(P, c) first. Its loops (the decoding's,
+        // the pairs' at most MOMENT_EDGES^2 / 2) must fit what the list left of the budget; a
+        // pixel they would not fit keeps no moment (its counts are complete: the frame stays
+        // tiled).
+        int momentBudget = budget - BITMASK_SAMPLES - MOMENT_EDGES * (MOMENT_EDGES + 1) / 2;
+        if (momentsKept && regions > 0 && momentBudget >= 0) {
+            uint stencil = texelFetch(tStencil, px, 0).r;
+            int centre = int(stencil & 0x7Fu);
+            if (centre >= 64) centre -= 128;
+            uint seen = 0u;
+            for (int i = 0; i < BITMASK_SAMPLES; ++i) {
+                int D = centre + int((counts[i >> 3] >> uint(4 * (i & 7))) & 15u) - 8;
+                if (D != 0) seen |= 1u << uint(min(abs(D), 31));
+            }
+            momentsKept = bitCount(seen) >= 2;
+        }
+        if (momentsKept && regions > 0 && momentBudget >= 0) {
+            float sum = 0.0;
+            for (int e = 0; e < regions; ++e) {
+                sum += float(regionM[e]) * regionShare[e]; // m^2 |R_e ∩ L| / |L|
+                for (int f = e + 1; f < regions; ++f)
+                    sum += 2.0 * float(regionM[e] * regionM[f]) *
+                           partsRegionsOverlap(regionSector[e].xy, regionSector[e].zw,
+                                               regionLine[e], regionSector[f].xy,
+                                               regionSector[f].zw, regionLine[f]);
+            }
+            moment = sum;
+        }
         if (budget < 0) atomicAdd(heads[3 * T + WEDGE_TILES_TRUNCATED], 1u);
         if (pairs > 0u) {
             touched = 1u;
@@ -140,4 +206,6 @@ void main() {
         }
     }
     imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 2), uvec4(touched));
+    if (uMoments != 0u)
+        imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3), uvec4(floatBitsToUint(moment)));
 }

@@ -33,7 +33,11 @@
 #define MASK_STAT_OVERFLOW 0 // pixels whose 4-bit counts did not hold the final count
 #define MASK_STAT_NEGATIVE 1 // pixels with a sample whose count came out negative
 #define MASK_STAT_OWN_PLANE 2 // pixels whose own plane hides part of the light (the resolve)
-#define MASK_STAT_COUNT 4
+#define MASK_STAT_MOMENTS 3 // estimate=moments: pixels whose V the counts' moments gave
+// estimate=moments: pixels whose samples see two or more layer counts but whose V the moments
+// could not give (more edges than the tiled pass keeps, the own plane, a solution outside [0, 1])
+#define MASK_STAT_MOMENTS_FALLBACK 4
+#define MASK_STAT_COUNT 5
 // sample-maps: per light sample, its view (SampleMapView: vec4 s, t and its lateral offset from
 // the light's centre in (eu, ev); vec4 lo, 1 / (hi - lo)).
 #define BINDING_SAMPLE_MAP_VIEWS 13

@@ -193,16 +193,9 @@ SHARED_FN bool edgeHalfPlanes(vec3 q0, vec3 q1, SHARED_OUT(vec3) h0, SHARED_OUT(
     return true;
 }
 
-SHARED_FN float edgeCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
-    vec3 q0;
-    vec3 q1;
-    float hp;
-    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return 0.0f;
-    vec3 h0;
-    vec3 h1;
-    vec3 h2;
-    float sg;
-    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return 0.0f;
+// |R ∩ L| / |L| for the region R between the rays h0, h1 (a sector under pi about the centre)
+// beyond the line h2 (edgeHalfPlanes' half-planes, or any such three).
+SHARED_FN float coverageRegionShare(vec3 h0, vec3 h1, vec3 h2) {
     // h2 at the light's corners (s, t) = (-1, -1), (1, -1), (1, 1), (-1, 1), counter-clockwise;
     // all negative: the light is wholly on the centre's side of the line.
     float f0 = dot(h2, vec3(-1.0f, -1.0f, 1.0f));
@@ -226,7 +219,20 @@ SHARED_FN float edgeCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
                                 enter);
     area2 += coverageSegment(leave, enter, 0.0f, 1.0f, h0, h1);
     float fraction = 0.125f * abs(area2); // half the doubled area, over the light's 4
-    return (hp > 0.0f ? sg : -sg) * fraction;
+    return fraction;
+}
+
+SHARED_FN float edgeCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
+    vec3 q0;
+    vec3 q1;
+    float hp;
+    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return 0.0f;
+    vec3 h0;
+    vec3 h1;
+    vec3 h2;
+    float sg;
+    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return 0.0f;
+    return (hp > 0.0f ? sg : -sg) * coverageRegionShare(h0, h1, h2);
 }
 
 SHARED_END

@@ -204,24 +204,42 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
 // same projection and half-planes as edgeCoverage (whose value is their sum over 4, up to
 // rounding). wedges-bitmask's potential wedges add it times m_P(e): per quadrant the exact
 // integral of D over the quadrant (estimate=quadrants, bitmask-potential-resolve.frag).
-SHARED_FN vec4 edgeQuadrantCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
-    vec4 coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+// In two steps, for a caller that also needs R's half-planes (estimate=moments): R as
+// edgeCoverage projects it (false: R is empty), then the quadrants' shares.
+SHARED_FN bool edgeAreaRegion(vec3 p, vec3 e0, vec3 e1, CoverageLight light, SHARED_OUT(vec3) h0,
+                              SHARED_OUT(vec3) h1, SHARED_OUT(vec3) h2, SHARED_OUT(float) sg,
+                              SHARED_OUT(float) edgeSign) {
+    h0 = vec3(0.0f);
+    h1 = vec3(0.0f);
+    h2 = vec3(0.0f);
+    sg = 0.0f;
+    edgeSign = 0.0f;
     vec3 q0;
     vec3 q1;
     float hp;
-    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return coverage;
-    vec3 h0;
-    vec3 h1;
-    vec3 h2;
-    float sg;
-    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return coverage;
-    float edgeSign = hp > 0.0f ? sg : -sg;
+    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return false;
+    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return false;
+    edgeSign = hp > 0.0f ? sg : -sg;
+    return true;
+}
+SHARED_FN vec4 regionQuadrantCoverage(vec3 h0, vec3 h1, vec3 h2, float edgeSign) {
+    vec4 coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
     for (int q = 0; q < 4; ++q) {
         vec2 sq = partsQuadrantSigns(q);
         coverage[q] = edgeSign * partsQuadrantArea(partsHalf(h0, sq), partsHalf(h1, sq),
                                                    partsHalf(h2, sq));
     }
     return coverage;
+}
+SHARED_FN vec4 edgeQuadrantCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
+    vec3 h0;
+    vec3 h1;
+    vec3 h2;
+    float sg;
+    float edgeSign;
+    if (!edgeAreaRegion(p, e0, e1, light, h0, h1, h2, sg, edgeSign))
+        return vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    return regionQuadrantCoverage(h0, h1, h2, edgeSign);
 }
 
 // --- Every R, with moments (edgePartSet) ---
@@ -410,6 +428,72 @@ SHARED_FN EdgePartSet edgePartSet(vec3 p, vec3 e0, vec3 e1, CoverageLight light,
         }
     }
     return e;
+}
+
+// --- Where two regions overlap (wedges-bitmask estimate=moments) ---
+
+// A region R as the overlap below takes it: the sector from its start ray `from` counter-
+// clockwise to its end ray `to` (under pi; directions from the centre) and its line h2 (R:
+// dot(h2, (s, t, 1)) >= 0, the centre on the other side). From edgeHalfPlanes' h0, h1 and its
+// orientation sg: q0 = sg (h0.y, -h0.x), q1 = sg (-h1.y, h1.x), counter-clockwise from q0 to q1
+// when sg > 0.
+SHARED_FN vec2 partsSectorFrom(vec3 h0, vec3 h1, float sg) {
+    return sg > 0.0f ? vec2(h0.y, -h0.x) : vec2(h1.y, -h1.x);
+}
+SHARED_FN vec2 partsSectorTo(vec3 h0, vec3 h1, float sg) {
+    return sg > 0.0f ? vec2(-h1.y, h1.x) : vec2(-h0.y, h0.x);
+}
+
+// Whether direction d lies in the sector from -> to (closed).
+SHARED_FN bool partsInSector(vec2 from, vec2 to, vec2 d) {
+    return coverageCross2(from, d) >= 0.0f && coverageCross2(d, to) >= 0.0f;
+}
+
+// |L ∩ (sector from -> to) beyond both lines a and b| / |L|, where neither line crosses the
+// sector's interior after the other (the farther line, as seen from the centre, is the same
+// across it): that line's region, by coverageRegionShare's walk.
+SHARED_FN float partsSectorBeyondBoth(vec2 from, vec2 to, vec3 a, vec3 b) {
+    vec2 v = normalize(from) + normalize(to); // inside the sector (under pi)
+    // Along v, the line h is reached at distance -h.z / dot(h.xy, v), never where that
+    // dot is <= 0; the farther one bounds what lies beyond both.
+    float ga = a.x * v.x + a.y * v.y;
+    float gb = b.x * v.x + b.y * v.y;
+    if (!(ga > 0.0f) || !(gb > 0.0f)) return 0.0f;
+    bool aFarther = -a.z * gb >= -b.z * ga;
+    vec3 h0 = vec3(-from.y, from.x, 0.0f);
+    vec3 h1 = vec3(to.y, -to.x, 0.0f);
+    return coverageRegionShare(h0, h1, aFarther ? a : b);
+}
+
+// |L ∩ R_a ∩ R_b| / |L| for two regions (sectors and lines as above): the sectors' common
+// sector (empty, or one sector: both are under pi), split where the two lines cross inside it;
+// in each piece the region beyond the farther line (coverageRegionShare). No polygon is built
+// (arrays with dynamic indices are slow on GPUs).
+SHARED_FN float partsRegionsOverlap(vec2 fromA, vec2 toA, vec3 lineA, vec2 fromB, vec2 toB,
+                                    vec3 lineB) {
+    vec2 from;
+    vec2 to;
+    if (partsInSector(fromA, toA, fromB))
+        from = fromB;
+    else if (partsInSector(fromB, toB, fromA))
+        from = fromA;
+    else
+        return 0.0f;
+    if (partsInSector(fromA, toA, toB))
+        to = toB;
+    else if (partsInSector(fromB, toB, toA))
+        to = toA;
+    else
+        return 0.0f;
+    if (!(coverageCross2(from, to) > 0.0f)) return 0.0f; // a ray, or nothing
+    vec3 x = cross(lineA, lineB); // where the lines cross (homogeneous)
+    if (x.z != 0.0f) {
+        vec2 c = vec2(x.x / x.z, x.y / x.z);
+        if (coverageCross2(from, c) > 0.0f && coverageCross2(c, to) > 0.0f)
+            return partsSectorBeyondBoth(from, c, lineA, lineB) +
+                   partsSectorBeyondBoth(c, to, lineA, lineB);
+    }
+    return partsSectorBeyondBoth(from, to, lineA, lineB);
 }
 
 SHARED_END

@@ -32,7 +32,7 @@ struct BitmaskOptions {
     bool potential = false;
     // With potential: how V is estimated from the counts (bitmask-potential-resolve.frag's
     // uEstimate).
-    enum class Estimate { Ratio = 0, Samples = 1, Quadrants = 2 };
+    enum class Estimate { Ratio = 0, Samples = 1, Quadrants = 2, Moments = 3 };
     Estimate estimate = Estimate::Ratio;
     // With potential: the wedges evaluated per pixel over screen tiles' lists (a compute pass,
     // passes/WedgeTilePass.h) or rasterised as hulls (the same counts), or per frame by the

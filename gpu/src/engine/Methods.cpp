@@ -32,7 +32,7 @@ constexpr std::string_view kBitmaskSamples[] = {"32", "64", "128", "256"};
 constexpr std::string_view kBitmaskPattern[] = {"fixed", "rotated"};
 constexpr std::string_view kBitmaskCombine[] = {"parity", "counts"};
 constexpr std::string_view kBitmaskSilhouettes[] = {"potential", "centre"};
-constexpr std::string_view kBitmaskEstimate[] = {"ratio", "quadrants", "samples"};
+constexpr std::string_view kBitmaskEstimate[] = {"ratio", "quadrants", "moments", "samples"};
 constexpr std::string_view kBitmaskEvaluate[] = {"auto", "tiles", "raster"};
 constexpr MethodParameter kBitmaskParameters[] = {
     {"samples", kBitmaskSamples, "64",
@@ -49,11 +49,15 @@ constexpr MethodParameter kBitmaskParameters[] = {
      "potential: per receiver, every edge that is a silhouette from some light point, one count "
      "per sample over all casters (exact to the samples for any caster and light); centre: the "
      "light centre's silhouette per group (the wedge papers' approximation)"},
-    {"estimate", kBitmaskEstimate, "quadrants",
+    {"estimate", kBitmaskEstimate, "moments",
      "with silhouettes=potential: ratio (the exact integral of the counts times the sampled share "
      "of hidden samples over their mean count: exact at any N where one layer hides the light), "
      "quadrants (the same per quadrant of the light, each with its own exact integral: less "
-     "error where layers overlap) or samples (the share of hidden samples)"},
+     "error where layers overlap), moments (quadrants, but where the hidden samples show two "
+     "layer counts, both layers' exact areas from the exact first and second moments of the "
+     "count over the light, the second from every pair of edges' overlap: exact where no third "
+     "count hides; needs the tiled evaluation, which it takes) or samples (the share of hidden "
+     "samples)"},
     {"evaluate", kBitmaskEvaluate, "auto",
      "with silhouettes=potential: tiles (the wedges binned to 8x8 pixel tiles whose surface they "
      "may reach, then every pixel over its tile's list in one compute pass), raster (the wedge "
@@ -289,10 +293,16 @@ BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
                                      ? BitmaskOptions::Estimate::Samples
                                  : parameterValue(r, "estimate") == "quadrants"
                                      ? BitmaskOptions::Estimate::Quadrants
+                                 : parameterValue(r, "estimate") == "moments"
+                                     ? BitmaskOptions::Estimate::Moments
                                      : BitmaskOptions::Estimate::Ratio,
                      .evaluate = parameterValue(r, "evaluate") == "tiles"    ? BitmaskOptions::Evaluate::Tiles
                                  : parameterValue(r, "evaluate") == "raster" ? BitmaskOptions::Evaluate::Raster
                                                                              : BitmaskOptions::Evaluate::Auto};
+    if (o.estimate == BitmaskOptions::Estimate::Moments &&
+        o.evaluate == BitmaskOptions::Evaluate::Raster)
+        throw geometry::InputError("wedges-bitmask: estimate=moments needs the tiled evaluation "
+                                   "(evaluate=auto or tiles), which sums the pairs of edges");
     if (o.potential && !o.counts)
         throw geometry::InputError("wedges-bitmask: combine=parity needs silhouettes=centre "
                                    "(silhouettes=potential always counts)");

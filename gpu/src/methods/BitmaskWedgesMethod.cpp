@@ -227,14 +227,19 @@ public:
 
 private:
     // Layers of the counts array: eight 4-bit counts each, with silhouettes=potential two
-    // checksum layers, and with evaluate=tiles the tiled evaluation's mark layer.
+    // checksum layers, and with the tiled evaluation its mark layer and estimate=moments' P.
     int countLayers() const {
-        return mLayout.samples / 8 + (mLayout.potential ? 2 : 0) + (tiled() ? 1 : 0);
+        return mLayout.samples / 8 + (mLayout.potential ? 2 : 0) + (tiled() ? 2 : 0);
     }
     // evaluate=tiles or auto: the tiled evaluation's passes exist (the counts array holds its
-    // mark layer).
+    // mark and moment layers).
     bool tiled() const {
         return mLayout.potential && mLayout.evaluate != BitmaskOptions::Evaluate::Raster;
+    }
+    // estimate=moments: the tiled evaluation also sums the pairs' overlaps (every frame tiled
+    // that its limits allow, whatever the number of edges).
+    bool moments() const {
+        return tiled() && mLayout.estimate == BitmaskOptions::Estimate::Moments;
     }
 
     // silhouettes=potential: one stencil pass (D(P, c), two-sided, every caster), one wedge
@@ -299,14 +304,15 @@ private:
         for (const GLsizei n : wedgeSet->edgeCount) drawnEdges += static_cast<std::size_t>(n);
         drawnEdges /= 2; // the set holds each edge's twin slot too
         const bool tryTiles =
-            tiled() && (mLayout.evaluate == BitmaskOptions::Evaluate::Tiles ||
+            tiled() && (mLayout.evaluate == BitmaskOptions::Evaluate::Tiles || moments() ||
                         drawnEdges >= BitmaskOptions::kAutoTiledEdges);
         bool tiledFrame = false;
         if (tryTiles) {
             ScopedPass pass(&ctx.timers, "wedges");
             mWedges.bindWedges();
+            if (moments()) bindStencilView(t);
             tiledFrame = mTiles->run(t, *wedgeSet, mPotential.wedgeSlots(), mArea, mSamples,
-                                     ctx.settings.wedgeTileEntryLimit);
+                                     ctx.settings.wedgeTileEntryLimit, moments());
         }
         if (!tiledFrame) {
             ScopedPass pass(&ctx.timers, "wedges");
@@ -364,6 +370,10 @@ private:
         ctx.addCounter("count_overflow_pixels", stats[MASK_STAT_OVERFLOW]);
         ctx.addCounter("count_negative_pixels", stats[MASK_STAT_NEGATIVE]);
         ctx.addCounter("own_plane_pixels", stats[MASK_STAT_OWN_PLANE]);
+        if (moments()) {
+            ctx.addCounter("moment_pixels", stats[MASK_STAT_MOMENTS]);
+            ctx.addCounter("moment_pixels_fallback", stats[MASK_STAT_MOMENTS_FALLBACK]);
+        }
         ctx.addCounter("light_samples", mLayout.samples);
     }
 

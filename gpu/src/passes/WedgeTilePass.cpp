@@ -41,7 +41,8 @@ WedgeTilePass::WedgeTilePass(const ShaderLoader& shaders, const std::vector<std:
 }
 
 bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slots,
-                        const Texture& area, const Buffer& samples, std::size_t entryLimit) {
+                        const Texture& area, const Buffer& samples, std::size_t entryLimit,
+                        bool moments) {
     mSupertiles.dispatch(t);
     mSupertiles.bind(BINDING_WEDGE_SUPERTILES);
     mTiles = mSurface.dispatch(t);
@@ -130,6 +131,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glUniform2i(1, mTiles.x, mTiles.y);
     glUniform2iv(2, 1, size);
     glUniform1ui(3, static_cast<GLuint>(listBase));
+    glUniform1ui(4, moments ? 1u : 0u);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glBindImageTexture(IMAGE_BITMASK_AREA, area.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(static_cast<GLuint>((t.width + 7) / 8), static_cast<GLuint>((t.height + 7) / 8),

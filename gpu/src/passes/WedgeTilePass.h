@@ -42,14 +42,16 @@ public:
     // After WedgePass::setup of `set` (its wedges bound at BINDING_WEDGES, the potential set's
     // arrays bound): bins the slots of `set` (`slots` wedge slots in all) and evaluates every
     // pixel into the counts image bound at IMAGE_GROUP_COUNTS (the biased counts, two checksum
-    // layers, the mark layer) and `area`. `samples`: the light-samples table. Reads back the
-    // lists' total to size them, and the counters after. False where the counts would be
-    // incomplete: the lists would pass what a buffer texture holds (GL_MAX_TEXTURE_BUFFER_SIZE
-    // texels) or `entryLimit` entries where that is not 0, or an invocation would pass its loop
-    // budget (WEDGE_TILES_LOOP_BUDGET: a tile's list too long for one pixel's loop on llvmpipe);
-    // the caller rasterises instead.
+    // layers, the mark layer; with `moments`, estimate=moments, the second moment of the
+    // wedges' sum per pixel in the layer after it, which reads the stencil view bound at
+    // TEXUNIT_STENCIL) and `area`. `samples`: the light-samples table. Reads back the lists'
+    // total to size them, and the counters after. False where the counts would be incomplete:
+    // the lists would pass what a buffer texture holds (GL_MAX_TEXTURE_BUFFER_SIZE texels) or
+    // `entryLimit` entries where that is not 0, or an invocation would pass its loop budget
+    // (WEDGE_TILES_LOOP_BUDGET: a tile's list too long for one pixel's loop on llvmpipe); the
+    // caller rasterises instead.
     bool run(const Targets& t, const DrawSet& set, std::uint32_t slots, const Texture& area,
-             const Buffer& samples, std::size_t entryLimit = 0);
+             const Buffer& samples, std::size_t entryLimit = 0, bool moments = false);
     // The last run's counters (read back by run).
     const WedgeTileStats& stats() const { return mStats; }
 

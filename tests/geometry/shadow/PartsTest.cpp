@@ -439,3 +439,102 @@ TEST(PartsTest, EveryRunOfEightLightSamplesLiesInOneQuadrant) {
     EXPECT_THROW(geometry::lightMaskRunQuadrants(mixed), std::logic_error);
     EXPECT_THROW(geometry::lightMaskRunQuadrants(std::vector<glm::vec2>(7)), std::logic_error);
 }
+
+namespace {
+
+// Twice the signed area of the light's square [-1, 1]^2 clipped to half-planes dot(h, (s, t,
+// 1)) >= 0, in double: the polygon built and clipped corner by corner (what the shared code
+// avoids building).
+double clippedSquareArea(const std::vector<glm::dvec3>& halves) {
+    std::vector<glm::dvec2> poly = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (const glm::dvec3& h : halves) {
+        std::vector<glm::dvec2> out;
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+            const glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+            const double fa = glm::dot(h, glm::dvec3(a, 1.0)), fb = glm::dot(h, glm::dvec3(b, 1.0));
+            if (fa >= 0.0) out.push_back(a);
+            if ((fa >= 0.0) != (fb >= 0.0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+        }
+        poly = out;
+    }
+    double twice = 0.0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+        twice += a.x * b.y - a.y * b.x;
+    }
+    return twice;
+}
+
+// R of edge e0 e1 seen from p as the area takes it (shared/Parts.h edgeAreaRegion): its
+// half-planes, and its sector and line as partsRegionsOverlap takes them.
+struct Region {
+    bool any = false;
+    glm::vec3 h0{}, h1{}, h2{};
+    glm::vec2 from{}, to{};
+};
+Region areaRegion(vec3 p, vec3 e0, vec3 e1, const geometry::CoverageLight& light) {
+    Region r;
+    float sg = 0.0f, edgeSign = 0.0f;
+    r.any = shader::edgeAreaRegion(p, e0, e1, light, r.h0, r.h1, r.h2, sg, edgeSign);
+    if (r.any) {
+        r.from = shader::partsSectorFrom(r.h0, r.h1, sg);
+        r.to = shader::partsSectorTo(r.h0, r.h1, sg);
+    }
+    return r;
+}
+
+} // namespace
+
+// wedges-bitmask's estimate=moments: the overlap of two edges' regions (seen from the same p)
+// within the light, partsRegionsOverlap's sector-and-farther-line walk, against the double
+// polygon of the square clipped to both regions' six half-planes; and R with itself is R's own
+// share (coverageRegionShare, what edgeCoverage returns unsigned).
+TEST(PartsTest, RegionsOverlapIsTheClippedPolygonsArea) {
+    constexpr double kTolerance = 1e-4; // of the light's area, for unmagnified ends (as above)
+    constexpr double kMaxMagnification = 1e3;
+    constexpr int kItems = 20000;
+    Rng rng(0x0e1a);
+    double maxError = 0.0, maxSelf = 0.0;
+    int overlapping = 0, disjoint = 0, checked = 0;
+    for (int n = 0; n < kItems; ++n) {
+        const Case k = randomCase(rng);
+        // A second edge for the same light and p: the first case's ends from another case's
+        // light points, re-expressed for this light.
+        Case other = randomCase(rng);
+        const LightFrame f = lightFrame(k.light), g = lightFrame(other.light);
+        auto moved = [&](vec3 e) {
+            // e's place relative to the other case's light and p, moved onto this one's.
+            const dvec3 d = dvec3(e) - g.c;
+            const double s = glm::dot(d, g.u) / glm::dot(g.u, g.u);
+            const double t = glm::dot(d, g.v) / glm::dot(g.v, g.v);
+            const double lambda = glm::dot(d, g.n) / glm::dot(dvec3(other.p) - g.c, g.n);
+            const dvec3 y = f.c + s * f.u + t * f.v;
+            return vec3(y + lambda * (dvec3(k.p) - y));
+        };
+        const double magnification = std::max(k.magnification, other.magnification);
+        if (magnification > kMaxMagnification) continue;
+        const geometry::CoverageLight cl =
+            geometry::coverageLight(k.light.center, k.light.u, k.light.v);
+        const Region a = areaRegion(k.p, k.e0, k.e1, cl);
+        const Region b = areaRegion(k.p, moved(other.e0), moved(other.e1), cl);
+        if (!a.any || !b.any) continue;
+        ++checked;
+        const double got = shader::partsRegionsOverlap(a.from, a.to, a.h2, b.from, b.to, b.h2);
+        const double want = 0.125 * std::abs(clippedSquareArea(
+                                        {glm::dvec3(a.h0), glm::dvec3(a.h1), glm::dvec3(a.h2),
+                                         glm::dvec3(b.h0), glm::dvec3(b.h1), glm::dvec3(b.h2)}));
+        const double error = std::abs(got - want);
+        maxError = std::max(maxError, error / magnification);
+        EXPECT_LE(error, kTolerance * magnification) << n << ": " << got << " vs " << want;
+        (want > 1e-3 ? overlapping : disjoint) += 1;
+        const double self = shader::partsRegionsOverlap(a.from, a.to, a.h2, a.from, a.to, a.h2);
+        const double own = shader::coverageRegionShare(a.h0, a.h1, a.h2);
+        maxSelf = std::max(maxSelf, std::abs(self - own) / k.magnification);
+        EXPECT_LE(std::abs(self - own), kTolerance * k.magnification) << n;
+    }
+    std::printf("  %d pairs (%d overlapping by > 0.1%% of the light): max error %.2g, with "
+                "itself %.2g (over the magnification)\n",
+                checked, overlapping, maxError, maxSelf);
+    EXPECT_GT(overlapping, 1000); // the cases overlap, not only miss each other
+    EXPECT_GT(disjoint, 1000);
+}
