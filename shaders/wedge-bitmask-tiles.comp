@@ -1,5 +1,7 @@
 // wedges-bitmask silhouettes=potential evaluate=tiles: the wedge pass without rasterising the
-// hulls. One invocation per pixel runs over its tile's list of wedges (wedge-tiles.comp) and
+// hulls. One work group per tile whose list is not empty (WEDGE_TILES_ACTIVE of them; the
+// other pixels' mark layer is cleared before), one invocation per pixel of it, runs over the
+// tile's list of wedges (wedge-tiles.comp) and
 // adds what each edge adds at P (lib/BitmaskEdge.glsl, the fragment shader's own arithmetic)
 // in registers; then writes what wedge-bitmask.frag's atomics and blending would have left:
 // the biased 4-bit counts, the two checksums, per quadrant the sum of m times R's share
@@ -14,7 +16,10 @@
 #define BITMASK_SAMPLES 64
 #endif
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 8, local_size_y = 8) in; // one tile
+#if WEDGE_TILE != 8
+#error "a work group is one 8 x 8 tile"
+#endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 // The light samples ((s, t, angle about the centre, quadrant of its run), by angle) as texels.
@@ -63,9 +68,12 @@ float value64(uvec2 acc) {
 }
 
 void main() {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(px, uSize))) return;
     int T = uTiles.x * uTiles.y;
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (group >= heads[3 * T + WEDGE_TILES_ACTIVE]) return;
+    int tile = int(heads[3 * T + WEDGE_TILES_HEADER + group]);
+    ivec2 px = ivec2(tile % uTiles.x, tile / uTiles.x) * WEDGE_TILE + ivec2(gl_LocalInvocationID.xy);
+    if (any(greaterThanEqual(px, uSize))) return;
     vec4 position = texelFetch(tPosition, px, 0);
     uint touched = 0u;
     float moment = uintBitsToFloat(0x7FC00000u); // estimate=moments: NaN where not kept
@@ -73,7 +81,7 @@ void main() {
         vec3 p = position.xyz;
         vec3 eye = frame.eye.xyz;
         vec2 ndc = (vec2(px) + 0.5) / vec2(uSize) * 2.0 - 1.0;
-        int t = (px.y / WEDGE_TILE) * uTiles.x + px.x / WEDGE_TILE;
+        int t = tile;
         uint n = texelFetch(tLists, t).r, first = texelFetch(tLists, T + t).r;
         uint counts[BITMASK_SAMPLES / 8];
         for (int i = 0; i < BITMASK_SAMPLES / 8; ++i) counts[i] = 0x88888888u;

@@ -6,7 +6,8 @@
 //   wedge.vert hands the fragment shader) and the tiles of its hull's screen rectangle;
 // 1 per slot: one more entry in heads[t] for each tile t whose surface box (and its 32 x 32
 //   super-tile's) may meet the hull;
-// 2 the tiles' first entries and fill cursors (a prefix sum, by rows), the total;
+// 2 the tiles' first entries and fill cursors (a prefix sum, by rows), the total, and the ids of
+//   the tiles whose list is not empty (the evaluation runs on those only);
 // 3 per slot: the same tiles again, its slot into each one's list.
 // A wedge reaches a pixel's list wherever the rasterised hull would give the pixel a fragment
 // inside its planes (the fragment shader's early out): the tiled evaluation processes the same
@@ -130,6 +131,10 @@ void main() {
             if (first < offset) atomicOr(heads[3 * T + WEDGE_TILES_OVERFLOW], 1u);
             heads[T + t0 + x] = first;
             heads[2 * T + t0 + x] = first;
+            if (heads[t0 + x] != 0u) {
+                uint at = atomicAdd(heads[3 * T + WEDGE_TILES_ACTIVE], 1u);
+                heads[3 * T + WEDGE_TILES_HEADER + at] = uint(t0 + x);
+            }
         }
     }
 #else

@@ -56,12 +56,13 @@
 #define WEDGE_TILES_PAIRS_ADDED 1  // (pixel, wedge) pairs that added to the counts
 #define WEDGE_TILES_OVERFLOW 2     // 1: the total passed 2^32 - 1 (the lists cannot be held)
 #define WEDGE_TILES_TRUNCATED 3    // invocations that stopped at WEDGE_TILES_LOOP_BUDGET
+#define WEDGE_TILES_ACTIVE 4       // tiles with a non-empty list (their ids follow the header)
 // Loop iterations one invocation of the tiled passes may run: Mesa's llvmpipe ends every loop of
 // an invocation silently once their iterations add up to 65535 (gallivm's limit on loops), so a
 // pass that could run longer counts its iterations, stops short of that and says so; the frame
 // then rasterises its wedges instead.
 #define WEDGE_TILES_LOOP_BUDGET 60000
-#define WEDGE_TILES_HEADER 4       // uints after the 3 per tile
+#define WEDGE_TILES_HEADER 5       // uints after the 3 per tile
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)

@@ -31,8 +31,9 @@ layout(std430, binding = BINDING_WEDGE_TILE_RECORDS) buffer TileWedges {
 #endif
 // Per tile t of T: heads[t] the count, heads[T + t] the first entry (from uListBase), heads[2 T
 // + t] the fill cursor; heads[3 T + WEDGE_TILES_*] the totals; from heads[3 T +
-// WEDGE_TILES_HEADER] the frame's wedge slots to bin (uRun); the lists of wedge slots from
-// heads[uListBase].
+// WEDGE_TILES_HEADER] the ids of the tiles whose list is not empty (WEDGE_TILES_ACTIVE of them,
+// in no order: the evaluation's work groups), from heads[4 T + WEDGE_TILES_HEADER] the frame's
+// wedge slots to bin (uRun); the lists of wedge slots from heads[uListBase].
 layout(std430, binding = BINDING_WEDGE_TILE_LISTS) buffer TileLists {
     uint heads[];
 };

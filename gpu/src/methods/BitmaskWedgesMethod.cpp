@@ -311,6 +311,9 @@ private:
             ScopedPass pass(&ctx.timers, "wedges");
             mWedges.bindWedges();
             if (moments()) bindStencilView(t);
+            // The mark layer: the evaluation writes the pixels of tiles with a list only.
+            glClearTexSubImage(mCounts.id(), 0, 0, 0, mLayout.samples / 8 + 2, t.width, t.height,
+                               1, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
             tiledFrame = mTiles->run(t, *wedgeSet, mPotential.wedgeSlots(), mArea, mSamples,
                                      ctx.settings.wedgeTileEntryLimit, moments());
         }
@@ -355,6 +358,7 @@ private:
                 counts.fragments = tileStats.pairsAdded;
                 ctx.addCounter("wedge_tile_entries", static_cast<double>(tileStats.entries));
                 ctx.addCounter("wedge_tiles", static_cast<double>(tileStats.tiles));
+                ctx.addCounter("wedge_tiles_active", static_cast<double>(tileStats.activeTiles));
             }
         }
         addWedgeCounters(ctx, counts, mPotential.wedgeRuns());

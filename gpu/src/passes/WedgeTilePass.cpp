@@ -47,7 +47,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     mSupertiles.bind(BINDING_WEDGE_SUPERTILES);
     mTiles = mSurface.dispatch(t);
     const std::size_t tiles = static_cast<std::size_t>(mTiles.x) * mTiles.y;
-    const std::size_t headWords = 3 * tiles + WEDGE_TILES_HEADER;
+    const std::size_t headWords = 4 * tiles + WEDGE_TILES_HEADER;
     // The set's slots as one list (a level's set is a hundred runs of kept edges: one dispatch
     // per stage instead of one per run).
     mSlots.clear();
@@ -104,6 +104,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
         return false;
     }
     mEntries = header[WEDGE_TILES_TOTAL];
+    mStats.activeTiles = header[WEDGE_TILES_ACTIVE];
     const std::size_t needed = (listBase + std::max<std::size_t>(mEntries, 1)) * 4;
     if (mLists.size() < needed) {
         Buffer grown({.size = needed + needed / 2, .label = "wedge-tile-lists"});
@@ -134,8 +135,15 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glUniform1ui(4, moments ? 1u : 0u);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glBindImageTexture(IMAGE_BITMASK_AREA, area.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glDispatchCompute(static_cast<GLuint>((t.width + 7) / 8), static_cast<GLuint>((t.height + 7) / 8),
-                      1);
+    // One work group per tile whose list is not empty (their number read back with the total;
+    // rows of kMaxGroupsX, as GL guarantees 65535 work groups per dimension and a 4K frame has
+    // 129 600 tiles); the other pixels' mark layer is the caller's clear.
+    const GLuint active = header[WEDGE_TILES_ACTIVE];
+    if (active > 0) {
+        constexpr GLuint kMaxGroupsX = 32768;
+        const GLuint groupsX = std::min(active, kMaxGroupsX);
+        glDispatchCompute(groupsX, (active + groupsX - 1) / groupsX, 1);
+    }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     // The evaluation's counters; a pixel that ran out of its loop budget makes the frame's

@@ -29,6 +29,7 @@ struct WedgeTileStats {
     std::uint64_t pairsAdded = 0; // (pixel, wedge) pairs that added something (the raster
                                   // pass's fragments that passed its discards)
     std::uint64_t tiles = 0;
+    std::uint64_t activeTiles = 0; // tiles whose list is not empty: the evaluation's work groups
     // Invocations that stopped at WEDGE_TILES_LOOP_BUDGET (a slot's binning or a pixel's
     // list): the frame was rasterised instead.
     std::uint64_t truncated = 0;
