@@ -17,7 +17,7 @@ scenes=(data/plates-three.json data/spheres-nine.json data/stability/sphere-grid
         data/stability/plates-stacked.json data/stability/open-nonmanifold.json
         data/stability/large-light-small-occluder.json data/stability/light-grazing.json)
 # tag|method|params|samples
-variants=("reference 1024|reference||1024" "blend|wedges-blend||" 
+variants=("reference 1024|reference||1024" "blend|wedges-blend||"
           "quadrants|wedges-bitmask|estimate=quadrants|" "moments (default)|wedges-bitmask||")
 rows=()
 renderer=""
@@ -34,11 +34,11 @@ for scene in "${scenes[@]}"; do
         dir="$OUT/$name-${tag%% *}"
         "$BIN" --scene "$scene" --method "$method" "${args[@]}" --size "$SIZE" --out "$dir" \
             --compare "$OUT/$name-truth/visibility.pfm" --quiet
-        read -r cell gl <<<"$(/usr/bin/python3 - "$dir/report.json" <<'PY'
+        IFS=$'\t' read -r cell gl <<<"$(/usr/bin/python3 - "$dir/report.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 e = d["error"]
-print("%.5f (%.2f%%)" % (e["mean_abs_err"], e["bad_pixel_pct"]), d["gl_renderer"].replace(" ", "_"))
+print("%.5f (%.2f%%)\t%s" % (e["mean_abs_err"], e["bad_pixel_pct"], d["gl_renderer"].replace(" ", "_")))
 PY
 )"
         renderer=$gl

@@ -62,7 +62,7 @@
 // pass that could run longer counts its iterations, stops short of that and says so; the frame
 // then rasterises its wedges instead.
 #define WEDGE_TILES_LOOP_BUDGET 60000
-#define WEDGE_TILES_HEADER 5       // uints after the 3 per tile
+#define WEDGE_TILES_HEADER 5       // uints after the 3 per tile (then one per tile: the active ids)
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)
