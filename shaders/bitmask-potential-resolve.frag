@@ -7,7 +7,7 @@
 // hidden samples, S_s the mean of D over the samples; A where no sample is hidden; every sample
 // hidden behind counts that differ: 1 (the ratio would only sample the layers' mix). Exact
 // wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 2
-// (estimate=quadrants, the default): the same per quadrant of the light, A_q from the wedges'
+// (estimate=quadrants): the same per quadrant of the light, A_q from the wedges'
 // per-quadrant target (shared/Parts.h edgeQuadrantCoverage) and the own plane's share behind in
 // the quadrant, S_u and S_s over the quadrant's samples (a 32-bit word of counts at a time: the
 // light-samples table's w names each word's quadrant); the mean over the quadrants, each
@@ -213,31 +213,44 @@ void main() {
             // directions the moments leave free. occluded = sum of a_i; one outside [0, 1]
             // says the moments and samples disagree: quadrants, as above.
             bool momentsGave = false;
-            float moment = uEstimate == 3u
-                               ? uintBitsToFloat(imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3)).r)
-                               : 0.0;
-            if (uEstimate == 3u && bitCount(seen) >= 2 && planeHidden == 0 && planeArea == 0.0 &&
-                !negative && !isnan(moment)) {
+            uint momentBits = uEstimate == 3u
+                                  ? imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3)).r
+                                  : WEDGE_TILES_NO_MOMENT;
+            // (seen's bit 31 stands for every count from 31: such pixels keep quadrants.)
+            if (uEstimate == 3u && bitCount(seen) >= 2 && (seen & 0x80000000u) == 0u &&
+                planeHidden == 0 && planeArea == 0.0 && !negative &&
+                momentBits != WEDGE_TILES_NO_MOMENT) {
                 float c = float(centre);
                 float m1 = area;
-                float m2 = moment + 2.0 * c * (area - c) + c * c;
-                float n = float(BITMASK_SAMPLES);
-                float s0 = float(hidden) / n, s1 = float(sumD) / n, s2 = float(sumD2) / n;
-                // Over the counts present: sums of d, d^2, d^3, d^4.
-                float p1 = 0.0, p2 = 0.0, p3 = 0.0, p4 = 0.0;
-                for (uint rest = seen; rest != 0u; rest &= rest - 1u) {
-                    float d = float(findLSB(rest));
-                    p1 += d;
-                    p2 += d * d;
-                    p3 += d * d * d;
-                    p4 += d * d * d * d;
+                float m2 = uintBitsToFloat(momentBits) + 2.0 * c * (area - c) + c * c;
+                float union_;
+                bool solved;
+                if (bitCount(seen) == 2) {
+                    // Two counts: a_1 + a_2 from d1 a_1 + d2 a_2 = M1, d1^2 a_1 + d2^2 a_2 = M2,
+                    // in the well-conditioned closed form of the projection below.
+                    float d1 = float(findLSB(seen)), d2 = float(findMSB(seen));
+                    union_ = (m1 * (d1 + d2) - m2) / (d1 * d2);
+                    solved = true;
+                } else {
+                    float n = float(BITMASK_SAMPLES);
+                    float s0 = float(hidden) / n, s1 = float(sumD) / n, s2 = float(sumD2) / n;
+                    // Over the counts present: sums of d, d^2, d^3, d^4.
+                    float p1 = 0.0, p2 = 0.0, p3 = 0.0, p4 = 0.0;
+                    for (uint rest = seen; rest != 0u; rest &= rest - 1u) {
+                        float d = float(findLSB(rest));
+                        p1 += d;
+                        p2 += d * d;
+                        p3 += d * d * d;
+                        p4 += d * d * d * d;
+                    }
+                    float det = p2 * p4 - p3 * p3;
+                    vec2 r = vec2(s1 - m1, s2 - m2);
+                    vec2 lambda = vec2(p4 * r.x - p3 * r.y, p2 * r.y - p3 * r.x) / det;
+                    union_ = s0 - (p1 * lambda.x + p2 * lambda.y);
+                    solved = det > 0.0;
                 }
-                float det = p2 * p4 - p3 * p3;
-                vec2 r = vec2(s1 - m1, s2 - m2);
-                vec2 lambda = vec2(p4 * r.x - p3 * r.y, p2 * r.y - p3 * r.x) / det;
-                float union_ = s0 - (p1 * lambda.x + p2 * lambda.y);
                 const float slack = 1e-3;
-                if (det > 0.0 && union_ >= -slack && union_ <= 1.0 + slack) {
+                if (solved && union_ >= -slack && union_ <= 1.0 + slack) {
                     occluded = union_;
                     momentsGave = true;
                     atomicAdd(maskStats[MASK_STAT_MOMENTS], 1u);

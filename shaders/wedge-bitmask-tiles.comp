@@ -76,7 +76,9 @@ void main() {
     if (any(greaterThanEqual(px, uSize))) return;
     vec4 position = texelFetch(tPosition, px, 0);
     uint touched = 0u;
-    float moment = uintBitsToFloat(0x7FC00000u); // estimate=moments: NaN where not kept
+    // estimate=moments: P's bits, or WEDGE_TILES_NO_MOMENT (no finite float has them) where
+    // not kept.
+    uint momentBits = WEDGE_TILES_NO_MOMENT;
     if (position.w != 0.0) {
         vec3 p = position.xyz;
         vec3 eye = frame.eye.xyz;
@@ -144,15 +146,19 @@ void main() {
                 vec4 a = vec4(0.0);
                 if (edgeAreaRegion(p, e0, e1, light, g0, g1, g2, gs, edgeSign)) {
                     a = float(m) * abs(regionQuadrantCoverage(g0, g1, g2, edgeSign));
-                    if (regions < MOMENT_EDGES) {
-                        regionSector[regions] = vec4(partsSectorFrom(g0, g1, gs),
-                                                     partsSectorTo(g0, g1, gs));
-                        regionLine[regions] = g2;
-                        regionM[regions] = m;
-                        regionShare[regions] = 0.25 * (a.x + a.y + a.z + a.w);
-                        ++regions;
-                    } else {
-                        momentsKept = false;
+                    float share = 0.25 * (a.x + a.y + a.z + a.w);
+                    // (An edge whose R misses the light adds nothing to P: not kept.)
+                    if (momentsKept && share != 0.0) {
+                        if (regions < MOMENT_EDGES) {
+                            regionSector[regions] = vec4(partsSectorFrom(g0, g1, gs),
+                                                         partsSectorTo(g0, g1, gs));
+                            regionLine[regions] = g2;
+                            regionM[regions] = m;
+                            regionShare[regions] = share;
+                            ++regions;
+                        } else {
+                            momentsKept = false;
+                        }
                     }
                 }
                 for (int q = 0; q < 4; ++q) add64(area[q], int(round(a[q] * kAreaScale)));
@@ -171,7 +177,7 @@ void main() {
         }
         // estimate=moments: P = the integral over the light of (sum over the edges of m times
         // R's indicator)^2, over |L|: sum_e m_e^2 |R_e| + 2 sum_{e < f} m_e m_f |R_e ∩ R_f|.
-        // With D(P, c) and A the resolve has the second moment of D from it; NaN: not kept.
+        // With D(P, c) and A the resolve has the second moment of D from it.
         // Only pixels whose samples see two or more non-zero counts need it (the resolve uses it
         // nowhere else): the counts are decoded with D(P, c) first. Its loops (the decoding's,
         // the pairs' at most MOMENT_EDGES^2 / 2) must fit what the list left of the budget; a
@@ -187,7 +193,8 @@ void main() {
                 int D = centre + int((counts[i >> 3] >> uint(4 * (i & 7))) & 15u) - 8;
                 if (D != 0) seen |= 1u << uint(min(abs(D), 31));
             }
-            momentsKept = bitCount(seen) >= 2;
+            // (A count of 31 or more has no bit of its own: such pixels keep quadrants.)
+            momentsKept = bitCount(seen) >= 2 && (seen & 0x80000000u) == 0u;
         }
         if (momentsKept && regions > 0 && momentBudget >= 0) {
             float sum = 0.0;
@@ -199,7 +206,7 @@ void main() {
                                                regionLine[e], regionSector[f].xy,
                                                regionSector[f].zw, regionLine[f]);
             }
-            moment = sum;
+            momentBits = floatBitsToUint(sum);
         }
         if (budget < 0) atomicAdd(heads[3 * T + WEDGE_TILES_TRUNCATED], 1u);
         if (pairs > 0u) {
@@ -215,5 +222,5 @@ void main() {
     }
     imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 2), uvec4(touched));
     if (uMoments != 0u)
-        imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3), uvec4(floatBitsToUint(moment)));
+        imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3), uvec4(momentBits));
 }

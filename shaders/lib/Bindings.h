@@ -63,6 +63,9 @@
 // then rasterises its wedges instead.
 #define WEDGE_TILES_LOOP_BUDGET 60000
 #define WEDGE_TILES_HEADER 5       // uints after the 3 per tile (then one per tile: the active ids)
+// estimate=moments: the moment layer's value where the tiled pass kept no P (a NaN's bits, which
+// floatBitsToUint of a finite P never gives; compared as bits, never as a float)
+#define WEDGE_TILES_NO_MOMENT 0xFFFFFFFFu
 
 #define IMAGE_VISIBILITY 0 // r32f image of V (resolve passes)
 #define IMAGE_OCCLUSION_SRC 1 // occlusion: the prefilter's input (slices or N-buffer levels)

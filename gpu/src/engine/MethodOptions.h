@@ -36,7 +36,8 @@ struct BitmaskOptions {
     Estimate estimate = Estimate::Ratio;
     // With potential: the wedges evaluated per pixel over screen tiles' lists (a compute pass,
     // passes/WedgeTilePass.h) or rasterised as hulls (the same counts), or per frame by the
-    // number of potential edges drawn (Auto: tiles from kAutoTiledEdges).
+    // number of potential edges drawn (Auto: tiles from kAutoTiledEdges; with Moments, which
+    // needs the tiled lists, tiles on every frame).
     enum class Evaluate { Auto, Tiles, Raster };
     Evaluate evaluate = Evaluate::Auto;
     static constexpr std::size_t kAutoTiledEdges = 512;

@@ -62,8 +62,9 @@ constexpr MethodParameter kBitmaskParameters[] = {
      "with silhouettes=potential: tiles (the wedges binned to 8x8 pixel tiles whose surface they "
      "may reach, then every pixel over its tile's list in one compute pass), raster (the wedge "
      "hulls rasterised, one fragment per pixel and wedge; also any frame whose tile lists pass "
-     "their limits) or auto (tiles from 512 potential edges drawn in the frame, raster below: "
-     "the crossover measured by scripts/bench-tiles.sh); the same counts and V"},
+     "their limits) or auto (with estimate=moments, the default, tiles on every frame; with the "
+     "other estimates tiles from 512 potential edges drawn in the frame, raster below: the "
+     "crossover measured by scripts/bench-tiles.sh); the same counts and V"},
 };
 
 // occlusion (Eisemann & Decoret 2006): slices, prefilter, leak fix, texture size.
@@ -299,7 +300,7 @@ BitmaskOptions bitmaskOptions(std::span<const ParameterValue> given) {
                      .evaluate = parameterValue(r, "evaluate") == "tiles"    ? BitmaskOptions::Evaluate::Tiles
                                  : parameterValue(r, "evaluate") == "raster" ? BitmaskOptions::Evaluate::Raster
                                                                              : BitmaskOptions::Evaluate::Auto};
-    if (o.estimate == BitmaskOptions::Estimate::Moments &&
+    if (o.potential && o.estimate == BitmaskOptions::Estimate::Moments &&
         o.evaluate == BitmaskOptions::Evaluate::Raster)
         throw geometry::InputError("wedges-bitmask: estimate=moments needs the tiled evaluation "
                                    "(evaluate=auto or tiles), which sums the pairs of edges");
