@@ -98,13 +98,16 @@ void main() {
         float regionShare[MOMENT_EDGES]; // m |R ∩ L| / |L|
         int regions = 0;
         bool momentsKept = uMoments != 0u;
-        // The list in runs of 32: first the hull tests (lib/WedgeTiles.glsl tileWedgeHolds, or
-        // a full-screen wedge's rectangle), where most pairs end, as bits; then the full
-        // arithmetic for the set bits only. On a SIMD machine (llvmpipe: 8 pixels of a row a
-        // vector) the second loop runs as often as the busiest lane needs, not once per entry
-        // some lane needs. Each run and entry counts 1 against the loop budget, each pair
-        // tested in full the most its loops may take (the samples between two rays, two
-        // bisections).
+        // The list in runs of 32, in three loops: the hull tests (lib/WedgeTiles.glsl
+        // tileWedgeHolds, or a full-screen wedge's rectangle), where most pairs end, as bits;
+        // then, for the set bits, m_P(e) and whether R meets the light (bitmaskEdgeRegion),
+        // where about half of the rest end, as bits and m's bit planes; then for those only the
+        // samples, the area and the counts. On a SIMD machine (llvmpipe: 8 pixels of a row a
+        // vector) each loop runs as often as its busiest lane needs, not once per entry some
+        // lane needs, and a lane whose pair ends early idles through the rest of the iteration:
+        // the loops' split keeps the costly part to the pairs that add. Each run and entry
+        // counts 1 against the loop budget, each pair tested for m 2, each pair that adds the
+        // most its loops may take (the samples between two rays, two bisections).
         const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
         int budget = WEDGE_TILES_LOOP_BUDGET;
         for (uint base = 0u; base < n; base += 32u) {
@@ -125,40 +128,56 @@ void main() {
                                  : all(greaterThanEqual(ndc, rect.xy)) && all(lessThanEqual(ndc, rect.zw));
                 if (holds) inside |= 1u << j;
             }
+            // m = +-1 or +-2 (the two triangles' shares): its sign and size as bit planes.
+            uint adds = 0u, positive = 0u, double_ = 0u;
             while (inside != 0u) {
-                budget -= pairCost;
+                budget -= 2;
                 if (budget < 0) break;
                 uint j = uint(findLSB(inside));
                 inside &= inside - 1u;
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
-                vec3 e0 = record(slot, 0).xyz, e1 = record(slot, 1).xyz;
                 vec4 tri0[3] = vec4[3](record(slot, 6), record(slot, 7), record(slot, 8));
                 vec4 tri1[3] = vec4[3](record(slot, 9), record(slot, 10), record(slot, 11));
                 CoverageLight light;
+                vec3 h0, h1, h2;
                 float sg;
+                int m;
+                if (!bitmaskEdgeRegion(p, record(slot, 0).xyz, record(slot, 1).xyz, tri0, tri1, m,
+                                       light, h0, h1, h2, sg))
+                    continue;
+                adds |= 1u << j;
+                positive |= m > 0 ? 1u << j : 0u;
+                double_ |= abs(m) == 2 ? 1u << j : 0u;
+            }
+            while (adds != 0u) {
+                budget -= pairCost;
+                if (budget < 0) break;
+                uint j = uint(findLSB(adds));
+                adds &= adds - 1u;
+                uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
+                int m = (((double_ >> j) & 1u) != 0u ? 2 : 1) * (((positive >> j) & 1u) != 0u ? 1 : -1);
+                // R again, as the loop above found it (the same statements).
+                CoverageLight light = frameCoverageLight();
+                vec3 h0, h1, h2;
+                float sg;
+                edgeRegion(p, record(slot, 0).xyz, record(slot, 1).xyz, light, h0, h1, h2, sg);
                 uint words[8];
                 uint hit;
-                int m;
-                if (!bitmaskEdge(px, p, e0, e1, tri0, tri1, m, light, sg, words, hit))
-                    continue;
-                vec3 g0, g1, g2;
-                float gs, edgeSign;
-                vec4 a = vec4(0.0);
-                if (edgeAreaRegion(p, e0, e1, light, g0, g1, g2, gs, edgeSign)) {
-                    a = float(m) * abs(regionQuadrantCoverage(g0, g1, g2, edgeSign));
-                    float share = 0.25 * (a.x + a.y + a.z + a.w);
-                    // (An edge whose R misses the light adds nothing to P: not kept.)
-                    if (momentsKept && share != 0.0) {
-                        if (regions < MOMENT_EDGES) {
-                            regionSector[regions] = vec4(partsSectorFrom(g0, g1, gs),
-                                                         partsSectorTo(g0, g1, gs));
-                            regionLine[regions] = g2;
-                            regionM[regions] = m;
-                            regionShare[regions] = share;
-                            ++regions;
-                        } else {
-                            momentsKept = false;
-                        }
+                if (!bitmaskEdgeSamples(px, h0, h1, h2, sg, words, hit)) continue;
+                vec4 a = float(m) * abs(regionQuadrantCoverage(h0, h1, h2,
+                                                               bitmaskEdgeSign(p, light, sg)));
+                float share = 0.25 * (a.x + a.y + a.z + a.w);
+                // (An edge whose R misses the light adds nothing to P: not kept.)
+                if (momentsKept && share != 0.0) {
+                    if (regions < MOMENT_EDGES) {
+                        regionSector[regions] = vec4(partsSectorFrom(h0, h1, sg),
+                                                     partsSectorTo(h0, h1, sg));
+                        regionLine[regions] = h2;
+                        regionM[regions] = m;
+                        regionShare[regions] = share;
+                        ++regions;
+                    } else {
+                        momentsKept = false;
                     }
                 }
                 for (int q = 0; q < 4; ++q) add64(area[q], int(round(a[q] * kAreaScale)));

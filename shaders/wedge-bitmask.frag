@@ -29,8 +29,8 @@ flat in uint vBounded;
 flat in vec4 vTri0[3];
 flat in vec4 vTri1[3];
 // The edge's share of A_q = (1/|L_q|) integral of D over quadrant q of the light, per quadrant:
-// m_P(e) times the share of the quadrant in R (edgeQuadrantCoverage; their mean is
-// edgeCoverage's), summed over the wedges by additive blending.
+// m_P(e) times the share of the quadrant in R (regionQuadrantCoverage of the R the samples
+// take; their mean is edgeCoverage's), summed over the wedges by additive blending.
 layout(location = 0) out vec4 oArea;
 #endif
 #if defined(BITMASK_COUNTS) || defined(BITMASK_POTENTIAL)
@@ -52,13 +52,15 @@ void main() {
     vec3 p = position.xyz;
     if (vBounded != 0u && !wedgeHullContains(vPlanes, p)) discard;
     CoverageLight light;
+    vec3 h0, h1, h2;
     float sg;
     uint words[8];
     uint any;
 #ifdef BITMASK_POTENTIAL
     int m;
-    if (!bitmaskEdge(px, p, vE0.xyz, vE1.xyz, vTri0, vTri1, m, light, sg, words, any)) discard;
-    oArea = float(m) * abs(edgeQuadrantCoverage(p, vE0.xyz, vE1.xyz, light));
+    if (!bitmaskEdge(px, p, vE0.xyz, vE1.xyz, vTri0, vTri1, m, light, h0, h1, h2, sg, words, any))
+        discard;
+    oArea = float(m) * abs(regionQuadrantCoverage(h0, h1, h2, bitmaskEdgeSign(p, light, sg)));
     if (any != 0u) {
         ivec2 sums = bitmaskChecksums(words);
         imageAtomicAdd(iCounts, ivec3(px, BITMASK_SAMPLES / 8), uint(m * sums.x));
@@ -72,7 +74,7 @@ void main() {
         }
     }
 #else
-    if (!bitmaskEdge(px, p, vE0.xyz, vE1.xyz, light, sg, words, any)) discard;
+    if (!bitmaskEdge(px, p, vE0.xyz, vE1.xyz, light, h0, h1, h2, sg, words, any)) discard;
     if (any == 0u) discard; // XOR with nothing
 #ifdef BITMASK_COUNTS
     bool positive = (dot(light.n, p - light.c) > 0.0) == (sg > 0.0);

@@ -67,17 +67,22 @@ int triangleShare(int side, float sc) {
 }
 #endif
 
-// The light samples in the edge's region R seen from P (shared/LightMask.h), as bits of
-// `words`, and their union `any`; with BITMASK_POTENTIAL, m = m_P(e) from the edge's triangles
-// tri0, tri1. False where the edge adds nothing at P: R misses the light, or (potential) the
-// edge is no silhouette seen from P (m = 0). `light` and `sg` (R's orientation) for the caller.
-bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
+// Whether the edge adds anything at P, in two steps that a caller may run in separate loops
+// (wedge-bitmask-tiles.comp: on a SIMD machine a branch costs whether or not a lane takes it,
+// while a loop costs only the iterations some lane needs).
+// bitmaskEdgeRegion: R as half-planes (h0, h1, h2; sg its orientation) and, with
+// BITMASK_POTENTIAL, m = m_P(e) from the edge's triangles tri0, tri1; false where R misses the
+// light, or (potential) where the edge is no silhouette seen from P (m = 0). Deterministic: run
+// again with the same arguments it gives the same R.
+bool bitmaskEdgeRegion(vec3 p, vec3 e0, vec3 e1,
 #ifdef BITMASK_POTENTIAL
-                 vec4 tri0[3], vec4 tri1[3], out int m,
+                       vec4 tri0[3], vec4 tri1[3], out int m,
 #endif
-                 out CoverageLight light, out float sg, out uint words[8], out uint any) {
-    for (int w = 0; w < 8; ++w) words[w] = 0u;
-    any = 0u;
+                       out CoverageLight light, out vec3 h0, out vec3 h1, out vec3 h2,
+                       out float sg) {
+    h0 = vec3(0.0);
+    h1 = vec3(0.0);
+    h2 = vec3(0.0);
     sg = 0.0;
     light = frameCoverageLight();
 #ifdef BITMASK_POTENTIAL
@@ -89,7 +94,6 @@ bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
     int side1 = triangleSide(tri1, p);
     if (side0 == -side1) return false;
 #endif
-    vec3 h0, h1, h2;
     if (!edgeRegion(p, e0, e1, light, h0, h1, h2, sg)) return false;
 #ifdef BITMASK_POTENTIAL
     // The centre's side of the plane through P and the edge: -sign(cr) sign(hp) from the same
@@ -99,6 +103,22 @@ bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
     m = triangleShare(side0, sc) + triangleShare(side1, sc);
     if (m == 0) return false; // no silhouette seen from P: D does not change across it
 #endif
+    return true;
+}
+
+// The sign of R's area as edgeCoverage counts it (+ where the edge, seen from the centre's
+// side of P, turns counter-clockwise): the quadrants' shares are this times their areas.
+float bitmaskEdgeSign(vec3 p, CoverageLight light, float sg) {
+    return dot(light.n, p - light.c) > 0.0 ? sg : -sg;
+}
+
+// bitmaskEdgeSamples: the light samples R holds (shared/LightMask.h regionHolds), as bits of
+// `words`, and their union `any`; false where R is empty after all (a sector of almost nothing,
+// below): then the edge adds nothing, its area included.
+bool bitmaskEdgeSamples(ivec2 px, vec3 h0, vec3 h1, vec3 h2, float sg, out uint words[8],
+                        out uint any) {
+    for (int w = 0; w < 8; ++w) words[w] = 0u;
+    any = 0u;
 #ifdef BITMASK_ROTATED
     // Shifted per pixel, the samples are in no order: every one is tested.
     vec2 shift = maskPixelShift(px);
@@ -131,14 +151,37 @@ bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
     int first = firstAtOrAfter(from);
     int count = firstAtOrAfter(to) - first;
     if (count < 0) count += BITMASK_SAMPLES;
+    // (The word is chosen by comparing with each constant index: a dynamic index into a
+    // local array is a per-lane memory access on a SIMD machine, slower than the loop's test.)
     for (int k = 0; k < count; ++k) {
         int i = (first + k) & (BITMASK_SAMPLES - 1);
         vec2 y = LIGHT_SAMPLE(i).xy;
-        if (dot(h2, vec3(y, 1.0)) >= 0.0) words[i >> 5] |= 1u << uint(i & 31);
+        uint bit = dot(h2, vec3(y, 1.0)) >= 0.0 ? 1u << uint(i & 31) : 0u;
+        for (int w = 0; w < BITMASK_WORDS; ++w) words[w] |= (i >> 5) == w ? bit : 0u;
     }
     for (int w = 0; w < BITMASK_WORDS; ++w) any |= words[w];
 #endif
     return true;
+}
+
+// Both steps: the light samples in the edge's region R seen from P as bits of `words`, their
+// union `any`, R's half-planes and orientation; with BITMASK_POTENTIAL, m = m_P(e). False where
+// the edge adds nothing at P.
+bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
+#ifdef BITMASK_POTENTIAL
+                 vec4 tri0[3], vec4 tri1[3], out int m,
+#endif
+                 out CoverageLight light, out vec3 h0, out vec3 h1, out vec3 h2, out float sg,
+                 out uint words[8], out uint any) {
+    for (int w = 0; w < 8; ++w) words[w] = 0u;
+    any = 0u;
+    if (!bitmaskEdgeRegion(p, e0, e1,
+#ifdef BITMASK_POTENTIAL
+                           tri0, tri1, m,
+#endif
+                           light, h0, h1, h2, sg))
+        return false;
+    return bitmaskEdgeSamples(px, h0, h1, h2, sg, words, any);
 }
 
 // Bit j of a byte to bit 4 j: a 1 in each 4-bit count whose sample the byte holds.

@@ -200,12 +200,13 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
     return parts;
 }
 
-// Only edgeParts4's coverage: per quadrant the signed share of the quadrant in R_e, from the
+// edgeParts4's coverage alone: per quadrant the signed share of the quadrant in R_e, from the
 // same projection and half-planes as edgeCoverage (whose value is their sum over 4, up to
-// rounding). wedges-bitmask's potential wedges add it times m_P(e): per quadrant the exact
-// integral of D over the quadrant (estimate=quadrants, bitmask-potential-resolve.frag).
-// In two steps, for a caller that also needs R's half-planes (estimate=moments): R as
-// edgeCoverage projects it (false: R is empty), then the quadrants' shares.
+// rounding), in one walk (regionQuadrantCoverage, above). wedges-bitmask's potential wedges add
+// it times m_P(e): per quadrant the exact integral of D over the quadrant (estimate=quadrants
+// and moments, bitmask-potential-resolve.frag). In two steps, for a caller that also needs R's
+// half-planes (estimate=moments): R as edgeCoverage projects it (false: R is empty), then the
+// quadrants' shares.
 SHARED_FN bool edgeAreaRegion(vec3 p, vec3 e0, vec3 e1, CoverageLight light, SHARED_OUT(vec3) h0,
                               SHARED_OUT(vec3) h1, SHARED_OUT(vec3) h2, SHARED_OUT(float) sg,
                               SHARED_OUT(float) edgeSign) {
@@ -222,14 +223,87 @@ SHARED_FN bool edgeAreaRegion(vec3 p, vec3 e0, vec3 e1, CoverageLight light, SHA
     edgeSign = hp > 0.0f ? sg : -sg;
     return true;
 }
+// The quadrants' shares in one walk along R ∩ L's boundary rather than one per quadrant (4
+// times the work): Green's sum with the centre as origin splits by quadrant at the axes, whose
+// pieces of each quadrant's boundary, like R's rays, pass through the origin and add nothing.
+// Each side of the light square lies half in one quadrant, half in the next; the piece along
+// the line (which misses the centre) crosses each axis at most once. Measured against
+// edgeParts4's per-quadrant walks and the double model in PartsTest.
+
+// e_q: 1 in quadrant q's component (no dynamic index into a vector).
+SHARED_FN vec4 partsOneHot(int q) {
+    return vec4(q == 0 ? 1.0f : 0.0f, q == 1 ? 1.0f : 0.0f, q == 2 ? 1.0f : 0.0f,
+                q == 3 ? 1.0f : 0.0f);
+}
+
+// Twice the area term of the piece a + l (b - a), l in [lo, hi], per quadrant: qa's before l =
+// split, qb's after.
+SHARED_FN vec4 partsSplitCross(vec2 a, vec2 b, float lo, float hi, float split, int qa, int qb) {
+    vec2 x0 = a + lo * (b - a);
+    vec2 x1 = a + hi * (b - a);
+    if (hi <= split) return coverageCross2(x0, x1) * partsOneHot(qa);
+    if (lo >= split) return coverageCross2(x0, x1) * partsOneHot(qb);
+    vec2 xs = a + split * (b - a);
+    return coverageCross2(x0, xs) * partsOneHot(qa) + coverageCross2(xs, x1) * partsOneHot(qb);
+}
+
+// The light square's side a -> b (quadrant qa's half first, then qb's) as coverageSquareEdge
+// takes it, per quadrant.
+SHARED_FN vec4 partsSquareEdgeQuadrants(vec2 a, vec2 b, float fa, float fb, vec3 h0, vec3 h1,
+                                        SHARED_INOUT(vec2) leave, SHARED_INOUT(vec2) enter,
+                                        int qa, int qb) {
+    float lo;
+    float hi;
+    if (!coverageSideRange(a, b, fa, fb, leave, enter, lo, hi)) return vec4(0.0f);
+    if (!coverageClipHalf(h0, a, b, lo, hi)) return vec4(0.0f);
+    if (!coverageClipHalf(h1, a, b, lo, hi)) return vec4(0.0f);
+    return partsSplitCross(a, b, lo, hi, 0.5f, qa, qb);
+}
+
+// The piece along the line, a -> b between the rays, per quadrant: cut where it crosses the
+// axes (s = 0, then t = 0, or the other way round), each of its (at most three) pieces in the
+// quadrant of its midpoint.
+SHARED_FN vec4 partsLineQuadrants(vec2 a, vec2 b, vec3 h0, vec3 h1) {
+    float lo = 0.0f;
+    float hi = 1.0f;
+    if (!coverageClipHalf(h0, a, b, lo, hi)) return vec4(0.0f);
+    if (!coverageClipHalf(h1, a, b, lo, hi)) return vec4(0.0f);
+    vec2 d = b - a;
+    float ls = d.x != 0.0f ? -a.x / d.x : lo; // where s = 0 (none: lo)
+    float lt = d.y != 0.0f ? -a.y / d.y : lo;
+    float l1 = clamp(min(ls, lt), lo, hi);
+    float l2 = clamp(max(ls, lt), lo, hi);
+    vec2 x0 = a + lo * d;
+    vec2 x1 = a + l1 * d;
+    vec2 x2 = a + l2 * d;
+    vec2 x3 = a + hi * d;
+    return coverageCross2(x0, x1) * partsOneHot(partsQuadrantOf(0.5f * (x0 + x1))) +
+           coverageCross2(x1, x2) * partsOneHot(partsQuadrantOf(0.5f * (x1 + x2))) +
+           coverageCross2(x2, x3) * partsOneHot(partsQuadrantOf(0.5f * (x2 + x3)));
+}
+
 SHARED_FN vec4 regionQuadrantCoverage(vec3 h0, vec3 h1, vec3 h2, float edgeSign) {
-    vec4 coverage = vec4(0.0f, 0.0f, 0.0f, 0.0f);
-    for (int q = 0; q < 4; ++q) {
-        vec2 sq = partsQuadrantSigns(q);
-        coverage[q] = edgeSign * partsQuadrantArea(partsHalf(h0, sq), partsHalf(h1, sq),
-                                                   partsHalf(h2, sq));
-    }
-    return coverage;
+    // coverageRegionShare's walk (the light's corners counter-clockwise from (-1, -1), in
+    // quadrants 2, 3, 0, 1), its terms kept per quadrant.
+    float f0 = dot(h2, vec3(-1.0f, -1.0f, 1.0f));
+    float f1 = dot(h2, vec3(1.0f, -1.0f, 1.0f));
+    float f2 = dot(h2, vec3(1.0f, 1.0f, 1.0f));
+    float f3 = dot(h2, vec3(-1.0f, 1.0f, 1.0f));
+    if (f0 < 0.0f && f1 < 0.0f && f2 < 0.0f && f3 < 0.0f) return vec4(0.0f);
+    vec2 leave = vec2(0.0f, 0.0f);
+    vec2 enter = vec2(0.0f, 0.0f);
+    vec4 area2 = vec4(0.0f);
+    area2 += partsSquareEdgeQuadrants(vec2(-1.0f, -1.0f), vec2(1.0f, -1.0f), f0, f1, h0, h1, leave,
+                                      enter, 2, 3);
+    area2 += partsSquareEdgeQuadrants(vec2(1.0f, -1.0f), vec2(1.0f, 1.0f), f1, f2, h0, h1, leave,
+                                      enter, 3, 0);
+    area2 += partsSquareEdgeQuadrants(vec2(1.0f, 1.0f), vec2(-1.0f, 1.0f), f2, f3, h0, h1, leave,
+                                      enter, 0, 1);
+    area2 += partsSquareEdgeQuadrants(vec2(-1.0f, 1.0f), vec2(-1.0f, -1.0f), f3, f0, h0, h1, leave,
+                                      enter, 1, 2);
+    area2 += partsLineQuadrants(leave, enter, h0, h1);
+    // A quadrant's area is 1 in light coordinates: its share is the area, half the doubled sum.
+    return edgeSign * 0.5f * abs(area2);
 }
 SHARED_FN vec4 edgeQuadrantCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
     vec3 h0;

@@ -290,8 +290,9 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
 
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe
 // ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere seen
-// at 32², 115 000 wedges over 16 tiles. Counted (wedge_tiles_truncated, 81-85 pixels across
-// runs), the frame rasterised instead: V and the masks are the raster pass's, bit for bit.
+// at 16², 115 000 wedges over 4 tiles (at 32² its pixels' lists fit since only the pairs whose
+// R meets the light count in full). Counted (wedge_tiles_truncated, 13 pixels), the frame
+// rasterised instead: V and the masks are the raster pass's, bit for bit.
 // Before the budget such a frame dropped pairs silently (the 10^6-triangle sphere of EdgeCases
 // at 128²: 178 pixels off the reference of the same samples, 2 with the raster pass).
 TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
@@ -299,8 +300,8 @@ TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     scene.objects[1].mesh = geometry::makeSphere({0.0f, 1.0f, 0.0f}, 0.5f, 600);
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
-    const RasterAndTiled f = rasterThenTiled(renderer, 32);
-    std::printf("  600-segment sphere at 32²: %.0f pixels past the loop budget\n",
+    const RasterAndTiled f = rasterThenTiled(renderer, 16);
+    std::printf("  600-segment sphere at 16²: %.0f pixels past the loop budget\n",
                 counter(f.tiledStats, "wedge_tiles_truncated"));
     EXPECT_GT(counter(f.tiledStats, "wedge_tiles_truncated"), 0.0);
     EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
