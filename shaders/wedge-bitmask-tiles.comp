@@ -98,16 +98,17 @@ void main() {
         float regionShare[MOMENT_EDGES]; // m |R ∩ L| / |L|
         int regions = 0;
         bool momentsKept = uMoments != 0u;
-        // The list in runs of 32, in three loops: the hull tests (lib/WedgeTiles.glsl
-        // tileWedgeHolds, or a full-screen wedge's rectangle), where most pairs end, as bits;
-        // then, for the set bits, m_P(e) and whether R meets the light (bitmaskEdgeRegion),
-        // where about half of the rest end, as bits and m's bit planes; then for those only the
-        // samples, the area and the counts. On a SIMD machine (llvmpipe: 8 pixels of a row a
-        // vector) each loop runs as often as its busiest lane needs, not once per entry some
-        // lane needs, and a lane whose pair ends early idles through the rest of the iteration:
-        // the loops' split keeps the costly part to the pairs that add. Each run and entry
-        // counts 1 against the loop budget, each pair tested for m 2, each pair that adds the
-        // most its loops may take (the samples between two rays, two bisections).
+        // The list in runs of 32, in three loops: the hull's four planes, where most pairs end,
+        // as bits; then, for the set bits, the rest of the hull test (lib/WedgeTiles.glsl
+        // tileWedgeHolds, or a full-screen wedge's rectangle), m_P(e) and whether R meets the
+        // light (bitmaskEdgeRegion), where about half of the rest end, as bits and m's bit
+        // planes; then for those only the samples, the area and the counts. On a SIMD machine
+        // (llvmpipe: 8 pixels of a row a vector) each loop runs as often as its busiest lane
+        // needs, not once per entry some lane needs, and a lane whose pair ends early idles
+        // through the rest of the iteration: the loops' split keeps the costly part to the pairs
+        // that add. Each run and entry counts 1 against the loop budget, each pair tested for m
+        // 2, each pair that adds the most its loops may take (the samples between two rays, two
+        // bisections).
         const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
         int budget = WEDGE_TILES_LOOP_BUDGET;
         for (uint base = 0u; base < n; base += 32u) {
@@ -117,16 +118,9 @@ void main() {
             uint inside = 0u;
             for (uint j = 0u; j < run; ++j) {
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
-                // (kind and eyeInside are integers stored in float texels: compared as bits,
-                // 0 and 1 being zero and a denormal)
-                uvec2 kind = floatBitsToUint(record(slot, 15).xy);
                 vec4 planes[4] = vec4[4](record(slot, 2), record(slot, 3), record(slot, 4),
                                          record(slot, 5));
-                vec4 rect = record(slot, 12);
-                bool holds = kind.x == WEDGE_BOUNDED
-                                 ? tileWedgeHolds(planes, record(slot, 13), kind.y != 0u, eye, p)
-                                 : all(greaterThanEqual(ndc, rect.xy)) && all(lessThanEqual(ndc, rect.zw));
-                if (holds) inside |= 1u << j;
+                if (wedgeHullContains(planes, p)) inside |= 1u << j;
             }
             // m = +-1 or +-2 (the two triangles' shares): its sign and size as bit planes.
             uint adds = 0u, positive = 0u, double_ = 0u;
@@ -136,6 +130,18 @@ void main() {
                 uint j = uint(findLSB(inside));
                 inside &= inside - 1u;
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
+                // The rest of the hull test: a cut cone's far face, a full-screen wedge's
+                // rectangle (its planes let every pixel through). (kind and eyeInside are
+                // integers stored in float texels: compared as bits, 0 and 1 being zero and a
+                // denormal.)
+                uvec2 kind = floatBitsToUint(record(slot, 15).xy);
+                vec4 planes[4] = vec4[4](record(slot, 2), record(slot, 3), record(slot, 4),
+                                         record(slot, 5));
+                vec4 rect = record(slot, 12);
+                bool holds = kind.x == WEDGE_BOUNDED
+                                 ? tileWedgeHolds(planes, record(slot, 13), kind.y != 0u, eye, p)
+                                 : all(greaterThanEqual(ndc, rect.xy)) && all(lessThanEqual(ndc, rect.zw));
+                if (!holds) continue;
                 vec4 tri0[3] = vec4[3](record(slot, 6), record(slot, 7), record(slot, 8));
                 vec4 tri1[3] = vec4[3](record(slot, 9), record(slot, 10), record(slot, 11));
                 CoverageLight light;

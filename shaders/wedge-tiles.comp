@@ -145,7 +145,10 @@ void main() {
     TileWedge w;
     w.e0 = wedge.e0;
     w.e1 = wedge.e1;
-    for (int i = 0; i < 4; ++i) w.planes[i] = wedge.planes[i];
+    // A full-screen wedge's planes let every point through (the evaluation's first test; its
+    // rectangle decides after).
+    for (int i = 0; i < 4; ++i)
+        w.planes[i] = wedge.kind == WEDGE_FULLSCREEN ? vec4(0.0, 0.0, 0.0, -1.0) : wedge.planes[i];
     GpuEdge edge = edges[wedge.edge]; // a twin slot's edge is another slot's
     uvec2 apex = edgeApexes[wedge.edge];
     triangleCorners(edge.v0, edge.v1, apex.x, w.tri0);

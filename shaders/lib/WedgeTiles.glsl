@@ -12,7 +12,8 @@
 struct TileWedge {
     vec4 e0;        // xyz: the edge's start (GpuWedge::e0)
     vec4 e1;        // xyz: its end
-    vec4 planes[4]; // the hull's planes (GpuWedge::planes): P inside all four, or no change
+    vec4 planes[4]; // the hull's planes (GpuWedge::planes): P inside all four, or no change;
+                    // a full-screen wedge's let every P through (its rectangle decides)
     vec4 tri0[3];   // the edge's triangles as wedge.vert hands them to wedge-bitmask.frag
     vec4 tri1[3];
     vec4 rect;      // WEDGE_FULLSCREEN: the NDC rectangle of its group's influence (wedge.vert's)
