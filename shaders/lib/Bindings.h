@@ -24,6 +24,10 @@
 #define BINDING_DEBUG_SUMS 8  // error debug view: vec2 per work group (sum |dV|, pixels)
 #define BINDING_SURFACE_TILES 9 // per-silhouette methods: surface bounds per 16x16 tile (2 vec4)
 #define BINDING_LIGHT_SAMPLES 10 // wedges-bitmask: vec4 per light sample (s, t, angle, 0)
+// After the samples, LIGHT_SAMPLE_ANGLE_BINS + 1 vec4s whose x is the index of the first sample
+// whose angle is at or after -pi + 2 pi b / LIGHT_SAMPLE_ANGLE_BINS (b = 0..bins; the last is
+// the sample count): lib/BitmaskEdge.glsl firstAtOrAfter starts its bisection there.
+#define LIGHT_SAMPLE_ANGLE_BINS 256
 // wedges-bitmask silhouettes=potential (gpu/src/engine/PotentialSet.cpp): per entry of the
 // edges array, the third vertices of its (at most two) triangles (global welded ids, or
 // 0xFFFFFFFF), as uvec2.

@@ -12,10 +12,14 @@
 #include "shared/LightMask.h"
 #include "shared/Parts.h"
 
-// The first sample whose angle is >= a (BITMASK_SAMPLES when none).
+// The first sample whose angle is >= a (BITMASK_SAMPLES when none). The table after the
+// samples (lib/Bindings.h LIGHT_SAMPLE_ANGLE_BINS) holds the first sample at or after each
+// bin's start: the answer lies between the entries one bin below a's and two above (a bin off
+// for the rounding of a's bin either way), and the bisection runs over those few samples only.
 int firstAtOrAfter(float a) {
-    int lo = 0;
-    int hi = BITMASK_SAMPLES;
+    int b = int(floor((a + 3.14159265359) * (float(LIGHT_SAMPLE_ANGLE_BINS) / 6.28318530718)));
+    int lo = int(LIGHT_SAMPLE(BITMASK_SAMPLES + clamp(b - 1, 0, LIGHT_SAMPLE_ANGLE_BINS)).x);
+    int hi = int(LIGHT_SAMPLE(BITMASK_SAMPLES + clamp(b + 2, 0, LIGHT_SAMPLE_ANGLE_BINS)).x);
     while (lo < hi) {
         int mid = (lo + hi) >> 1;
         if (LIGHT_SAMPLE(mid).z < a)

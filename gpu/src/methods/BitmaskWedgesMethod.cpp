@@ -34,6 +34,7 @@
 
 #include <array>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -419,6 +420,17 @@ private:
         for (std::size_t i = 0; i < pattern.size(); ++i)
             table.emplace_back(pattern[i], geometry::maskSampleAngle(pattern[i]),
                                static_cast<float>(runQuadrants[i / 8]));
+        // Then, per angle bin's start, the first sample at or after it (LIGHT_SAMPLE_ANGLE_BINS,
+        // lib/Bindings.h): where the shaders' bisection for a ray's first sample starts.
+        for (int b = 0; b <= LIGHT_SAMPLE_ANGLE_BINS; ++b) {
+            const double start = -std::numbers::pi + 2.0 * std::numbers::pi * b / LIGHT_SAMPLE_ANGLE_BINS;
+            std::size_t first = 0;
+            while (first < pattern.size() && b < LIGHT_SAMPLE_ANGLE_BINS &&
+                   double(table[first].z) < start)
+                ++first;
+            if (b == LIGHT_SAMPLE_ANGLE_BINS) first = pattern.size();
+            table.emplace_back(static_cast<float>(first), 0.0f, 0.0f, 0.0f);
+        }
         mSamples = Buffer({.size = table.size() * sizeof(glm::vec4), .data = table.data(),
                            .flags = 0, .label = "light-samples"});
         mSeed = seed;
