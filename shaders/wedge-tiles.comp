@@ -8,7 +8,10 @@
 //   super-tile's) may meet the hull;
 // 2 the tiles' first entries and fill cursors (a prefix sum, by rows), the total, and the ids of
 //   the tiles whose list is not empty (the evaluation runs on those only);
-// 3 per slot: the same tiles again, its slot into each one's list.
+// 3 per slot: the same tiles again, its slot into each one's list (where the count stage's
+//   entries did not fit the pairs buffer);
+// 4 per entry the count stage recorded (the usual way): its slot into its tile's list at the
+//   index the count's atomic gave it, without testing any tile again.
 // A wedge reaches a pixel's list wherever the rasterised hull would give the pixel a fragment
 // inside its planes (the fragment shader's early out): the tiled evaluation processes the same
 // (pixel, wedge) pairs.
@@ -29,6 +32,12 @@ layout(location = 1) uniform ivec2 uTiles; // tiles across, down
 layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
 #if WEDGE_TILES_STAGE == 2
 layout(location = 4) uniform int uScanStep;
+#endif
+#if WEDGE_TILES_STAGE == 1 || WEDGE_TILES_STAGE == 4
+layout(std430, binding = BINDING_WEDGE_TILE_PAIRS) buffer TilePairs {
+    uint tilePairs[]; // 3 per entry: slot, tile, index in the tile's list
+};
+layout(location = 5) uniform uint uPairCapacity; // entries tilePairs holds
 #endif
 
 #if WEDGE_TILES_STAGE == 1 || WEDGE_TILES_STAGE == 3
@@ -137,6 +146,13 @@ void main() {
             }
         }
     }
+#elif WEDGE_TILES_STAGE == 4
+    // One invocation per recorded entry (rows of work groups: gl_NumWorkGroups.x wide).
+    uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u +
+             gl_LocalInvocationIndex;
+    if (k >= heads[3 * T + WEDGE_TILES_RECORDED]) return;
+    uint t = tilePairs[3u * k + 1u];
+    heads[uListBase + heads[T + t] + tilePairs[3u * k + 2u]] = tilePairs[3u * k];
 #else
     if (gl_GlobalInvocationID.x >= uRun.y) return;
     uint slot = heads[uRun.x + gl_GlobalInvocationID.x];
@@ -202,7 +218,13 @@ void main() {
                     int t = ty * uTiles.x + tx;
                     if (!boundsMayHold(w, tileBounds[2 * t], tileBounds[2 * t + 1])) continue;
 #if WEDGE_TILES_STAGE == 1
-                    atomicAdd(heads[t], 1u);
+                    uint at = atomicAdd(heads[t], 1u);
+                    uint k = atomicAdd(heads[3 * T + WEDGE_TILES_RECORDED], 1u);
+                    if (k < uPairCapacity) {
+                        tilePairs[3u * k] = slot;
+                        tilePairs[3u * k + 1u] = uint(t);
+                        tilePairs[3u * k + 2u] = at;
+                    }
 #else
                     uint at = atomicAdd(heads[2 * T + t], 1u);
                     heads[uListBase + at] = slot;

@@ -56,17 +56,22 @@
 #define BINDING_WEDGE_TILE_RECORDS 15
 #define BINDING_WEDGE_TILE_LISTS 16
 #define BINDING_WEDGE_SUPERTILES 17 // the surface's bounds per 32 x 32 pixels (2 vec4)
+// The count stage's entries as it finds them, 3 uints each (wedge slot, tile, index in the
+// tile's list), while they fit the buffer: the place stage writes them into the lists without
+// testing the tiles again.
+#define BINDING_WEDGE_TILE_PAIRS 18
 #define WEDGE_TILES_TOTAL 0        // list entries over all tiles (after the heads' 3 per tile)
 #define WEDGE_TILES_PAIRS_ADDED 1  // (pixel, wedge) pairs that added to the counts
 #define WEDGE_TILES_OVERFLOW 2     // 1: the total passed 2^32 - 1 (the lists cannot be held)
 #define WEDGE_TILES_TRUNCATED 3    // invocations that stopped at WEDGE_TILES_LOOP_BUDGET
 #define WEDGE_TILES_ACTIVE 4       // tiles with a non-empty list (their ids follow the header)
+#define WEDGE_TILES_RECORDED 5     // entries the count stage found (recorded while they fit)
 // Loop iterations one invocation of the tiled passes may run: Mesa's llvmpipe ends every loop of
 // an invocation silently once their iterations add up to 65535 (gallivm's limit on loops), so a
 // pass that could run longer counts its iterations, stops short of that and says so; the frame
 // then rasterises its wedges instead.
 #define WEDGE_TILES_LOOP_BUDGET 60000
-#define WEDGE_TILES_HEADER 5       // uints after the 3 per tile (then one per tile: the active ids)
+#define WEDGE_TILES_HEADER 6       // uints after the 3 per tile (then one per tile: the active ids)
 // estimate=moments: the moment layer's value where the tiled pass kept no P (a NaN's bits, which
 // floatBitsToUint of a finite P never gives; compared as bits, never as a float)
 #define WEDGE_TILES_NO_MOMENT 0xFFFFFFFFu

@@ -288,6 +288,34 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
     EXPECT_GT(counter(under, "wedge_tile_entries"), 16.0);
 }
 
+// The lists filled two ways: the count stage records its entries while they fit a buffer sized
+// by the last frame's (at least 4096), and the place stage writes them into the lists; where
+// they do not fit (a renderer's first tiled frame of spheres-nine at 128², 72 052 entries),
+// the fill stage tests every slot's tiles again. Both give the same lists (in another order):
+// V and the masks bit for bit, the same entries, and wedge_tiles_refilled says which ran.
+TEST_F(PotentialSilhouettes, TiledListsRecordedOrRefilledAlike) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("spheres-nine.json"));
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 128, 128);
+    s.parameters = {{"estimate", "quadrants"}, {"evaluate", "tiles"}};
+    const gpu::FrameStats first = renderer.renderFrame(s);
+    const geometry::FloatImage firstV = renderer.visibility();
+    const gpu::LightMasks firstMasks = renderer.lightMasks();
+    const gpu::FrameStats second = renderer.renderFrame(s);
+    std::printf("  spheres-nine at 128²: %.0f entries; refilled %.0f, then %.0f\n",
+                counter(first, "wedge_tile_entries"), counter(first, "wedge_tiles_refilled"),
+                counter(second, "wedge_tiles_refilled"));
+    ASSERT_EQ(counter(first, "wedge_evaluation_tiled"), 1.0);
+    ASSERT_EQ(counter(second, "wedge_evaluation_tiled"), 1.0);
+    EXPECT_GT(counter(first, "wedge_tile_entries"), 4096.0);
+    EXPECT_EQ(counter(first, "wedge_tiles_refilled"), 1.0);
+    EXPECT_EQ(counter(second, "wedge_tiles_refilled"), 0.0);
+    EXPECT_EQ(counter(first, "wedge_tile_entries"), counter(second, "wedge_tile_entries"));
+    EXPECT_EQ(testutil::countDiffering(renderer.visibility(), firstV, 0.0), 0u);
+    EXPECT_TRUE(renderer.lightMasks().words == firstMasks.words);
+}
+
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe
 // ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere seen
 // at 16², 115 000 wedges over 4 tiles (at 32² its pixels' lists fit since only the pairs whose

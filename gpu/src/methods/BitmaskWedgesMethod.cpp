@@ -360,6 +360,7 @@ private:
                 ctx.addCounter("wedge_tile_entries", static_cast<double>(tileStats.entries));
                 ctx.addCounter("wedge_tiles", static_cast<double>(tileStats.tiles));
                 ctx.addCounter("wedge_tiles_active", static_cast<double>(tileStats.activeTiles));
+                ctx.addCounter("wedge_tiles_refilled", static_cast<double>(tileStats.refilled));
             }
         }
         addWedgeCounters(ctx, counts, mPotential.wedgeRuns());

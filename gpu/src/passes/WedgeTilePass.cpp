@@ -10,6 +10,7 @@ namespace gpu {
 namespace {
 
 constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/WedgeTiles.glsl)
+constexpr std::size_t kPairBytes = 3 * 4;         // a recorded entry (BINDING_WEDGE_TILE_PAIRS)
 
 Program binning(const ShaderLoader& shaders, int stage, int tile, const char* label) {
     return shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-tiles.comp"}},
@@ -32,6 +33,7 @@ WedgeTilePass::WedgeTilePass(const ShaderLoader& shaders, const std::vector<std:
       mCount(binning(shaders, 1, kTile, "wedge-tiles-count")),
       mScan(binning(shaders, 2, kTile, "wedge-tiles-scan")),
       mFill(binning(shaders, 3, kTile, "wedge-tiles-fill")),
+      mPlace(binning(shaders, 4, kTile, "wedge-tiles-place")),
       mEvaluate(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-bitmask-tiles.comp"}},
                               .defines = withTile(defines, kTile),
                               .label = "wedge-bitmask-tiles"})) {
@@ -70,6 +72,12 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     if (!mSlots.empty()) mLists.upload(mSlots.data(), mSlots.size() * 4, headWords * 4);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_RECORDS, mRecords.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_LISTS, mLists.id());
+    // The count stage records its entries for the place stage while they fit: room for the
+    // last frame's, and half as many again.
+    const std::size_t pairCapacity = std::max<std::size_t>(mEntries + mEntries / 2, 4096);
+    if (mPairs.size() < pairCapacity * kPairBytes)
+        mPairs = Buffer({.size = pairCapacity * kPairBytes, .flags = 0, .label = "wedge-tile-pairs"});
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_PAIRS, mPairs.id());
     const GLint size[2] = {t.width, t.height};
     const auto slotCount = static_cast<GLuint>(mSlots.size());
     const auto binning = [&](const Program& program, GLuint groups) {
@@ -78,6 +86,8 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
         glUniform2i(1, mTiles.x, mTiles.y);
         glUniform2iv(2, 1, size);
         glUniform1ui(3, static_cast<GLuint>(listBase));
+        if (&program == &mCount)
+            glUniform1ui(5, static_cast<GLuint>(mPairs.size() / kPairBytes));
         glDispatchCompute(groups, 1, 1);
     };
     // The slots' records, a count per tile, then first entries by a prefix sum.
@@ -112,7 +122,22 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
         mLists = std::move(grown);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_LISTS, mLists.id());
     }
-    if (slotCount > 0) binning(mFill, (slotCount + 63) / 64);
+    // Every entry into its tile's list: from the count stage's record (one invocation per
+    // entry, in rows of kMaxGroupsX work groups), or, where they did not all fit, by testing
+    // every slot's tiles again (counted: wedge_tiles_refilled; the next frame has room).
+    const std::uint32_t recorded = header[WEDGE_TILES_RECORDED];
+    mStats.refilled = recorded > mPairs.size() / kPairBytes ? 1 : 0;
+    if (mStats.refilled != 0) {
+        if (slotCount > 0) binning(mFill, (slotCount + 63) / 64);
+    } else if (recorded > 0) {
+        constexpr GLuint kMaxGroupsX = 32768;
+        const GLuint groups = (recorded + 63) / 64;
+        const GLuint groupsX = std::min(groups, kMaxGroupsX);
+        glUseProgram(mPlace.id());
+        glUniform2i(1, mTiles.x, mTiles.y);
+        glUniform1ui(3, static_cast<GLuint>(listBase));
+        glDispatchCompute(groupsX, (groups + groupsX - 1) / groupsX, 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     // Every pixel over its tile's list, reading records and lists as texels.
     const auto texels = [](Handle<TextureDeleter>& tex, GLenum format, const Buffer& buffer,

@@ -33,6 +33,10 @@ struct WedgeTileStats {
     // Invocations that stopped at WEDGE_TILES_LOOP_BUDGET (a slot's binning or a pixel's
     // list): the frame was rasterised instead.
     std::uint64_t truncated = 0;
+    // 1 where the count stage's entries did not fit the buffer that records them (the first
+    // tiled frame, or one with many more entries than the last): the fill stage tested every
+    // slot's tiles again instead of placing the recorded entries.
+    std::uint64_t refilled = 0;
 };
 
 class WedgeTilePass {
@@ -59,8 +63,8 @@ public:
 private:
     static constexpr int kTile = 8; // pixels per tile side (WEDGE_TILE)
     SurfaceTilePass mSurface, mSupertiles; // per tile, per 32 x 32 pixels
-    Program mRecord, mCount, mScan, mFill, mEvaluate;
-    Buffer mRecords, mLists;
+    Program mRecord, mCount, mScan, mFill, mPlace, mEvaluate;
+    Buffer mRecords, mLists, mPairs;
     glm::ivec2 mTiles{0};
     std::uint32_t mEntries = 0;
     WedgeTileStats mStats;
