@@ -11,6 +11,7 @@ namespace {
 
 constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/WedgeTiles.glsl)
 constexpr std::size_t kPairBytes = 3 * 4;         // a recorded entry (BINDING_WEDGE_TILE_PAIRS)
+constexpr std::size_t kMaxPairs = std::size_t(1) << 24; // 192 MiB of recorded entries
 
 Program binning(const ShaderLoader& shaders, int stage, int tile, const char* label) {
     return shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-tiles.comp"}},
@@ -73,8 +74,9 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_RECORDS, mRecords.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_LISTS, mLists.id());
     // The count stage records its entries for the place stage while they fit: room for the
-    // last frame's, and half as many again.
-    const std::size_t pairCapacity = std::max<std::size_t>(mEntries + mEntries / 2, 4096);
+    // last frame's, and half as many again (at most kMaxPairs: a frame with more refills).
+    const std::size_t pairCapacity =
+        std::clamp<std::size_t>(mEntries + mEntries / 2, 4096, kMaxPairs);
     if (mPairs.size() < pairCapacity * kPairBytes)
         mPairs = Buffer({.size = pairCapacity * kPairBytes, .flags = 0, .label = "wedge-tile-pairs"});
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_PAIRS, mPairs.id());
