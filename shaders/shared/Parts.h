@@ -204,9 +204,10 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
 // same projection and half-planes as edgeCoverage (whose value is their sum over 4, up to
 // rounding), in one walk (regionQuadrantCoverage, above). wedges-bitmask's potential wedges add
 // it times m_P(e): per quadrant the exact integral of D over the quadrant (estimate=quadrants
-// and moments, bitmask-potential-resolve.frag). In two steps, for a caller that also needs R's
-// half-planes (estimate=moments): R as edgeCoverage projects it (false: R is empty), then the
-// quadrants' shares.
+// and moments, bitmask-potential-resolve.frag); they call regionQuadrantCoverage on the R their
+// light-sample masks take (lib/BitmaskEdge.glsl, projected with exact ends), which differs from
+// edgeAreaRegion's by rounding only. edgeAreaRegion: R as edgeCoverage projects it (false: R
+// is empty).
 SHARED_FN bool edgeAreaRegion(vec3 p, vec3 e0, vec3 e1, CoverageLight light, SHARED_OUT(vec3) h0,
                               SHARED_OUT(vec3) h1, SHARED_OUT(vec3) h2, SHARED_OUT(float) sg,
                               SHARED_OUT(float) edgeSign) {

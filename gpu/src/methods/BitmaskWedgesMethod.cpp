@@ -423,14 +423,13 @@ private:
                                static_cast<float>(runQuadrants[i / 8]));
         // Then, per angle bin's start, the first sample at or after it (LIGHT_SAMPLE_ANGLE_BINS,
         // lib/Bindings.h): where the shaders' bisection for a ray's first sample starts.
+        std::size_t first = 0;
         for (int b = 0; b <= LIGHT_SAMPLE_ANGLE_BINS; ++b) {
-            const double start = -std::numbers::pi + 2.0 * std::numbers::pi * b / LIGHT_SAMPLE_ANGLE_BINS;
-            std::size_t first = 0;
-            while (first < pattern.size() && b < LIGHT_SAMPLE_ANGLE_BINS &&
-                   double(table[first].z) < start)
-                ++first;
-            if (b == LIGHT_SAMPLE_ANGLE_BINS) first = pattern.size();
-            table.emplace_back(static_cast<float>(first), 0.0f, 0.0f, 0.0f);
+            const double start =
+                -std::numbers::pi + 2.0 * std::numbers::pi * b / LIGHT_SAMPLE_ANGLE_BINS;
+            while (first < pattern.size() && double(table[first].z) < start) ++first;
+            const std::size_t entry = b == LIGHT_SAMPLE_ANGLE_BINS ? pattern.size() : first;
+            table.emplace_back(static_cast<float>(entry), 0.0f, 0.0f, 0.0f);
         }
         mSamples = Buffer({.size = table.size() * sizeof(glm::vec4), .data = table.data(),
                            .flags = 0, .label = "light-samples"});
