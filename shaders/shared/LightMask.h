@@ -24,15 +24,8 @@
 
 SHARED_BEGIN
 
-// R as three half-planes dot(h, (s, t, 1)) >= 0 in light coordinates (h0: the side of the ray
-// to the first end, h1: of the ray to the second, h2: beyond the projected edge) and the
-// orientation sg of the projected edge about the centre; false when R misses the light (no
-// sample can be in it): when the projected edge misses the light. (R holds the points beyond the
-// edge on the rays from the centre through it; one of them in the light would put the ray's
-// point on the edge there too, the light being convex around its centre. The edge's line alone
-// may cross the light where the edge does not: on a curved caster, about half the edges that
-// are silhouettes from P and reach the light's plane.) The test takes the light a little larger
-// (1 + 2^-12): a sample on its border is kept.
+// Whether the projected edge q0 -> q1 (homogeneous light coordinates, w >= 0) meets the light,
+// taken a little larger (1 + 2^-12) so that a sample on its border is kept.
 SHARED_FN bool edgeMeetsLight(vec3 q0, vec3 q1) {
     // q0 + l (q1 - q0), l in [0, 1], homogeneous (w >= 0), clipped to |s|, |t| <= w (1 + 2^-12).
     const float grow = 1.000244140625f;
@@ -43,6 +36,14 @@ SHARED_FN bool edgeMeetsLight(vec3 q0, vec3 q1) {
     if (!coverageClipLe0(q0.y - grow * q0.z, q1.y - grow * q1.z, lo, hi)) return false;
     return coverageClipLe0(-q0.y - grow * q0.z, -q1.y - grow * q1.z, lo, hi);
 }
+// R as three half-planes dot(h, (s, t, 1)) >= 0 in light coordinates (h0: the side of the ray
+// to the first end, h1: of the ray to the second, h2: beyond the projected edge) and the
+// orientation sg of the projected edge about the centre; false when R misses the light (no
+// sample can be in it): when the projected edge misses the light. (R holds the points beyond the
+// edge on the rays from the centre through it; one of them in the light would put the ray's
+// point on the edge there too, the light being convex around its centre. The edge's line alone
+// may cross the light where the edge does not: on a curved caster, about half the edges that
+// are silhouettes from P and reach the light's plane.)
 SHARED_FN bool edgeRegion(vec3 p, vec3 e0, vec3 e1, CoverageLight light, SHARED_OUT(vec3) h0, SHARED_OUT(vec3) h1,
                 SHARED_OUT(vec3) h2, SHARED_OUT(float) sg) {
     vec3 q0;
