@@ -8,7 +8,7 @@
 // hidden behind counts that differ: 1 (the ratio would only sample the layers' mix). Exact
 // wherever D takes one non-zero value over the hidden part of the light, at any N. uEstimate 2
 // (estimate=quadrants): the same per quadrant of the light, A_q from the wedges'
-// per-quadrant target (shared/Parts.h edgeQuadrantCoverage) and the own plane's share behind in
+// per-quadrant target (shared/Parts.h regionQuadrantCoverage) and the own plane's share behind in
 // the quadrant, S_u and S_s over the quadrant's samples (a 32-bit word of counts at a time: the
 // light-samples table's w names each word's quadrant); the mean over the quadrants, each
 // clamped; a quadrant none of whose samples is hidden takes the whole light's ratio. uEstimate 3

@@ -110,6 +110,7 @@ void main() {
         // 2, each pair that adds the most its loops may take (the samples between two rays, two
         // bisections).
         const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
+        const CoverageLight light = frameCoverageLight();
         int budget = WEDGE_TILES_LOOP_BUDGET;
         for (uint base = 0u; base < n; base += 32u) {
             uint run = min(32u, n - base);
@@ -144,7 +145,6 @@ void main() {
                 if (!holds) continue;
                 vec4 tri0[3] = vec4[3](record(slot, 6), record(slot, 7), record(slot, 8));
                 vec4 tri1[3] = vec4[3](record(slot, 9), record(slot, 10), record(slot, 11));
-                CoverageLight light;
                 vec3 h0, h1, h2;
                 float sg;
                 int m;
@@ -163,15 +163,13 @@ void main() {
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
                 int m = (((double_ >> j) & 1u) != 0u ? 2 : 1) * (((positive >> j) & 1u) != 0u ? 1 : -1);
                 // R again, as the loop above found it (the same statements).
-                CoverageLight light = frameCoverageLight();
                 vec3 h0, h1, h2;
                 float sg;
                 edgeRegion(p, record(slot, 0).xyz, record(slot, 1).xyz, light, h0, h1, h2, sg);
                 uint words[8];
                 uint hit;
                 if (!bitmaskEdgeSamples(px, h0, h1, h2, sg, words, hit)) continue;
-                vec4 a = float(m) * abs(regionQuadrantCoverage(h0, h1, h2,
-                                                               bitmaskEdgeSign(p, light, sg)));
+                vec4 a = float(m) * regionQuadrantCoverage(h0, h1, h2);
                 float share = 0.25 * (a.x + a.y + a.z + a.w);
                 // (An edge whose R misses the light adds nothing to P: not kept.)
                 if (momentsKept && share != 0.0) {

@@ -60,7 +60,7 @@ void main() {
     int m;
     if (!bitmaskEdge(px, p, vE0.xyz, vE1.xyz, vTri0, vTri1, m, light, h0, h1, h2, sg, words, any))
         discard;
-    oArea = float(m) * abs(regionQuadrantCoverage(h0, h1, h2, bitmaskEdgeSign(p, light, sg)));
+    oArea = float(m) * regionQuadrantCoverage(h0, h1, h2);
     if (any != 0u) {
         ivec2 sums = bitmaskChecksums(words);
         imageAtomicAdd(iCounts, ivec3(px, BITMASK_SAMPLES / 8), uint(m * sums.x));

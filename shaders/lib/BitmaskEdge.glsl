@@ -74,7 +74,7 @@ int triangleShare(int side, float sc) {
 // Whether the edge adds anything at P, in two steps that a caller may run in separate loops
 // (wedge-bitmask-tiles.comp: on a SIMD machine a branch costs whether or not a lane takes it,
 // while a loop costs only the iterations some lane needs).
-// bitmaskEdgeRegion: R as half-planes (h0, h1, h2; sg its orientation) and, with
+// bitmaskEdgeRegion: R for `light` as half-planes (h0, h1, h2; sg its orientation) and, with
 // BITMASK_POTENTIAL, m = m_P(e) from the edge's triangles tri0, tri1; false where R misses the
 // light, or (potential) where the edge is no silhouette seen from P (m = 0). Deterministic: run
 // again with the same arguments it gives the same R.
@@ -82,13 +82,12 @@ bool bitmaskEdgeRegion(vec3 p, vec3 e0, vec3 e1,
 #ifdef BITMASK_POTENTIAL
                        vec4 tri0[3], vec4 tri1[3], out int m,
 #endif
-                       out CoverageLight light, out vec3 h0, out vec3 h1, out vec3 h2,
+                       CoverageLight light, out vec3 h0, out vec3 h1, out vec3 h2,
                        out float sg) {
     h0 = vec3(0.0);
     h1 = vec3(0.0);
     h2 = vec3(0.0);
     sg = 0.0;
-    light = frameCoverageLight();
 #ifdef BITMASK_POTENTIAL
     m = 0;
     // The two triangles on opposite sides of the plane through P and the edge: no silhouette
@@ -108,12 +107,6 @@ bool bitmaskEdgeRegion(vec3 p, vec3 e0, vec3 e1,
     if (m == 0) return false; // no silhouette seen from P: D does not change across it
 #endif
     return true;
-}
-
-// The sign of R's area as edgeCoverage counts it (+ where the edge, seen from the centre's
-// side of P, turns counter-clockwise): the quadrants' shares are this times their areas.
-float bitmaskEdgeSign(vec3 p, CoverageLight light, float sg) {
-    return dot(light.n, p - light.c) > 0.0 ? sg : -sg;
 }
 
 // bitmaskEdgeSamples: the light samples R holds (shared/LightMask.h regionHolds), as bits of
@@ -179,6 +172,7 @@ bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
                  out uint words[8], out uint any) {
     for (int w = 0; w < 8; ++w) words[w] = 0u;
     any = 0u;
+    light = frameCoverageLight();
     if (!bitmaskEdgeRegion(p, e0, e1,
 #ifdef BITMASK_POTENTIAL
                            tri0, tri1, m,

@@ -200,32 +200,11 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
     return parts;
 }
 
-// edgeParts4's coverage alone: per quadrant the signed share of the quadrant in R_e, from the
-// same projection and half-planes as edgeCoverage (whose value is their sum over 4, up to
-// rounding), in one walk (regionQuadrantCoverage, above). wedges-bitmask's potential wedges add
-// it times m_P(e): per quadrant the exact integral of D over the quadrant (estimate=quadrants
-// and moments, bitmask-potential-resolve.frag); they call regionQuadrantCoverage on the R their
-// light-sample masks take (lib/BitmaskEdge.glsl, projected with exact ends), which differs from
-// edgeAreaRegion's by rounding only. edgeAreaRegion: R as edgeCoverage projects it (false: R
-// is empty).
-SHARED_FN bool edgeAreaRegion(vec3 p, vec3 e0, vec3 e1, CoverageLight light, SHARED_OUT(vec3) h0,
-                              SHARED_OUT(vec3) h1, SHARED_OUT(vec3) h2, SHARED_OUT(float) sg,
-                              SHARED_OUT(float) edgeSign) {
-    h0 = vec3(0.0f);
-    h1 = vec3(0.0f);
-    h2 = vec3(0.0f);
-    sg = 0.0f;
-    edgeSign = 0.0f;
-    vec3 q0;
-    vec3 q1;
-    float hp;
-    if (!edgeProjection(p, e0, e1, light, false, q0, q1, hp)) return false;
-    if (!edgeHalfPlanes(q0, q1, h0, h1, h2, sg)) return false;
-    edgeSign = hp > 0.0f ? sg : -sg;
-    return true;
-}
-// The quadrants' shares in one walk along R ∩ L's boundary rather than one per quadrant (4
-// times the work): Green's sum with the centre as origin splits by quadrant at the axes, whose
+// edgeParts4's coverage alone, unsigned: per quadrant the share of the quadrant in R_e, given
+// R's half-planes (shared/LightMask.h edgeRegion, as wedges-bitmask's potential wedges take it
+// for their light-sample masks). They add it times m_P(e): per quadrant the exact integral of D
+// over the quadrant (estimate=quadrants and moments, bitmask-potential-resolve.frag). The
+// shares in one walk along R ∩ L's boundary rather than one per quadrant (4 times the work): Green's sum with the centre as origin splits by quadrant at the axes, whose
 // pieces of each quadrant's boundary, like R's rays, pass through the origin and add nothing.
 // Each side of the light square lies half in one quadrant, half in the next; the piece along
 // the line (which misses the centre) crosses each axis at most once. Measured against
@@ -283,7 +262,7 @@ SHARED_FN vec4 partsLineQuadrants(vec2 a, vec2 b, vec3 h0, vec3 h1) {
            coverageCross2(x2, x3) * partsOneHot(partsQuadrantOf(0.5f * (x2 + x3)));
 }
 
-SHARED_FN vec4 regionQuadrantCoverage(vec3 h0, vec3 h1, vec3 h2, float edgeSign) {
+SHARED_FN vec4 regionQuadrantCoverage(vec3 h0, vec3 h1, vec3 h2) {
     // coverageRegionShare's walk (the light's corners counter-clockwise from (-1, -1), in
     // quadrants 2, 3, 0, 1), its terms kept per quadrant.
     float f0 = dot(h2, vec3(-1.0f, -1.0f, 1.0f));
@@ -304,17 +283,7 @@ SHARED_FN vec4 regionQuadrantCoverage(vec3 h0, vec3 h1, vec3 h2, float edgeSign)
                                       enter, 1, 2);
     area2 += partsLineQuadrants(leave, enter, h0, h1);
     // A quadrant's area is 1 in light coordinates: its share is the area, half the doubled sum.
-    return edgeSign * 0.5f * abs(area2);
-}
-SHARED_FN vec4 edgeQuadrantCoverage(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
-    vec3 h0;
-    vec3 h1;
-    vec3 h2;
-    float sg;
-    float edgeSign;
-    if (!edgeAreaRegion(p, e0, e1, light, h0, h1, h2, sg, edgeSign))
-        return vec4(0.0f, 0.0f, 0.0f, 0.0f);
-    return regionQuadrantCoverage(h0, h1, h2, edgeSign);
+    return 0.5f * abs(area2);
 }
 
 // --- Every R, with moments (edgePartSet) ---

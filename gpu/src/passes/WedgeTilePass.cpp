@@ -13,6 +13,15 @@ constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/Wedge
 constexpr std::size_t kPairBytes = 3 * 4;         // a recorded entry (BINDING_WEDGE_TILE_PAIRS)
 constexpr std::size_t kMaxPairs = std::size_t(1) << 24; // 192 MiB of recorded entries
 
+// `groups` work groups of the bound compute program in rows of at most 32768 (GL guarantees
+// 65535 per dimension; a 4K frame has 129 600 tiles): the shader numbers them
+// gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x and returns past its count.
+void dispatchRows(GLuint groups) {
+    constexpr GLuint kMaxGroupsX = 32768;
+    const GLuint groupsX = std::min(groups, kMaxGroupsX);
+    glDispatchCompute(groupsX, (groups + groupsX - 1) / groupsX, 1);
+}
+
 Program binning(const ShaderLoader& shaders, int stage, int tile, const char* label) {
     return shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-tiles.comp"}},
                          .defines = {"WEDGE_TILES_STAGE " + std::to_string(stage),
@@ -80,6 +89,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     if (mPairs.size() < pairCapacity * kPairBytes)
         mPairs = Buffer({.size = pairCapacity * kPairBytes, .flags = 0, .label = "wedge-tile-pairs"});
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_PAIRS, mPairs.id());
+    glProgramUniform1ui(mCount.id(), 5, static_cast<GLuint>(mPairs.size() / kPairBytes));
     const GLint size[2] = {t.width, t.height};
     const auto slotCount = static_cast<GLuint>(mSlots.size());
     const auto binning = [&](const Program& program, GLuint groups) {
@@ -88,8 +98,6 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
         glUniform2i(1, mTiles.x, mTiles.y);
         glUniform2iv(2, 1, size);
         glUniform1ui(3, static_cast<GLuint>(listBase));
-        if (&program == &mCount)
-            glUniform1ui(5, static_cast<GLuint>(mPairs.size() / kPairBytes));
         glDispatchCompute(groups, 1, 1);
     };
     // The slots' records, a count per tile, then first entries by a prefix sum.
@@ -125,20 +133,17 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_LISTS, mLists.id());
     }
     // Every entry into its tile's list: from the count stage's record (one invocation per
-    // entry, in rows of kMaxGroupsX work groups), or, where they did not all fit, by testing
+    // entry, in rows of work groups), or, where they did not all fit, by testing
     // every slot's tiles again (counted: wedge_tiles_refilled; the next frame has room).
     const std::uint32_t recorded = header[WEDGE_TILES_RECORDED];
     mStats.refilled = recorded > mPairs.size() / kPairBytes ? 1 : 0;
     if (mStats.refilled != 0) {
         if (slotCount > 0) binning(mFill, (slotCount + 63) / 64);
     } else if (recorded > 0) {
-        constexpr GLuint kMaxGroupsX = 32768;
-        const GLuint groups = (recorded + 63) / 64;
-        const GLuint groupsX = std::min(groups, kMaxGroupsX);
         glUseProgram(mPlace.id());
         glUniform2i(1, mTiles.x, mTiles.y);
         glUniform1ui(3, static_cast<GLuint>(listBase));
-        glDispatchCompute(groupsX, (groups + groupsX - 1) / groupsX, 1);
+        dispatchRows((recorded + 63) / 64);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     // Every pixel over its tile's list, reading records and lists as texels.
@@ -162,15 +167,10 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glUniform1ui(4, moments ? 1u : 0u);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glBindImageTexture(IMAGE_BITMASK_AREA, area.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    // One work group per tile whose list is not empty (their number read back with the total;
-    // rows of kMaxGroupsX, as GL guarantees 65535 work groups per dimension and a 4K frame has
-    // 129 600 tiles); the other pixels' mark layer is the caller's clear.
+    // One work group per tile whose list is not empty (their number read back with the total);
+    // the other pixels' mark layer is the caller's clear.
     const GLuint active = header[WEDGE_TILES_ACTIVE];
-    if (active > 0) {
-        constexpr GLuint kMaxGroupsX = 32768;
-        const GLuint groupsX = std::min(active, kMaxGroupsX);
-        glDispatchCompute(groupsX, (active + groupsX - 1) / groupsX, 1);
-    }
+    if (active > 0) dispatchRows(active);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     // The evaluation's counters; a pixel that ran out of its loop budget makes the frame's

@@ -8,6 +8,7 @@
 #include <geometry/shadow/Coverage.h>
 #include <geometry/shadow/LightMask.h>
 #include <geometry/shadow/Parts.h>
+#include <shared/LightMask.h>
 
 #include <gtest/gtest.h>
 
@@ -396,10 +397,11 @@ TEST(PartsTest, PartSetTiesAsTheModelForEveryR) {
     EXPECT_EQ(checked, 6 * 4 * (4 + 3 * 4 + 2 * 8));
 }
 
-// wedges-bitmask's estimate=quadrants and moments: the wedges add edgeQuadrantCoverage, edgeParts4's
-// coverage summed in one walk along R's boundary (split at the axes) instead of one per
-// quadrant: the same areas up to float rounding, and within FloatPartsMatchTheDoubleModel's
-// tolerance of the double model.
+// wedges-bitmask's estimate=quadrants and moments: the wedges add regionQuadrantCoverage of the
+// R their light-sample masks take (shared/LightMask.h edgeRegion: ends projected exactly, no R
+// where the projected edge misses the light), edgeParts4's coverage unsigned, summed in one walk
+// along R's boundary (split at the axes) instead of one per quadrant: the same areas up to float
+// rounding, and within FloatPartsMatchTheDoubleModel's tolerance of the double model.
 TEST(PartsTest, QuadrantCoverageIsEdgePartsCoverage) {
     constexpr double kMaxMagnification = 1e3; // as FloatPartsMatchTheDoubleModel
     Rng rng(0x51ab);
@@ -409,7 +411,11 @@ TEST(PartsTest, QuadrantCoverageIsEdgePartsCoverage) {
         const Case k = randomCase(rng);
         const geometry::CoverageLight cl =
             geometry::coverageLight(k.light.center, k.light.u, k.light.v);
-        const glm::vec4 q = shader::edgeQuadrantCoverage(k.p, k.e0, k.e1, cl);
+        glm::vec3 h0, h1, h2;
+        float sg = 0.0f;
+        const glm::vec4 q = shader::edgeRegion(k.p, k.e0, k.e1, cl, h0, h1, h2, sg)
+                                ? shader::regionQuadrantCoverage(h0, h1, h2)
+                                : glm::vec4(0.0f);
         const geometry::EdgeParts4 parts = geometry::edgeParts4(k.p, k.e0, k.e1, cl);
         const ProjectedEdge edge =
             projectEdge(lightFrame(k.light), dvec3(k.p), dvec3(k.e0), dvec3(k.e1));
@@ -419,10 +425,11 @@ TEST(PartsTest, QuadrantCoverageIsEdgePartsCoverage) {
             reached += q[i] != 0.0f;
             if (k.magnification > kMaxMagnification) continue; // ill-conditioned projection
             // Both sum the same terms in another order and cut: rounding of the light's size.
-            const double twin = std::abs(double(q[i]) - parts.coverage[i]);
+            const double twin = std::abs(double(q[i]) - std::abs(parts.coverage[i]));
             maxTwin = std::max(maxTwin, twin / k.magnification);
             EXPECT_LE(twin, 2e-6 * k.magnification) << n << " quadrant " << i;
-            const double model = std::abs(double(q[i]) - partCoverage(edge, radialPart(4, i)));
+            const double model =
+                std::abs(double(q[i]) - std::abs(partCoverage(edge, radialPart(4, i))));
             maxModel = std::max(maxModel, model / k.magnification);
             EXPECT_LE(model, 1e-4 * k.magnification) << n << " quadrant " << i;
         }
@@ -484,8 +491,9 @@ double clippedSquareArea(const std::vector<glm::dvec3>& halves) {
     return twice;
 }
 
-// R of edge e0 e1 seen from p as the area takes it (shared/Parts.h edgeAreaRegion): its
-// half-planes, and its sector and line as partsRegionsOverlap takes them.
+// R of edge e0 e1 seen from p as the wedges take it (shared/LightMask.h edgeRegion; none where
+// the projected edge misses the light): its half-planes, and its sector and line as
+// partsRegionsOverlap takes them.
 struct Region {
     bool any = false;
     glm::vec3 h0{}, h1{}, h2{};
@@ -493,8 +501,8 @@ struct Region {
 };
 Region areaRegion(vec3 p, vec3 e0, vec3 e1, const geometry::CoverageLight& light) {
     Region r;
-    float sg = 0.0f, edgeSign = 0.0f;
-    r.any = shader::edgeAreaRegion(p, e0, e1, light, r.h0, r.h1, r.h2, sg, edgeSign);
+    float sg = 0.0f;
+    r.any = shader::edgeRegion(p, e0, e1, light, r.h0, r.h1, r.h2, sg);
     if (r.any) {
         r.from = shader::partsSectorFrom(r.h0, r.h1, sg);
         r.to = shader::partsSectorTo(r.h0, r.h1, sg);
