@@ -424,10 +424,16 @@ TEST(PartsTest, QuadrantCoverageIsEdgePartsCoverage) {
             nonZero += q[i] != 0.0f;
             reached += q[i] != 0.0f;
             if (k.magnification > kMaxMagnification) continue; // ill-conditioned projection
-            // Both sum the same terms in another order and cut: rounding of the light's size.
+            // Both sum the same terms in another order and cut, from ends projected apart: float
+            // rounding, of the light's size times the magnification. Over 10^6 cases (this seed,
+            // 4x10^6 quadrants) the largest difference is 8.2e-6 x magnification (99.99 % below
+            // 5e-7); these 20 000 reach 1.6e-6 with GCC's draws, 2.0e-6 with clang's (which
+            // evaluates randomCase's call arguments in another order). Each is within 3.5e-5 x
+            // magnification of the double model over those 10^6 cases: the error is edgeParts4's
+            // as often as the one walk's.
             const double twin = std::abs(double(q[i]) - std::abs(parts.coverage[i]));
             maxTwin = std::max(maxTwin, twin / k.magnification);
-            EXPECT_LE(twin, 2e-6 * k.magnification) << n << " quadrant " << i;
+            EXPECT_LE(twin, 2e-5 * k.magnification) << n << " quadrant " << i;
             const double model =
                 std::abs(double(q[i]) - std::abs(partCoverage(edge, radialPart(4, i))));
             maxModel = std::max(maxModel, model / k.magnification);
