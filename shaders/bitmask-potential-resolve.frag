@@ -147,15 +147,23 @@ void main() {
     for (int layer = 0; layer < layers; ++layer) {
         uint x = imageLoad(iCounts, ivec3(px, layer)).r;
         int hiddenRun = 0, sumRun = 0; // this word's 8 samples, all in one quadrant
+        // The own plane's 8 bits for these samples in, the hidden ones out, as bytes: the
+        // 32-bit word of the layer picked by comparing with each constant index (an index that
+        // varies, into a local array, is a memory access per lane on a SIMD rasteriser:
+        // measured, the resolve 15-25 % slower).
+        uint planeWord = 0u;
+        for (int k = 0; k < BITMASK_SAMPLES / 32; ++k)
+            planeWord = k == (layer >> 2) ? planeWords[k] : planeWord;
+        uint planeByte = (planeWord >> uint(8 * (layer & 3))) & 0xFFu;
+        uint hiddenByte = 0u;
         for (int j = 0; j < 8; ++j) {
             int d = int((x >> uint(4 * j)) & 15u) - 8;
             added += uint(d);
             weighted += uint((j + 1) * d);
             int D = centre + d;
-            int i = 8 * layer + j;
-            int plane = int((planeWords[i >> 5] >> uint(i & 31)) & 1u);
+            int plane = int((planeByte >> uint(j)) & 1u);
             if (D != 0 || plane != 0) {
-                words[i >> 5] |= 1u << uint(i & 31);
+                hiddenByte |= 1u << uint(j);
                 ++hidden;
                 int layers = abs(D) + plane;
                 sumD += layers;
@@ -168,6 +176,8 @@ void main() {
                 negative = negative || D < 0;
             }
         }
+        for (int k = 0; k < BITMASK_SAMPLES / 32; ++k)
+            words[k] |= k == (layer >> 2) ? hiddenByte << uint(8 * (layer & 3)) : 0u;
         // The word's quadrant (the light-samples table's w: geometry::lightMaskRunQuadrants),
         // one-hot: no dynamic index.
         int q = int(lightSamples[8 * layer].w);

@@ -206,15 +206,26 @@ void main() {
         // the pairs' at most MOMENT_EDGES^2 / 2) must fit what the list left of the budget; a
         // pixel they would not fit keeps no moment (its counts are complete: the frame stays
         // tiled).
-        int momentBudget = budget - BITMASK_SAMPLES - MOMENT_EDGES * (MOMENT_EDGES + 1) / 2;
+        const int countWords = BITMASK_SAMPLES / 8;
+        int momentBudget = budget - countWords * (9 + countWords) - MOMENT_EDGES * (MOMENT_EDGES + 1) / 2;
         if (momentsKept && regions > 0 && momentBudget >= 0) {
             uint stencil = texelFetch(tStencil, px, 0).r;
             int centre = int(stencil & 0x7Fu);
             if (centre >= 64) centre -= 128;
             uint seen = 0u;
-            for (int i = 0; i < BITMASK_SAMPLES; ++i) {
-                int D = centre + int((counts[i >> 3] >> uint(4 * (i & 7))) & 15u) - 8;
-                if (D != 0) seen |= 1u << uint(min(abs(D), 31));
+            // Word by word, as many as this pixel decodes: a loop of a constant count would be
+            // unrolled, and on a SIMD machine, where a branch does not skip what it guards, every
+            // pixel would pay the 64 samples' decoding (a tenth of the evaluation on the light
+            // grazing a plate); a loop whose count is 0 for every lane costs one pass of its body.
+            // The word is picked by comparing with each constant index (no dynamic array index).
+            int decodeWords = momentsKept && regions > 0 && momentBudget >= 0 ? countWords : 0;
+            for (int w = 0; w < decodeWords; ++w) {
+                uint x = 0u;
+                for (int k = 0; k < countWords; ++k) x = k == w ? counts[k] : x;
+                for (int b = 0; b < 8; ++b) {
+                    int D = centre + int((x >> uint(4 * b)) & 15u) - 8;
+                    if (D != 0) seen |= 1u << uint(min(abs(D), 31));
+                }
             }
             // (A count of 31 or more has no bit of its own: such pixels keep quadrants.)
             momentsKept = bitCount(seen) >= 2 && (seen & 0x80000000u) == 0u;
