@@ -7,7 +7,7 @@
 # silhouettes) and the default (estimate=moments, which takes the tiled evaluation on every
 # frame), on every data/ scene, the stability suite's hard cases and two levels' spawn views
 # with the lamp.
-# ROUNDS rounds (default 3) run the six variants alternately; each run's frame is the median of
+# ROUNDS rounds (default 5) run the six variants alternately; each run's frame is the median of
 # FRAMES frames after a warm-up, and the table gives the median over the rounds, as ratios to
 # `hard`'s frame of the same round; also the largest |V_tiles - V_raster| and the work counts.
 # Writes docs/bench-tiles.md. Usage: bash scripts/bench-tiles.sh [build-dir]
@@ -17,7 +17,7 @@ BUILD=${1:-build}
 BIN=$BUILD/bin/penumbra-render
 SIZE=${SIZE:-256x256}
 FRAMES=${FRAMES:-5}
-ROUNDS=${ROUNDS:-3}
+ROUNDS=${ROUNDS:-5}
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 source scripts/wedge-scenes.sh
