@@ -204,8 +204,9 @@ SHARED_FN EdgeParts4 edgeParts4(vec3 p, vec3 e0, vec3 e1, CoverageLight light) {
 // R's half-planes (shared/LightMask.h edgeRegion, as wedges-bitmask's potential wedges take it
 // for their light-sample masks). They add it times m_P(e): per quadrant the exact integral of D
 // over the quadrant (estimate=quadrants and moments, bitmask-potential-resolve.frag). The
-// shares in one walk along R ∩ L's boundary rather than one per quadrant (4 times the work): Green's sum with the centre as origin splits by quadrant at the axes, whose
-// pieces of each quadrant's boundary, like R's rays, pass through the origin and add nothing.
+// shares in one walk along R ∩ L's boundary rather than one per quadrant (4 times the work):
+// Green's sum with the centre as origin splits by quadrant at the axes, whose pieces of each
+// quadrant's boundary, like R's rays, pass through the origin and add nothing.
 // Each side of the light square lies half in one quadrant, half in the next; the piece along
 // the line (which misses the centre) crosses each axis at most once. Measured against
 // edgeParts4's per-quadrant walks and the double model in PartsTest.

@@ -317,20 +317,25 @@ TEST_F(PotentialSilhouettes, TiledListsRecordedOrRefilledAlike) {
 }
 
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe
-// ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere seen
-// at 16², 115 000 wedges over 4 tiles (at 32² its pixels' lists fit since only the pairs whose
-// R meets the light count in full). Counted (wedge_tiles_truncated, 13 pixels), the frame
-// rasterised instead: V and the masks are the raster pass's, bit for bit.
+// ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere at
+// 64², seen with a field of view four times as wide as the scene's (117.8 degrees), so that its
+// 115 000 wedges fall on about as few tiles as at 16² with the scene's own (at a quarter of
+// that zoom its pixels' lists fit, since only the pairs whose R meets the light count in full).
+// Counted (wedge_tiles_truncated), the frame rasterised instead: V and the masks are the raster
+// pass's, bit for bit.
 // Before the budget such a frame dropped pairs silently (the 10^6-triangle sphere of EdgeCases
 // at 128²: 178 pixels off the reference of the same samples, 2 with the raster pass).
 TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     geometry::Scene scene = geometry::loadScene(testutil::dataPath("sphere.json"));
     scene.objects[1].mesh = geometry::makeSphere({0.0f, 1.0f, 0.0f}, 0.5f, 600);
+    const float halfTan = 4.0f * std::tan(glm::radians(0.5f * scene.camera.fovYDeg));
+    scene.camera.fovYDeg = glm::degrees(2.0f * std::atan(halfTan));
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
-    const RasterAndTiled f = rasterThenTiled(renderer, 16);
-    std::printf("  600-segment sphere at 16²: %.0f pixels past the loop budget\n",
-                counter(f.tiledStats, "wedge_tiles_truncated"));
+    const RasterAndTiled f = rasterThenTiled(renderer, 64);
+    std::printf("  600-segment sphere at 64², field of view %.1f degrees: %.0f pixels past the "
+                "loop budget\n",
+                scene.camera.fovYDeg, counter(f.tiledStats, "wedge_tiles_truncated"));
     EXPECT_GT(counter(f.tiledStats, "wedge_tiles_truncated"), 0.0);
     EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
     EXPECT_EQ(testutil::countDiffering(f.tiledV, f.rasterV, 0.0), 0u);
