@@ -105,7 +105,9 @@ PY
 done
 {
     echo "<!-- written by scripts/bench-commit.sh; do not edit by hand -->"
-    echo "\`$METHOD\` at $short (\"old\", $(git log -1 --format='%ad' --date=short "$COMMIT"): $(git log -1 --format='%s' "$COMMIT" | cut -c1-80)…)"
+    subject=$(git log -1 --format='%s' "$COMMIT")
+    [ ${#subject} -le 80 ] || subject="${subject:0:80}…"
+    echo "\`$METHOD\` at $short (\"old\", $(git log -1 --format='%ad' --date=short "$COMMIT"): $subject)"
     echo "against this tree's (\"new\", $(git rev-parse --short=9 HEAD)$(git diff --quiet HEAD -- . 2>/dev/null || echo ' with changes')) and this tree's with \`$EXTRA\` (\"variant\"),"
     echo "both built Release and run alternately, $SIZE: frame over this tree's \`hard\` of the same round,"
     echo "and ratios, medians of $ROUNDS rounds (each run the median of $FRAMES frames after a warm-up)."
