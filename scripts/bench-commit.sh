@@ -47,19 +47,12 @@ cleanup() {
 trap cleanup EXIT
 
 source scripts/wedge-scenes.sh
-scenes=("${wedge_scenes[@]}" ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0)
 extra=()
 for p in $EXTRA; do extra+=(--param "$p"); done
 rows=()
 renderer=""
-for entry in "${scenes[@]}"; do
-    scene=${entry%@*}
-    camera=()
-    name=$(basename "$scene" .json)
-    if [ "$entry" != "$scene" ]; then
-        camera=(--camera "${entry#*@}")
-        name="$(basename "$scene" .glb) camera ${entry#*@}"
-    fi
+for entry in "${wedge_views[@]}"; do
+    wedge_view "$entry"
     echo "== $name" >&2
     : >"$OUT/rounds.txt"
     for round in $(seq "$ROUNDS"); do

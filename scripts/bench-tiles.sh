@@ -21,7 +21,6 @@ ROUNDS=${ROUNDS:-5}
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 source scripts/wedge-scenes.sh
-scenes=("${wedge_scenes[@]}" ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0)
 # tag|method|params
 variants=("hard|hard|" "centre|wedges-bitmask|silhouettes=centre"
           "raster|wedges-bitmask|evaluate=raster estimate=quadrants"
@@ -29,14 +28,8 @@ variants=("hard|hard|" "centre|wedges-bitmask|silhouettes=centre"
           "auto|wedges-bitmask|estimate=quadrants" "default|wedges-bitmask|")
 rows=()
 renderer=""
-for entry in "${scenes[@]}"; do
-    scene=${entry%@*}
-    camera=()
-    name=$(basename "$scene" .json)
-    if [ "$entry" != "$scene" ]; then
-        camera=(--camera "${entry#*@}")
-        name="$(basename "$scene" .glb) camera ${entry#*@}"
-    fi
+for entry in "${wedge_views[@]}"; do
+    wedge_view "$entry"
     echo "== $name" >&2
     for round in $(seq "$ROUNDS"); do
         for v in "${variants[@]}"; do

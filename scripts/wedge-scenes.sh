@@ -1,5 +1,6 @@
-# The scenes the wedge benches measure (sourced by bench-potential.sh and bench-tiles.sh): every
-# data/ scene with wedges and the stability suite's hard cases, relative to the repository root.
+# The scenes the wedge benches measure (sourced by bench-potential.sh, bench-tiles.sh and
+# bench-commit.sh): every data/ scene with wedges and the stability suite's hard cases, relative
+# to the repository root.
 wedge_scenes=(data/overlap.json data/plates-three.json data/bars-cross.json data/diamonds.json
               data/parallel-square.json data/plate-tilted.json data/box.json data/sphere.json
               data/torus.json data/torus-box.json data/spheres-nine.json data/demo.json
@@ -8,3 +9,16 @@ wedge_scenes=(data/overlap.json data/plates-three.json data/bars-cross.json data
               data/stability/faceted-sphere.json data/stability/open-nonmanifold.json
               data/stability/near-clip.json data/stability/camera-in-volume.json
               data/stability/camera-in-wedge.json)
+# The same and two levels' spawn views (scene@camera), for the frame benches.
+wedge_views=("${wedge_scenes[@]}" ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0)
+# wedge_view ENTRY: sets scene (the file), camera (penumbra-render's --camera arguments, or
+# none) and name (the table's row) from an entry of wedge_views.
+wedge_view() {
+    scene=${1%@*}
+    camera=()
+    name=$(basename "$scene" .json)
+    if [ "$1" != "$scene" ]; then
+        camera=(--camera "${1#*@}")
+        name="$(basename "$scene" .glb) camera ${1#*@}"
+    fi
+}
