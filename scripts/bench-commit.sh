@@ -5,7 +5,8 @@
 # ("new") and METHOD here with EXTRA parameters ("variant"; default silhouettes=centre, the
 # wedges-bitmask of before per-receiver silhouettes). Each run's frame is the median of FRAMES
 # frames after a warm-up; the table gives medians over ROUNDS rounds (default 5) of the ratios
-# within each round. Writes docs/bench-commit.md.
+# within each round; VIEWS (file or file@camera, space-separated) measures those views only.
+# Writes docs/bench-commit.md.
 # Usage: bash scripts/bench-commit.sh COMMIT [build-dir]
 #   COMMIT: what to compare with (the issue's frame target: 5c2f487^, the method when
 #   per-receiver silhouettes were asked for). Its penumbra-render is built Release in a git
@@ -27,22 +28,12 @@ FRAMES=${FRAMES:-5}
 ROUNDS=${ROUNDS:-5}
 [ -x "$BIN" ] || { echo "bench-commit: build this tree first ($BIN missing)" >&2; exit 2; }
 
-short=${COMMIT:0:9}
-TREE=$(realpath -m "$BUILD/commit-$short")
-OLD=$TREE/build/bin/penumbra-render
-if [ ! -x "$OLD" ]; then
-    echo "== building $short in $TREE (Release, penumbra-render only)" >&2
-    [ -d "$TREE/src" ] || git worktree add --detach "$TREE/src" "$COMMIT" >&2
-    cmake -S "$TREE/src" -B "$TREE/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$TREE/build" -j"$(nproc)" --target penumbra-render >&2
-fi
+source scripts/commit-build.sh
+commit_render "$COMMIT" "$BUILD"
 OUT=$(mktemp -d)
 cleanup() {
     rm -rf "$OUT"
-    if [ "${KEEP:-0}" != 1 ]; then
-        git worktree remove --force "$TREE/src" 2>/dev/null || true
-        rm -rf "$TREE"
-    fi
+    commit_cleanup
 }
 trap cleanup EXIT
 
@@ -51,7 +42,9 @@ extra=()
 for p in $EXTRA; do extra+=(--param "$p"); done
 rows=()
 renderer=""
-for entry in "${wedge_views[@]}"; do
+views=("${wedge_views[@]}")
+[ -z "${VIEWS:-}" ] || read -r -a views <<<"$VIEWS"
+for entry in "${views[@]}"; do
     wedge_view "$entry"
     echo "== $name" >&2
     : >"$OUT/rounds.txt"

@@ -8,7 +8,13 @@
 // (IMAGE_BITMASK_AREA), and whether any edge added (the raster pass's stencil mark), in the
 // layer after the checksums. The area is summed in 64-bit fixed point (2^-29), so that the
 // lists' order, which the binning's atomics decide, does not change it. With estimate=moments
-// (uMoments) also P, the second moment of the wedges' sum over the light, in the layer after.
+// (uMoments), for the pixels that need P, the second moment of the wedges' sum over the light
+// (those whose samples see two or more layer counts: few), the edges that added there into a
+// slot of the moments buffer, and for every pixel the sentinel WEDGE_TILES_NO_MOMENT in the
+// layer after the mark: wedge-moments.comp then computes P for the slots into that layer. (Here
+// every pixel paid a pass of the pairs' loop, on a SIMD machine whether or not it needed it, and
+// kept every region in local arrays indexed per lane: the frame's instructions, counted, 4 %
+// more on bars-cross and on the sphere.)
 #include "lib/Bindings.h"
 #include "shared/WedgeHull.h"
 
@@ -47,13 +53,18 @@ vec4 record(uint slot, int k) {
 
 layout(location = 1) uniform ivec2 uTiles; // tiles across, down
 layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
-// estimate=moments: also the second moment of the counts over the light (below), in the layer
-// after the mark; 0: not computed.
+// estimate=moments: also the regions for the second moment of the counts over the light
+// (below), and the moment layer after the mark; 0: not computed.
 layout(location = 4) uniform uint uMoments;
 
-// estimate=moments keeps the regions of at most this many edges per pixel; a pixel with more
-// gets no second moment (its resolve estimates by quadrants).
-#define MOMENT_EDGES 16
+// estimate=moments keeps the regions of at most MOMENT_EDGES edges per pixel (lib/Bindings.h); a
+// pixel with more gets no second moment (its resolve estimates by quadrants). Those that need P
+// go to a slot of the moments buffer, while there are slots (uMomentSlots; the count of those
+// that needed one is read back: a frame with more runs this pass again with room for all).
+layout(std430, binding = BINDING_WEDGE_TILE_MOMENTS) writeonly buffer TileMoments {
+    uint tileMoments[]; // MOMENT_SLOT_UINTS per slot: the pixel, its edges' number, the edges
+};
+layout(location = 5) uniform uint uMomentSlots;
 
 const float kAreaScale = 536870912.0; // 2^29: |m share| <= 2 fits a signed 32-bit step
 
@@ -76,9 +87,6 @@ void main() {
     if (any(greaterThanEqual(px, uSize))) return;
     vec4 position = texelFetch(tPosition, px, 0);
     uint touched = 0u;
-    // estimate=moments: P's bits, or WEDGE_TILES_NO_MOMENT (no finite float has them) where
-    // not kept.
-    uint momentBits = WEDGE_TILES_NO_MOMENT;
     if (position.w != 0.0) {
         vec3 p = position.xyz;
         vec3 eye = frame.eye.xyz;
@@ -90,12 +98,13 @@ void main() {
         int added = 0, weighted = 0;
         uvec2 area[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
         uint pairs = 0u;
-        // estimate=moments: R's sector and line (as the area takes them), m and m |R ∩ L| / |L|
-        // of every edge that added, for the pairs' overlaps after the list.
-        vec4 regionSector[MOMENT_EDGES]; // (from, to): its rays (shared/Parts.h)
-        vec3 regionLine[MOMENT_EDGES];
-        int regionM[MOMENT_EDGES];
-        float regionShare[MOMENT_EDGES]; // m |R ∩ L| / |L|
+        // estimate=moments: every edge that added with a region that meets the light, as its
+        // wedge slot and m (slot | (m + 2) << 29: the slots' records, 16 texels each, fit a
+        // buffer texture), for P after the list (wedge-moments.comp computes their regions
+        // again). In registers: written by comparing with each constant index (an index that
+        // varies, into a local array, is a memory access per lane on a SIMD machine).
+        uint regionEdges[MOMENT_EDGES];
+        for (int k = 0; k < MOMENT_EDGES; ++k) regionEdges[k] = 0u;
         int regions = 0;
         bool momentsKept = uMoments != 0u;
         // The list in runs of 32, in three loops: the hull's four planes, where most pairs end,
@@ -174,11 +183,9 @@ void main() {
                 // (An edge whose R misses the light adds nothing to P: not kept.)
                 if (momentsKept && share != 0.0) {
                     if (regions < MOMENT_EDGES) {
-                        regionSector[regions] = vec4(partsSectorFrom(h0, h1, sg),
-                                                     partsSectorTo(h0, h1, sg));
-                        regionLine[regions] = h2;
-                        regionM[regions] = m;
-                        regionShare[regions] = share;
+                        uint edge = slot | (uint(m + 2) << 29);
+                        for (int k = 0; k < MOMENT_EDGES; ++k)
+                            regionEdges[k] = k == regions ? edge : regionEdges[k];
                         ++regions;
                     } else {
                         momentsKept = false;
@@ -198,14 +205,11 @@ void main() {
                 ++pairs;
             }
         }
-        // estimate=moments: P = the integral over the light of (sum over the edges of m times
-        // R's indicator)^2, over |L|: sum_e m_e^2 |R_e| + 2 sum_{e < f} m_e m_f |R_e ∩ R_f|.
-        // With D(P, c) and A the resolve has the second moment of D from it.
-        // Only pixels whose samples see two or more non-zero counts need it (the resolve uses it
-        // nowhere else): the counts are decoded with D(P, c) first. Its loops (the decoding's,
-        // the pairs' at most MOMENT_EDGES^2 / 2) must fit what the list left of the budget; a
-        // pixel they would not fit keeps no moment (its counts are complete: the frame stays
-        // tiled).
+        // estimate=moments: P (wedge-moments.comp) is needed only by pixels whose samples see
+        // two or more non-zero counts (the resolve uses it nowhere else): the counts are decoded
+        // with D(P, c) first. The decoding's loop and the pairs' (at most MOMENT_EDGES^2 / 2,
+        // in that pass) must fit what the list left of this pixel's budget; a pixel they would
+        // not fit keeps no moment (its counts are complete: the frame stays tiled).
         const int countWords = BITMASK_SAMPLES / 8;
         int momentBudget =
             budget - countWords * (9 + countWords) - MOMENT_EDGES * (MOMENT_EDGES + 1) / 2;
@@ -232,17 +236,17 @@ void main() {
             // (A count of 31 or more has no bit of its own: such pixels keep quadrants.)
             momentsKept = bitCount(seen) >= 2 && (seen & 0x80000000u) == 0u;
         }
-        if (momentsKept && regions > 0 && momentBudget >= 0) {
-            float sum = 0.0;
-            for (int e = 0; e < regions; ++e) {
-                sum += float(regionM[e]) * regionShare[e]; // m^2 |R_e ∩ L| / |L|
-                for (int f = e + 1; f < regions; ++f)
-                    sum += 2.0 * float(regionM[e] * regionM[f]) *
-                           partsRegionsOverlap(regionSector[e].xy, regionSector[e].zw,
-                                               regionLine[e], regionSector[f].xy,
-                                               regionSector[f].zw, regionLine[f]);
-            }
-            momentBits = floatBitsToUint(sum);
+        // The pixels that need P: the pixel and its edges into a slot for wedge-moments.comp
+        // (the pairs' loop in a pass of its own, over those pixels only).
+        bool needsMoment = momentsKept && regions > 0 && momentBudget >= 0;
+        uint momentSlot = 0xFFFFFFFFu;
+        if (needsMoment) momentSlot = atomicAdd(heads[3 * T + WEDGE_TILES_MOMENT_PIXELS], 1u);
+        if (needsMoment && momentSlot < uMomentSlots) {
+            uint at = momentSlot * uint(MOMENT_SLOT_UINTS);
+            tileMoments[at] = uint(px.x) | (uint(px.y) << 16);
+            tileMoments[at + 1u] = uint(regions);
+            for (int k = 0; k < MOMENT_EDGES; ++k)
+                if (k < regions) tileMoments[at + 2u + uint(k)] = regionEdges[k];
         }
         if (budget < 0) atomicAdd(heads[3 * T + WEDGE_TILES_TRUNCATED], 1u);
         if (pairs > 0u) {
@@ -257,6 +261,8 @@ void main() {
         }
     }
     imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 2), uvec4(touched));
+    // estimate=moments: no P yet (WEDGE_TILES_NO_MOMENT: no finite float has its bits);
+    // wedge-moments.comp writes it for the pixels with a slot.
     if (uMoments != 0u)
-        imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3), uvec4(momentBits));
+        imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3), uvec4(WEDGE_TILES_NO_MOMENT));
 }

@@ -60,18 +60,26 @@
 // tile's list), while they fit the buffer: the place stage writes them into the lists without
 // testing the tiles again.
 #define BINDING_WEDGE_TILE_PAIRS 18
+// estimate=moments: per pixel that needs P (its samples see two or more layer counts), the
+// pixel (x | y << 16), the number of edges that added there with a region meeting the light,
+// and each one's wedge slot | (m + 2) << 29, for shaders/wedge-moments.comp.
+#define BINDING_WEDGE_TILE_MOMENTS 19
+#define MOMENT_EDGES 16 // edges a slot holds: a pixel where more add keeps no P
+#define MOMENT_SLOT_UINTS (2 + MOMENT_EDGES)
 #define WEDGE_TILES_TOTAL 0        // list entries over all tiles (after the heads' 3 per tile)
 #define WEDGE_TILES_PAIRS_ADDED 1  // (pixel, wedge) pairs that added to the counts
 #define WEDGE_TILES_OVERFLOW 2     // 1: the total passed 2^32 - 1 (the lists cannot be held)
 #define WEDGE_TILES_TRUNCATED 3    // invocations that stopped at WEDGE_TILES_LOOP_BUDGET
 #define WEDGE_TILES_ACTIVE 4       // tiles with a non-empty list (their ids follow the header)
 #define WEDGE_TILES_RECORDED 5     // entries the count stage found (recorded while they fit)
+#define WEDGE_TILES_MOMENT_PIXELS 6 // estimate=moments: pixels whose regions the evaluation kept
+                                   // for wedge-moments.comp (stored while they fit)
 // Loop iterations one invocation of the tiled passes may run: Mesa's llvmpipe ends every loop of
 // an invocation silently once their iterations add up to 65535 (gallivm's limit on loops), so a
 // pass that could run longer counts its iterations, stops short of that and says so; the frame
 // then rasterises its wedges instead.
 #define WEDGE_TILES_LOOP_BUDGET 60000
-#define WEDGE_TILES_HEADER 6       // uints after the 3 per tile (then one per tile: the active ids)
+#define WEDGE_TILES_HEADER 7       // uints after the 3 per tile (then one per tile: the active ids)
 // estimate=moments: the moment layer's value where the tiled pass kept no P (a NaN's bits, which
 // floatBitsToUint of a finite P never gives; compared as bits, never as a float)
 #define WEDGE_TILES_NO_MOMENT 0xFFFFFFFFu

@@ -316,6 +316,32 @@ TEST_F(PotentialSilhouettes, TiledListsRecordedOrRefilledAlike) {
     EXPECT_TRUE(renderer.lightMasks().words == firstMasks.words);
 }
 
+// estimate=moments: the pixels that need P (their samples see two or more layer counts) keep
+// their regions in a buffer sized by the last frame's (at least 1024 pixels), and a pass of
+// their own computes P. Where they do not fit (a renderer's first frame of plates-three at
+// 128²: about 3 700 such pixels) the evaluation runs again with room for all: the same V and
+// masks as the next frame, which fits, bit for bit, and wedge_moment_reruns says which ran.
+TEST_F(PotentialSilhouettes, MomentPixelsThatDoNotFitRunTheEvaluationAgain) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    const gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 128, 128);
+    const gpu::FrameStats first = renderer.renderFrame(s);
+    const geometry::FloatImage firstV = renderer.visibility();
+    const gpu::LightMasks firstMasks = renderer.lightMasks();
+    const gpu::FrameStats second = renderer.renderFrame(s);
+    std::printf("  plates-three at 128²: %.0f moment pixels; reruns %.0f, then %.0f\n",
+                counter(first, "moment_pixels"), counter(first, "wedge_moment_reruns"),
+                counter(second, "wedge_moment_reruns"));
+    ASSERT_EQ(counter(first, "wedge_evaluation_tiled"), 1.0);
+    EXPECT_GT(counter(first, "moment_pixels"), 1024.0);
+    EXPECT_EQ(counter(first, "wedge_moment_reruns"), 1.0);
+    EXPECT_EQ(counter(second, "wedge_moment_reruns"), 0.0);
+    EXPECT_EQ(counter(first, "moment_pixels"), counter(second, "moment_pixels"));
+    EXPECT_EQ(testutil::countDiffering(renderer.visibility(), firstV, 0.0), 0u);
+    EXPECT_TRUE(renderer.lightMasks().words == firstMasks.words);
+}
+
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe
 // ends an invocation's loops silently after 65535 iterations in all): a 600-segment sphere at
 // 64², seen with a field of view four times as wide as the scene's (117.8 degrees), so that its

@@ -361,6 +361,9 @@ private:
                 ctx.addCounter("wedge_tiles", static_cast<double>(tileStats.tiles));
                 ctx.addCounter("wedge_tiles_active", static_cast<double>(tileStats.activeTiles));
                 ctx.addCounter("wedge_tiles_refilled", static_cast<double>(tileStats.refilled));
+                if (moments())
+                    ctx.addCounter("wedge_moment_reruns",
+                                   static_cast<double>(tileStats.momentRerun));
             }
         }
         addWedgeCounters(ctx, counts, mPotential.wedgeRuns());

@@ -12,6 +12,7 @@ namespace {
 constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/WedgeTiles.glsl)
 constexpr std::size_t kPairBytes = 3 * 4;         // a recorded entry (BINDING_WEDGE_TILE_PAIRS)
 constexpr std::size_t kMaxPairs = std::size_t(1) << 24; // 192 MiB of recorded entries
+constexpr std::size_t kMomentSlotBytes = MOMENT_SLOT_UINTS * 4; // a pixel's edges for P
 
 // `groups` work groups of the bound compute program in rows of at most 32768 (GL guarantees
 // 65535 per dimension; a 4K frame has 129 600 tiles): the shader numbers them
@@ -46,7 +47,10 @@ WedgeTilePass::WedgeTilePass(const ShaderLoader& shaders, const std::vector<std:
       mPlace(binning(shaders, 4, kTile, "wedge-tiles-place")),
       mEvaluate(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-bitmask-tiles.comp"}},
                               .defines = withTile(defines, kTile),
-                              .label = "wedge-bitmask-tiles"})) {
+                              .label = "wedge-bitmask-tiles"})),
+      mMoments(shaders.load({.stages = {{GL_COMPUTE_SHADER, "wedge-moments.comp"}},
+                             .defines = defines,
+                             .label = "wedge-moments"})) {
     GLint texels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
     mMaxTexels = static_cast<std::size_t>(std::max(texels, 0));
@@ -167,6 +171,13 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glUniform1ui(4, moments ? 1u : 0u);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glBindImageTexture(IMAGE_BITMASK_AREA, area.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    // estimate=moments: the slots for the pixels that need P (their regions), sized for the
+    // last frame's and half as many again.
+    if (mMomentBuffer.size() < mMomentSlots * kMomentSlotBytes)
+        mMomentBuffer = Buffer({.size = mMomentSlots * kMomentSlotBytes, .flags = 0,
+                                .label = "wedge-tile-moments"});
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_MOMENTS, mMomentBuffer.id());
+    glUniform1ui(5, static_cast<GLuint>(moments ? mMomentSlots : 0));
     // One work group per tile whose list is not empty (their number read back with the total);
     // the other pixels' mark layer is the caller's clear.
     const GLuint active = header[WEDGE_TILES_ACTIVE];
@@ -177,10 +188,45 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     // counts incomplete: the caller rasterises instead.
     glGetNamedBufferSubData(mLists.id(), static_cast<GLintptr>(3 * tiles * 4),
                             static_cast<GLsizeiptr>(sizeof(header)), header.data());
+    mStats.momentRerun = 0;
+    const std::size_t momentNeeded = header[WEDGE_TILES_MOMENT_PIXELS];
+    if (moments && momentNeeded > mMomentSlots && header[WEDGE_TILES_TRUNCATED] == 0) {
+        // More pixels needed P than there were slots: the evaluation again with room for all
+        // (it overwrites everything it wrote; its counters start again), so that no pixel
+        // loses its moment to the buffer's size. Counted: wedge_moment_reruns.
+        mMomentSlots = momentNeeded + momentNeeded / 2;
+        mMomentBuffer = Buffer({.size = mMomentSlots * kMomentSlotBytes, .flags = 0,
+                                .label = "wedge-tile-moments"});
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_MOMENTS,
+                         mMomentBuffer.id());
+        glUniform1ui(5, static_cast<GLuint>(mMomentSlots));
+        for (const int counter : {WEDGE_TILES_PAIRS_ADDED, WEDGE_TILES_MOMENT_PIXELS})
+            glClearNamedBufferSubData(mLists.id(), GL_R32UI,
+                                      static_cast<GLintptr>((3 * tiles + counter) * 4), 4,
+                                      GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        dispatchRows(active);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                        GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(mLists.id(), static_cast<GLintptr>(3 * tiles * 4),
+                                static_cast<GLsizeiptr>(sizeof(header)), header.data());
+        mStats.momentRerun = 1;
+    }
     mStats.entries = mEntries;
     mStats.pairsAdded = header[WEDGE_TILES_PAIRS_ADDED];
     mStats.truncated = header[WEDGE_TILES_TRUNCATED];
-    return mStats.truncated == 0;
+    mStats.momentPixels = moments ? header[WEDGE_TILES_MOMENT_PIXELS] : 0;
+    if (mStats.truncated != 0) return false;
+    // P for the pixels with a slot, one invocation each.
+    const auto slotsUsed =
+        static_cast<GLuint>(std::min<std::size_t>(mStats.momentPixels, mMomentSlots));
+    if (slotsUsed > 0) {
+        glUseProgram(mMoments.id());
+        glUniform1ui(0, slotsUsed);
+        dispatchRows((slotsUsed + 63) / 64);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+    return true;
 }
 
 } // namespace gpu

@@ -37,6 +37,11 @@ struct WedgeTileStats {
     // tiled frame, or one with many more entries than the last): the fill stage tested every
     // slot's tiles again instead of placing the recorded entries.
     std::uint64_t refilled = 0;
+    // estimate=moments: pixels whose samples see two or more layer counts and that kept their
+    // regions for P (wedge-moments.comp), and 1 where the moments buffer was too small for
+    // them and the evaluation ran again with room for all.
+    std::uint64_t momentPixels = 0;
+    std::uint64_t momentRerun = 0;
 };
 
 class WedgeTilePass {
@@ -63,8 +68,9 @@ public:
 private:
     static constexpr int kTile = 8; // pixels per tile side (WEDGE_TILE)
     SurfaceTilePass mSurface, mSupertiles; // per tile, per 32 x 32 pixels
-    Program mRecord, mCount, mScan, mFill, mPlace, mEvaluate;
-    Buffer mRecords, mLists, mPairs;
+    Program mRecord, mCount, mScan, mFill, mPlace, mEvaluate, mMoments;
+    Buffer mRecords, mLists, mPairs, mMomentBuffer;
+    std::size_t mMomentSlots = 1024; // pixels the moments buffer holds (grown as frames need)
     glm::ivec2 mTiles{0};
     std::uint32_t mEntries = 0;
     WedgeTileStats mStats;

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The instructions one frame of METHOD executes, this tree against an earlier commit, counted
+# under valgrind (cachegrind without its cache model) with llvmpipe on one thread: a number
+# that does not move between runs, where wall time on a shared machine moves by 10-30 % (the
+# frame benches need many alternating rounds to see a few per cent). It measures work, not
+# time: memory latency and how well the threads share the frame are not in it, so it says
+# whether a change does less, not how much sooner the frame ends (bench-commit.sh does).
+# Per view and build: one small run to fill Mesa's shader cache, then 1 and 6 frames (after the
+# warm-up frame); the per-frame count is their difference over 5. About a minute per run at
+# 256²; VIEWS (default: the wedge benches' views) and JOBS (default 2) in parallel.
+# Writes docs/frame-instructions.md. Usage: bash scripts/frame-instructions.sh COMMIT [build-dir]
+# Needs valgrind (the Debian package of that name; not needed to build or test).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ $# -lt 1 ]; then
+    echo "usage: bash scripts/frame-instructions.sh COMMIT [build-dir]" >&2
+    exit 2
+fi
+command -v valgrind >/dev/null || { echo "frame-instructions: needs valgrind (apt-get install valgrind)" >&2; exit 2; }
+COMMIT=$(git rev-parse --verify "$1^{commit}") || { echo "frame-instructions: no commit '$1'" >&2; exit 2; }
+BUILD=${2:-build}
+BIN=$(realpath "$BUILD/bin/penumbra-render")
+METHOD=${METHOD:-wedges-bitmask}
+SIZE=${SIZE:-256x256}
+JOBS=${JOBS:-2}
+[ -x "$BIN" ] || { echo "frame-instructions: build this tree first ($BIN missing)" >&2; exit 2; }
+source scripts/commit-build.sh
+commit_render "$COMMIT" "$BUILD"
+OUT=$(mktemp -d)
+cleanup() {
+    rm -rf "$OUT"
+    commit_cleanup
+}
+trap cleanup EXIT
+source scripts/wedge-scenes.sh
+views=("${wedge_views[@]}")
+[ -z "${VIEWS:-}" ] || read -r -a views <<<"$VIEWS"
+
+# count BIN VIEW TAG: the per-frame instructions in millions, into $OUT/TAG.
+count() {
+    local bin=$1 entry=$2 tag=$3
+    wedge_view "$entry"
+    run() {
+        LP_NUM_THREADS=0 valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file=/dev/null \
+            --smc-check=all "$bin" --scene "$scene" "${camera[@]}" --method "$METHOD" \
+            --size "$2" --frames "$1" --out "$OUT/$tag.render" --quiet 2>&1 |
+            sed -n 's/.*I *refs: *//p' | tr -d ,
+    }
+    run 1 64x64 >/dev/null # the shader cache filled (the programs do not depend on the size)
+    local one six
+    one=$(run 1 "$SIZE")
+    six=$(run 6 "$SIZE")
+    [ -n "$one" ] && [ -n "$six" ] || { echo "frame-instructions: $tag failed" >&2; echo nan >"$OUT/$tag"; return; }
+    /usr/bin/python3 -c 'import sys; print((int(sys.argv[2]) - int(sys.argv[1])) / 5e6)' "$one" "$six" >"$OUT/$tag"
+}
+export -f count wedge_view
+export OUT METHOD SIZE
+jobs=()
+for i in "${!views[@]}"; do
+    jobs+=("$OLD ${views[$i]} old-$i" "$BIN ${views[$i]} new-$i")
+done
+printf '%s\n' "${jobs[@]}" | xargs -P "$JOBS" -L 1 bash -c 'count "$0" "$1" "$2"; echo "== $2 ${1}" >&2'
+
+rows=()
+for i in "${!views[@]}"; do
+    wedge_view "${views[$i]}"
+    rows+=("$(/usr/bin/python3 - "$name" "$(cat "$OUT/old-$i")" "$(cat "$OUT/new-$i")" <<'PY'
+import math, sys
+name, old, new = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
+ratio = "—" if math.isnan(old) or math.isnan(new) else f"{new / old:.3f}"
+fmt = lambda v: "—" if math.isnan(v) else f"{v:.0f}"
+print(f"| {name} | {fmt(old)} | {fmt(new)} | {ratio} |")
+PY
+)")
+done
+{
+    echo "<!-- written by scripts/frame-instructions.sh; do not edit by hand -->"
+    subject=$(git log -1 --format='%s' "$COMMIT")
+    [ ${#subject} -le 80 ] || subject="${subject:0:80}…"
+    echo "Instructions per frame of \`$METHOD\` at $SIZE (millions; valgrind's count, llvmpipe on one"
+    echo "thread), $short (\"old\": $subject) against this tree"
+    echo "(\"new\", $(git rev-parse --short=9 HEAD)$(git diff --quiet HEAD -- . 2>/dev/null || echo ' with changes'))."
+    renderer=$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["gl_renderer"])' "$OUT/new-0.render/report.json")
+    echo "GL_RENDERER $renderer, CPU $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')."
+    echo
+    echo "| view | old | new | new / old |"
+    echo "|---|---|---|---|"
+    printf '%s\n' "${rows[@]}"
+} >docs/frame-instructions.md
+cat docs/frame-instructions.md
