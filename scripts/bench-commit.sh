@@ -89,12 +89,14 @@ print(f"| {name} | {med(lambda r: r[0]):.1f} | {cell(med(lambda r: r[1] / r[0]),
 PY
 )")
 done
+# (Whether the tree differs from HEAD, but for the table this writes.)
+tree_state=$(git diff --quiet HEAD -- . ':!docs/bench-commit.md' 2>/dev/null || echo ' with changes')
 {
     echo "<!-- written by scripts/bench-commit.sh; do not edit by hand -->"
     subject=$(git log -1 --format='%s' "$COMMIT")
     [ ${#subject} -le 80 ] || subject="${subject:0:80}…"
     echo "\`$METHOD\` at $short (\"old\", $(git log -1 --format='%ad' --date=short "$COMMIT"): $subject)"
-    echo "against this tree's (\"new\", $(git rev-parse --short=9 HEAD)$(git diff --quiet HEAD -- . 2>/dev/null || echo ' with changes')) and this tree's with \`$EXTRA\` (\"variant\"),"
+    echo "against this tree's (\"new\", $(git rev-parse --short=9 HEAD)$tree_state) and this tree's with \`$EXTRA\` (\"variant\"),"
     echo "both built Release and run alternately, $SIZE: frame over this tree's \`hard\` of the same round,"
     echo "and ratios, medians of $ROUNDS rounds (each run the median of $FRAMES frames after a warm-up)."
     echo "GL_RENDERER $renderer, CPU $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') ($(nproc) cores)."

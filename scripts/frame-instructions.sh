@@ -73,13 +73,15 @@ print(f"| {name} | {fmt(old)} | {fmt(new)} | {ratio} |")
 PY
 )")
 done
+# (Whether the tree differs from HEAD, but for the table this writes.)
+tree_state=$(git diff --quiet HEAD -- . ':!docs/frame-instructions.md' 2>/dev/null || echo ' with changes')
 {
     echo "<!-- written by scripts/frame-instructions.sh; do not edit by hand -->"
     subject=$(git log -1 --format='%s' "$COMMIT")
     [ ${#subject} -le 80 ] || subject="${subject:0:80}…"
     echo "Instructions per frame of \`$METHOD\` at $SIZE (millions; valgrind's count, llvmpipe on one"
     echo "thread), $short (\"old\": $subject) against this tree"
-    echo "(\"new\", $(git rev-parse --short=9 HEAD)$(git diff --quiet HEAD -- . 2>/dev/null || echo ' with changes'))."
+    echo "(\"new\", $(git rev-parse --short=9 HEAD)$tree_state)."
     renderer=$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["gl_renderer"])' "$OUT/new-0.render/report.json")
     echo "GL_RENDERER $renderer, CPU $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')."
     echo
