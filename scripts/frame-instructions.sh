@@ -19,7 +19,7 @@ fi
 command -v valgrind >/dev/null || { echo "frame-instructions: needs valgrind (apt-get install valgrind)" >&2; exit 2; }
 COMMIT=$(git rev-parse --verify "$1^{commit}") || { echo "frame-instructions: no commit '$1'" >&2; exit 2; }
 BUILD=${2:-build}
-BIN=$(realpath "$BUILD/bin/penumbra-render")
+BIN=$(realpath -m "$BUILD/bin/penumbra-render")
 METHOD=${METHOD:-wedges-bitmask}
 SIZE=${SIZE:-256x256}
 JOBS=${JOBS:-2}
