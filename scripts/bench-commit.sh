@@ -29,21 +29,14 @@ ROUNDS=${ROUNDS:-5}
 [ -x "$BIN" ] || { echo "bench-commit: build this tree first ($BIN missing)" >&2; exit 2; }
 
 source scripts/commit-build.sh
-commit_render "$COMMIT" "$BUILD"
-OUT=$(mktemp -d)
-cleanup() {
-    rm -rf "$OUT"
-    commit_cleanup
-}
-trap cleanup EXIT
+commit_begin "$COMMIT" "$BUILD"
 
 source scripts/wedge-scenes.sh
 extra=()
 for p in $EXTRA; do extra+=(--param "$p"); done
 rows=()
 renderer=""
-views=("${wedge_views[@]}")
-[ -z "${VIEWS:-}" ] || read -r -a views <<<"$VIEWS"
+wedge_selected_views
 for entry in "${views[@]}"; do
     wedge_view "$entry"
     echo "== $name" >&2
@@ -89,17 +82,14 @@ print(f"| {name} | {med(lambda r: r[0]):.1f} | {cell(med(lambda r: r[1] / r[0]),
 PY
 )")
 done
-# (Whether the tree differs from HEAD, but for the table this writes.)
-tree_state=$(git diff --quiet HEAD -- . ':!docs/bench-commit.md' 2>/dev/null || echo ' with changes')
 {
     echo "<!-- written by scripts/bench-commit.sh; do not edit by hand -->"
-    subject=$(git log -1 --format='%s' "$COMMIT")
-    [ ${#subject} -le 80 ] || subject="${subject:0:80}…"
+    subject=$(commit_subject "$COMMIT")
     echo "\`$METHOD\` at $short (\"old\", $(git log -1 --format='%ad' --date=short "$COMMIT"): $subject)"
-    echo "against this tree's (\"new\", $(git rev-parse --short=9 HEAD)$tree_state) and this tree's with \`$EXTRA\` (\"variant\"),"
+    echo "against this tree's (\"new\", $(tree_name docs/bench-commit.md)) and this tree's with \`$EXTRA\` (\"variant\"),"
     echo "both built Release and run alternately, $SIZE: frame over this tree's \`hard\` of the same round,"
     echo "and ratios, medians of $ROUNDS rounds (each run the median of $FRAMES frames after a warm-up)."
-    echo "GL_RENDERER $renderer, CPU $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') ($(nproc) cores)."
+    echo "GL_RENDERER $renderer, CPU $(cpu_name) ($(nproc) cores)."
     echo
     echo "| view | hard ms | old / hard | new / hard | variant / hard | new / old | variant / old | new / variant |"
     echo "|---|---|---|---|---|---|---|---|"

@@ -25,16 +25,9 @@ SIZE=${SIZE:-256x256}
 JOBS=${JOBS:-2}
 [ -x "$BIN" ] || { echo "frame-instructions: build this tree first ($BIN missing)" >&2; exit 2; }
 source scripts/commit-build.sh
-commit_render "$COMMIT" "$BUILD"
-OUT=$(mktemp -d)
-cleanup() {
-    rm -rf "$OUT"
-    commit_cleanup
-}
-trap cleanup EXIT
+commit_begin "$COMMIT" "$BUILD"
 source scripts/wedge-scenes.sh
-views=("${wedge_views[@]}")
-[ -z "${VIEWS:-}" ] || read -r -a views <<<"$VIEWS"
+wedge_selected_views
 
 # count BIN VIEW TAG: the per-frame instructions in millions, into $OUT/TAG.
 count() {
@@ -73,17 +66,14 @@ print(f"| {name} | {fmt(old)} | {fmt(new)} | {ratio} |")
 PY
 )")
 done
-# (Whether the tree differs from HEAD, but for the table this writes.)
-tree_state=$(git diff --quiet HEAD -- . ':!docs/frame-instructions.md' 2>/dev/null || echo ' with changes')
 {
     echo "<!-- written by scripts/frame-instructions.sh; do not edit by hand -->"
-    subject=$(git log -1 --format='%s' "$COMMIT")
-    [ ${#subject} -le 80 ] || subject="${subject:0:80}…"
+    subject=$(commit_subject "$COMMIT")
     echo "Instructions per frame of \`$METHOD\` at $SIZE (millions; valgrind's count, llvmpipe on one"
     echo "thread), $short (\"old\": $subject) against this tree"
-    echo "(\"new\", $(git rev-parse --short=9 HEAD)$tree_state)."
+    echo "(\"new\", $(tree_name docs/frame-instructions.md))."
     renderer=$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["gl_renderer"])' "$OUT/new-0.render/report.json")
-    echo "GL_RENDERER $renderer, CPU $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')."
+    echo "GL_RENDERER $renderer, CPU $(cpu_name)."
     echo
     echo "| view | old | new | new / old |"
     echo "|---|---|---|---|"

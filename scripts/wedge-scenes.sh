@@ -22,3 +22,9 @@ wedge_view() {
         name="$(basename "$scene" .glb) camera ${1#*@}"
     fi
 }
+# wedge_selected_views: sets views to VIEWS (entries as in wedge_views, space-separated) where
+# it is set, else to wedge_views.
+wedge_selected_views() {
+    views=("${wedge_views[@]}")
+    [ -z "${VIEWS:-}" ] || read -r -a views <<<"$VIEWS"
+}

@@ -26,6 +26,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -159,6 +160,25 @@ TEST_F(PotentialSilhouettes, MasksEqualTheDefinitionBitForBit) {
 
 // One wedges-bitmask frame with evaluate=raster, then one with evaluate=tiles and `tiled`'s
 // other settings, on `renderer`, at `size`²: each frame's stats, V and masks.
+// One frame's counters, V and light masks, kept after the renderer has moved on.
+struct KeptFrame {
+    gpu::FrameStats stats;
+    geometry::FloatImage v;
+    gpu::LightMasks masks;
+};
+KeptFrame renderAndKeep(gpu::Renderer& renderer, const gpu::RenderSettings& s) {
+    KeptFrame f;
+    f.stats = renderer.renderFrame(s);
+    f.v = renderer.visibility();
+    f.masks = renderer.lightMasks();
+    return f;
+}
+// The same V and masks, bit for bit.
+void expectSameFrame(const KeptFrame& a, const KeptFrame& b) {
+    EXPECT_EQ(testutil::countDiffering(a.v, b.v, 0.0), 0u);
+    EXPECT_TRUE(a.masks.words == b.masks.words);
+}
+
 struct RasterAndTiled {
     gpu::FrameStats rasterStats, tiledStats;
     geometry::FloatImage rasterV, tiledV;
@@ -171,13 +191,15 @@ RasterAndTiled rasterThenTiled(gpu::Renderer& renderer, int size, gpu::RenderSet
     s.width = s.height = tiled.width = tiled.height = size;
     // estimate=quadrants in both: the default estimate=moments needs the tiled evaluation.
     s.parameters = {{"evaluate", "raster"}, {"estimate", "quadrants"}};
-    out.rasterStats = renderer.renderFrame(s);
-    out.rasterV = renderer.visibility();
-    out.rasterMasks = renderer.lightMasks();
+    KeptFrame raster = renderAndKeep(renderer, s);
     tiled.parameters = {{"evaluate", "tiles"}, {"estimate", "quadrants"}};
-    out.tiledStats = renderer.renderFrame(tiled);
-    out.tiledV = renderer.visibility();
-    out.tiledMasks = renderer.lightMasks();
+    KeptFrame tiledFrame = renderAndKeep(renderer, tiled);
+    out.rasterStats = raster.stats;
+    out.rasterV = std::move(raster.v);
+    out.rasterMasks = std::move(raster.masks);
+    out.tiledStats = tiledFrame.stats;
+    out.tiledV = std::move(tiledFrame.v);
+    out.tiledMasks = std::move(tiledFrame.masks);
     return out;
 }
 
@@ -299,47 +321,45 @@ TEST_F(PotentialSilhouettes, TiledListsRecordedOrRefilledAlike) {
     gpu::Renderer renderer(scene, shaders);
     gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 128, 128);
     s.parameters = {{"estimate", "quadrants"}, {"evaluate", "tiles"}};
-    const gpu::FrameStats first = renderer.renderFrame(s);
-    const geometry::FloatImage firstV = renderer.visibility();
-    const gpu::LightMasks firstMasks = renderer.lightMasks();
-    const gpu::FrameStats second = renderer.renderFrame(s);
+    const KeptFrame first = renderAndKeep(renderer, s);
+    const KeptFrame second = renderAndKeep(renderer, s);
     std::printf("  spheres-nine at 128²: %.0f entries; refilled %.0f, then %.0f\n",
-                counter(first, "wedge_tile_entries"), counter(first, "wedge_tiles_refilled"),
-                counter(second, "wedge_tiles_refilled"));
-    ASSERT_EQ(counter(first, "wedge_evaluation_tiled"), 1.0);
-    ASSERT_EQ(counter(second, "wedge_evaluation_tiled"), 1.0);
-    EXPECT_GT(counter(first, "wedge_tile_entries"), 4096.0);
-    EXPECT_EQ(counter(first, "wedge_tiles_refilled"), 1.0);
-    EXPECT_EQ(counter(second, "wedge_tiles_refilled"), 0.0);
-    EXPECT_EQ(counter(first, "wedge_tile_entries"), counter(second, "wedge_tile_entries"));
-    EXPECT_EQ(testutil::countDiffering(renderer.visibility(), firstV, 0.0), 0u);
-    EXPECT_TRUE(renderer.lightMasks().words == firstMasks.words);
+                counter(first.stats, "wedge_tile_entries"),
+                counter(first.stats, "wedge_tiles_refilled"),
+                counter(second.stats, "wedge_tiles_refilled"));
+    ASSERT_EQ(counter(first.stats, "wedge_evaluation_tiled"), 1.0);
+    ASSERT_EQ(counter(second.stats, "wedge_evaluation_tiled"), 1.0);
+    EXPECT_GT(counter(first.stats, "wedge_tile_entries"), 4096.0);
+    EXPECT_EQ(counter(first.stats, "wedge_tiles_refilled"), 1.0);
+    EXPECT_EQ(counter(second.stats, "wedge_tiles_refilled"), 0.0);
+    EXPECT_EQ(counter(first.stats, "wedge_tile_entries"),
+              counter(second.stats, "wedge_tile_entries"));
+    expectSameFrame(second, first);
 }
 
 // estimate=moments: the pixels that need P (their samples see two or more layer counts) keep
-// their regions in a buffer sized by the last frame's (at least 1024 pixels), and a pass of
-// their own computes P. Where they do not fit (a renderer's first frame of plates-three at
-// 128²: about 3 700 such pixels) the evaluation runs again with room for all: the same V and
-// masks as the next frame, which fits, bit for bit, and wedge_moment_reruns says which ran.
+// the edges that added there in a buffer sized by the last frame's (at least 1024 pixels), and
+// a pass of their own computes P. Where they do not fit (a renderer's first frame of
+// plates-three at 128²: about 3 700 such pixels) the evaluation runs again with room for all:
+// the same V and masks as the next frame, which fits, bit for bit, and wedge_moment_reruns
+// says which ran.
 TEST_F(PotentialSilhouettes, MomentPixelsThatDoNotFitRunTheEvaluationAgain) {
     const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
     gpu::ShaderLoader shaders(gpu::defaultShaderDir());
     gpu::Renderer renderer(scene, shaders);
     const gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 128, 128);
-    const gpu::FrameStats first = renderer.renderFrame(s);
-    const geometry::FloatImage firstV = renderer.visibility();
-    const gpu::LightMasks firstMasks = renderer.lightMasks();
-    const gpu::FrameStats second = renderer.renderFrame(s);
+    const KeptFrame first = renderAndKeep(renderer, s);
+    const KeptFrame second = renderAndKeep(renderer, s);
     std::printf("  plates-three at 128²: %.0f moment pixels; reruns %.0f, then %.0f\n",
-                counter(first, "moment_pixels"), counter(first, "wedge_moment_reruns"),
-                counter(second, "wedge_moment_reruns"));
-    ASSERT_EQ(counter(first, "wedge_evaluation_tiled"), 1.0);
-    EXPECT_GT(counter(first, "moment_pixels"), 1024.0);
-    EXPECT_EQ(counter(first, "wedge_moment_reruns"), 1.0);
-    EXPECT_EQ(counter(second, "wedge_moment_reruns"), 0.0);
-    EXPECT_EQ(counter(first, "moment_pixels"), counter(second, "moment_pixels"));
-    EXPECT_EQ(testutil::countDiffering(renderer.visibility(), firstV, 0.0), 0u);
-    EXPECT_TRUE(renderer.lightMasks().words == firstMasks.words);
+                counter(first.stats, "moment_pixels"),
+                counter(first.stats, "wedge_moment_reruns"),
+                counter(second.stats, "wedge_moment_reruns"));
+    ASSERT_EQ(counter(first.stats, "wedge_evaluation_tiled"), 1.0);
+    EXPECT_GT(counter(first.stats, "moment_pixels"), 1024.0);
+    EXPECT_EQ(counter(first.stats, "wedge_moment_reruns"), 1.0);
+    EXPECT_EQ(counter(second.stats, "wedge_moment_reruns"), 0.0);
+    EXPECT_EQ(counter(first.stats, "moment_pixels"), counter(second.stats, "moment_pixels"));
+    expectSameFrame(second, first);
 }
 
 // A tile whose list is too long for one pixel's loop budget (WEDGE_TILES_LOOP_BUDGET: llvmpipe

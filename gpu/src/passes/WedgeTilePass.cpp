@@ -13,6 +13,7 @@ constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/Wedge
 constexpr std::size_t kPairBytes = 3 * 4;         // a recorded entry (BINDING_WEDGE_TILE_PAIRS)
 constexpr std::size_t kMaxPairs = std::size_t(1) << 24; // 192 MiB of recorded entries
 constexpr std::size_t kMomentSlotBytes = MOMENT_SLOT_UINTS * 4; // a pixel's edges for P
+constexpr std::size_t kFirstMomentSlots = 1024; // the moments buffer before a frame needs more
 
 // `groups` work groups of the bound compute program in rows of at most 32768 (GL guarantees
 // 65535 per dimension; a 4K frame has 129 600 tiles): the shader numbers them
@@ -171,13 +172,17 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glUniform1ui(4, moments ? 1u : 0u);
     glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
     glBindImageTexture(IMAGE_BITMASK_AREA, area.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    // estimate=moments: the slots for the pixels that need P (their regions), sized for the
-    // last frame's and half as many again.
-    if (mMomentBuffer.size() < mMomentSlots * kMomentSlotBytes)
-        mMomentBuffer = Buffer({.size = mMomentSlots * kMomentSlotBytes, .flags = 0,
-                                .label = "wedge-tile-moments"});
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_MOMENTS, mMomentBuffer.id());
-    glUniform1ui(5, static_cast<GLuint>(moments ? mMomentSlots : 0));
+    // estimate=moments: the slots for the pixels that need P (their edges), at least `wanted`,
+    // bound; how many the buffer holds (grown where a frame needed more: its size carries over).
+    const auto momentSlots = [&](std::size_t wanted) {
+        if (mMomentBuffer.size() < wanted * kMomentSlotBytes)
+            mMomentBuffer = Buffer({.size = wanted * kMomentSlotBytes, .flags = 0,
+                                    .label = "wedge-tile-moments"});
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_MOMENTS, mMomentBuffer.id());
+        return mMomentBuffer.size() / kMomentSlotBytes;
+    };
+    std::size_t slotsHeld = momentSlots(kFirstMomentSlots);
+    glUniform1ui(5, static_cast<GLuint>(moments ? slotsHeld : 0));
     // One work group per tile whose list is not empty (their number read back with the total);
     // the other pixels' mark layer is the caller's clear.
     const GLuint active = header[WEDGE_TILES_ACTIVE];
@@ -190,16 +195,12 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
                             static_cast<GLsizeiptr>(sizeof(header)), header.data());
     mStats.momentRerun = 0;
     const std::size_t momentNeeded = header[WEDGE_TILES_MOMENT_PIXELS];
-    if (moments && momentNeeded > mMomentSlots && header[WEDGE_TILES_TRUNCATED] == 0) {
+    if (moments && momentNeeded > slotsHeld && header[WEDGE_TILES_TRUNCATED] == 0) {
         // More pixels needed P than there were slots: the evaluation again with room for all
         // (it overwrites everything it wrote; its counters start again), so that no pixel
         // loses its moment to the buffer's size. Counted: wedge_moment_reruns.
-        mMomentSlots = momentNeeded + momentNeeded / 2;
-        mMomentBuffer = Buffer({.size = mMomentSlots * kMomentSlotBytes, .flags = 0,
-                                .label = "wedge-tile-moments"});
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_WEDGE_TILE_MOMENTS,
-                         mMomentBuffer.id());
-        glUniform1ui(5, static_cast<GLuint>(mMomentSlots));
+        slotsHeld = momentSlots(momentNeeded + momentNeeded / 2);
+        glUniform1ui(5, static_cast<GLuint>(slotsHeld));
         for (const int counter : {WEDGE_TILES_PAIRS_ADDED, WEDGE_TILES_MOMENT_PIXELS})
             glClearNamedBufferSubData(mLists.id(), GL_R32UI,
                                       static_cast<GLintptr>((3 * tiles + counter) * 4), 4,
@@ -219,7 +220,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     if (mStats.truncated != 0) return false;
     // P for the pixels with a slot, one invocation each.
     const auto slotsUsed =
-        static_cast<GLuint>(std::min<std::size_t>(mStats.momentPixels, mMomentSlots));
+        static_cast<GLuint>(std::min<std::size_t>(mStats.momentPixels, slotsHeld));
     if (slotsUsed > 0) {
         glUseProgram(mMoments.id());
         glUniform1ui(0, slotsUsed);

@@ -69,8 +69,7 @@ private:
     static constexpr int kTile = 8; // pixels per tile side (WEDGE_TILE)
     SurfaceTilePass mSurface, mSupertiles; // per tile, per 32 x 32 pixels
     Program mRecord, mCount, mScan, mFill, mPlace, mEvaluate, mMoments;
-    Buffer mRecords, mLists, mPairs, mMomentBuffer;
-    std::size_t mMomentSlots = 1024; // pixels the moments buffer holds (grown as frames need)
+    Buffer mRecords, mLists, mPairs, mMomentBuffer; // (moments: MOMENT_SLOT_UINTS per pixel)
     glm::ivec2 mTiles{0};
     std::uint32_t mEntries = 0;
     WedgeTileStats mStats;
