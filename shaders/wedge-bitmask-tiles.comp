@@ -15,6 +15,7 @@
 // every pixel paid a pass of the pairs' loop, on a SIMD machine whether or not it needed it, and
 // kept every region in local arrays indexed per lane: the frame's instructions, counted, 4 %
 // more on bars-cross and on the sphere.)
+#extension GL_ARB_shader_group_vote : require
 #include "lib/Bindings.h"
 #include "shared/WedgeHull.h"
 
@@ -118,6 +119,15 @@ void main() {
         // that add. Each run and entry counts 1 against the loop budget, each pair tested for m
         // 2, each pair that adds the most its loops may take (the samples between two rays, two
         // bisections).
+        // The budget counts the iterations of the SIMD vector, which is what llvmpipe limits
+        // (one counter per vector for all its loops): the second and third loops run while any
+        // invocation of the group (GL_ARB_shader_group_vote: the vector on llvmpipe, the warp on a
+        // GPU) has a pair left, every lane counting every iteration, those without a pair idling
+        // through it as the machine makes them anyway. Counted per lane, the pairs of a lane alone,
+        // a vector whose lanes' pairs fell in different iterations ran past the limit while every
+        // lane stayed under its budget: its loops cut silently, pairs lost, not counted (test
+        // PotentialSilhouettes.TiledBudgetCountsTheVectorNotOneLane: 37 pixels off the raster
+        // pass). Every lane of a vector now counts alike, so that their breaks agree.
         const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
         const CoverageLight light = frameCoverageLight();
         int budget = WEDGE_TILES_LOOP_BUDGET;
@@ -134,9 +144,10 @@ void main() {
             }
             // m = +-1 or +-2 (the two triangles' shares): its sign and size as bit planes.
             uint adds = 0u, positive = 0u, double_ = 0u;
-            while (inside != 0u) {
+            while (anyInvocationARB(inside != 0u)) {
                 budget -= 2;
                 if (budget < 0) break;
+                if (inside == 0u) continue;
                 uint j = uint(findLSB(inside));
                 inside &= inside - 1u;
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
@@ -164,9 +175,10 @@ void main() {
                 positive |= m > 0 ? 1u << j : 0u;
                 double_ |= abs(m) == 2 ? 1u << j : 0u;
             }
-            while (adds != 0u) {
+            while (anyInvocationARB(adds != 0u)) {
                 budget -= pairCost;
                 if (budget < 0) break;
+                if (adds == 0u) continue;
                 uint j = uint(findLSB(adds));
                 adds &= adds - 1u;
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;

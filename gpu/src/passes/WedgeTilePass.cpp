@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <string>
 
 namespace gpu {
 
@@ -36,10 +38,23 @@ std::vector<std::string> withTile(std::vector<std::string> defines, int tile) {
     return defines;
 }
 
+// The evaluation counts its loops per SIMD vector by votes (wedge-bitmask-tiles.comp): every
+// desktop GL 4.5 driver has the extension, llvmpipe included; a clear error where one does not.
+const ShaderLoader& withGroupVote(const ShaderLoader& shaders) {
+    if (!epoxy_has_gl_extension("GL_ARB_shader_group_vote")) {
+        const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        throw std::runtime_error(
+            std::string("wedges-bitmask's tiled evaluation needs GL_ARB_shader_group_vote, which ") +
+            (renderer ? renderer : "this GL renderer") +
+            " lacks: render with --param evaluate=raster --param estimate=quadrants");
+    }
+    return shaders;
+}
+
 } // namespace
 
 WedgeTilePass::WedgeTilePass(const ShaderLoader& shaders, const std::vector<std::string>& defines)
-    : mSurface(shaders, kTile),
+    : mSurface(withGroupVote(shaders), kTile),
       mSupertiles(shaders, 32),
       mRecord(binning(shaders, 0, kTile, "wedge-tiles-record")),
       mCount(binning(shaders, 1, kTile, "wedge-tiles-count")),
