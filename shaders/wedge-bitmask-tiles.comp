@@ -18,6 +18,7 @@
 #extension GL_ARB_shader_group_vote : require
 #include "lib/Bindings.h"
 #include "shared/WedgeHull.h"
+#include "shared/Spread.h"
 
 #ifndef BITMASK_SAMPLES
 #define BITMASK_SAMPLES 64
@@ -66,6 +67,8 @@ layout(std430, binding = BINDING_WEDGE_TILE_MOMENTS) writeonly buffer TileMoment
     uint tileMoments[]; // MOMENT_SLOT_UINTS per slot: the pixel, its edges' number, the edges
 };
 layout(location = 5) uniform uint uMomentSlots;
+// spreadStride of the active tiles' number (shared/Spread.h).
+layout(location = 6) uniform uint uSpread;
 
 const float kAreaScale = 536870912.0; // 2^29: |m share| <= 2 fits a signed 32-bit step
 
@@ -82,8 +85,11 @@ float value64(uvec2 acc) {
 void main() {
     int T = uTiles.x * uTiles.y;
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    if (group >= heads[3 * T + WEDGE_TILES_ACTIVE]) return;
-    int tile = int(heads[3 * T + WEDGE_TILES_HEADER + group]);
+    uint activeTiles = heads[3 * T + WEDGE_TILES_ACTIVE];
+    if (group >= activeTiles) return;
+    // The active tiles are listed in about screen order: the group takes one from all over the
+    // list (shared/Spread.h), so that each thread of a software rasteriser gets penumbra tiles.
+    int tile = int(heads[3 * T + WEDGE_TILES_HEADER + spreadIndex(group, activeTiles, uSpread)]);
     ivec2 px = ivec2(tile % uTiles.x, tile / uTiles.x) * WEDGE_TILE + ivec2(gl_LocalInvocationID.xy);
     if (any(greaterThanEqual(px, uSize))) return;
     vec4 position = texelFetch(tPosition, px, 0);

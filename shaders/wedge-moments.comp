@@ -13,6 +13,7 @@
 // on a SIMD machine whether or not it needs it.
 #include "lib/Bindings.h"
 #include "shared/WedgeHull.h"
+#include "shared/Spread.h"
 
 #ifndef BITMASK_SAMPLES
 #define BITMASK_SAMPLES 64
@@ -41,11 +42,16 @@ layout(std430, binding = BINDING_WEDGE_TILE_MOMENTS) readonly buffer TileMoments
 };
 
 layout(location = 0) uniform uint uSlots; // slots the evaluation filled
+layout(location = 1) uniform uint uSpread; // spreadStride of the groups' number
 
 void main() {
-    // Rows of work groups (gl_NumWorkGroups.x wide), as the binning's place stage.
-    uint slot = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u +
-                gl_LocalInvocationIndex;
+    // Rows of work groups (gl_NumWorkGroups.x wide), as the binning's place stage; each group
+    // takes 64 slots from all over the list (shared/Spread.h: the slots are filled in about
+    // screen order, and a pixel's cost is its number of edges).
+    uint groups = (uSlots + 63u) / 64u;
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (group >= groups) return;
+    uint slot = spreadIndex(group, groups, uSpread) * 64u + gl_LocalInvocationIndex;
     if (slot >= uSlots) return;
     uint at = slot * uint(MOMENT_SLOT_UINTS);
     uint pixel = tileMoments[at];

@@ -79,6 +79,9 @@
 // pass that could run longer counts its iterations, stops short of that and says so; the frame
 // then rasterises its wedges instead.
 #define WEDGE_TILES_LOOP_BUDGET 60000
+// Slots per work group of wedge-tiles.comp's count and fill stages (WedgeTilePass dispatches
+// that many fewer groups).
+#define WEDGE_TILES_SLOT_GROUP 16
 #define WEDGE_TILES_HEADER 7       // uints after the 3 per tile (then one per tile: the active ids)
 // estimate=moments: the moment layer's value where the tiled pass kept no P (a NaN's bits, which
 // floatBitsToUint of a finite P never gives; compared as bits, never as a float)

@@ -26,6 +26,7 @@ using glm::asin;
 using glm::clamp;
 using glm::cross;
 using glm::dot;
+using glm::floor;
 using glm::isinf;
 using glm::atan;
 using glm::cos;

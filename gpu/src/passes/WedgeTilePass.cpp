@@ -2,6 +2,8 @@
 
 #include "engine/ShaderBindings.h"
 
+#include <shared/Spread.h>
+
 #include <algorithm>
 #include <array>
 #include <stdexcept>
@@ -112,19 +114,31 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     glProgramUniform1ui(mCount.id(), 5, static_cast<GLuint>(mPairs.size() / kPairBytes));
     const GLint size[2] = {t.width, t.height};
     const auto slotCount = static_cast<GLuint>(mSlots.size());
-    const auto binning = [&](const Program& program, GLuint groups) {
+    const auto useBinning = [&](const Program& program) {
         glUseProgram(program.id());
         glUniform2ui(0, static_cast<GLuint>(headWords), slotCount);
         glUniform2i(1, mTiles.x, mTiles.y);
         glUniform2iv(2, 1, size);
         glUniform1ui(3, static_cast<GLuint>(listBase));
+    };
+    const auto binning = [&](const Program& program, GLuint groups) {
+        useBinning(program);
         glDispatchCompute(groups, 1, 1);
     };
     // The slots' records, a count per tile, then first entries by a prefix sum.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     if (slotCount > 0) binning(mRecord, (slotCount + 63) / 64);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    if (slotCount > 0) binning(mCount, (slotCount + 63) / 64);
+    // The count and fill stages: WEDGE_TILES_SLOT_GROUP slots per work group, the groups in
+    // spread order (shared/Spread.h; wedge-tiles.comp says why).
+    const GLuint slotGroups = (slotCount + WEDGE_TILES_SLOT_GROUP - 1) / WEDGE_TILES_SLOT_GROUP;
+    const GLuint slotSpread = ::shader::spreadStride(slotGroups);
+    const auto perSlot = [&](const Program& program) {
+        useBinning(program);
+        glUniform1ui(6, slotSpread);
+        dispatchRows(slotGroups);
+    };
+    if (slotCount > 0) perSlot(mCount);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     for (GLint step = 0; step < 3; ++step) {
         glProgramUniform1i(mScan.id(), 4, step);
@@ -158,7 +172,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     const std::uint32_t recorded = header[WEDGE_TILES_RECORDED];
     mStats.refilled = recorded > mPairs.size() / kPairBytes ? 1 : 0;
     if (mStats.refilled != 0) {
-        if (slotCount > 0) binning(mFill, (slotCount + 63) / 64);
+        if (slotCount > 0) perSlot(mFill);
     } else if (recorded > 0) {
         glUseProgram(mPlace.id());
         glUniform2i(1, mTiles.x, mTiles.y);
@@ -201,6 +215,7 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     // One work group per tile whose list is not empty (their number read back with the total);
     // the other pixels' mark layer is the caller's clear.
     const GLuint active = header[WEDGE_TILES_ACTIVE];
+    glUniform1ui(6, ::shader::spreadStride(active)); // the groups' order (shared/Spread.h)
     if (active > 0) dispatchRows(active);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -237,9 +252,11 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     const auto slotsUsed =
         static_cast<GLuint>(std::min<std::size_t>(mStats.momentPixels, slotsHeld));
     if (slotsUsed > 0) {
+        const GLuint groups = (slotsUsed + 63) / 64;
         glUseProgram(mMoments.id());
         glUniform1ui(0, slotsUsed);
-        dispatchRows((slotsUsed + 63) / 64);
+        glUniform1ui(1, ::shader::spreadStride(groups));
+        dispatchRows(groups);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
     return true;
