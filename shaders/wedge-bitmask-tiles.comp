@@ -122,16 +122,20 @@ void main() {
         // (llvmpipe: 8 pixels of a row a vector) each loop runs as often as its busiest lane
         // needs, not once per entry some lane needs, and a lane whose pair ends early idles
         // through the rest of the iteration: the loops' split keeps the costly part to the pairs
-        // that add. Each run and entry counts 1 against the loop budget, each pair tested for m
-        // 2, each pair that adds the most its loops may take (the samples between two rays, two
-        // bisections).
+        // that add. Each run and entry counts 1 against the loop budget, each entry 2 more for
+        // the second loop, each iteration of the third the most its loops may take (the samples
+        // between two rays, two bisections).
         // The budget counts the iterations of the SIMD vector, which is what llvmpipe limits
-        // (one counter per vector for all its loops): the second and third loops run while any
-        // invocation of the group (GL_ARB_shader_group_vote: the vector on llvmpipe, the warp on a
-        // GPU) has a pair left, every lane counting every iteration, those without a pair idling
-        // through it as the machine makes them anyway. Counted per lane, the pairs of a lane alone,
-        // a vector whose lanes' pairs fell in different iterations ran past the limit while every
-        // lane stayed under its budget: its loops cut silently, pairs lost, not counted (test
+        // (one counter per vector for all its loops), not one lane's: per run, the second loop
+        // as the run's length (its bound whatever the lanes), the third as the most pairs any
+        // invocation of the group adds (GL_ARB_shader_group_vote: the vector on llvmpipe, the
+        // warp on a GPU), six votes a run. Votes cost: llvmpipe votes lane by lane (on the
+        // sphere, against no votes, a vote per iteration of the two loops cost 6 % more
+        // instructions, six a run 2 %; the third loop counted as the run's length, no votes,
+        // while the budget allowed it spent the budget on nothing: the large light's view and
+        // spheres-nine at 128² passed it). Counted per lane, a vector whose lanes' pairs fell
+        // in different iterations ran past the limit while every lane stayed under its budget:
+        // its loops cut silently, pairs lost, not counted (test
         // PotentialSilhouettes.TiledBudgetCountsTheVectorNotOneLane: 37 pixels off the raster
         // pass). Every lane of a vector now counts alike, so that their breaks agree.
         const int pairCost = BITMASK_SAMPLES + 2 * (findMSB(BITMASK_SAMPLES) + 2) + 4;
@@ -150,10 +154,10 @@ void main() {
             }
             // m = +-1 or +-2 (the two triangles' shares): its sign and size as bit planes.
             uint adds = 0u, positive = 0u, double_ = 0u;
-            while (anyInvocationARB(inside != 0u)) {
-                budget -= 2;
-                if (budget < 0) break;
-                if (inside == 0u) continue;
+            // The second loop runs at most once per entry of the run, whatever the lanes.
+            budget -= 2 * int(run);
+            if (budget < 0) break;
+            while (inside != 0u) {
                 uint j = uint(findLSB(inside));
                 inside &= inside - 1u;
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
@@ -181,10 +185,16 @@ void main() {
                 positive |= m > 0 ? 1u << j : 0u;
                 double_ |= abs(m) == 2 ? 1u << j : 0u;
             }
-            while (anyInvocationARB(adds != 0u)) {
-                budget -= pairCost;
-                if (budget < 0) break;
-                if (adds == 0u) continue;
+            // The third loop runs as often as the lane with the most pairs that add needs: that
+            // number by votes on its bits, highest first.
+            int adding = bitCount(adds), most = 0;
+            for (int bit = 5; bit >= 0; --bit) {
+                int trial = most | (1 << bit);
+                if (anyInvocationARB(adding >= trial)) most = trial;
+            }
+            budget -= pairCost * most;
+            if (budget < 0) break;
+            while (adds != 0u) {
                 uint j = uint(findLSB(adds));
                 adds &= adds - 1u;
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
