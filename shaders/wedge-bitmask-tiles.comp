@@ -90,7 +90,13 @@ void main() {
     // The active tiles are listed in about screen order: the group takes one from all over the
     // list (shared/Spread.h), so that each thread of a software rasteriser gets penumbra tiles.
     int tile = int(heads[3 * T + WEDGE_TILES_HEADER + spreadIndex(group, activeTiles, uSpread)]);
-    ivec2 px = ivec2(tile % uTiles.x, tile / uTiles.x) * WEDGE_TILE + ivec2(gl_LocalInvocationID.xy);
+    // Invocation i's pixel: each run of 8 invocations (a SIMD vector on llvmpipe) a 4 x 2 block
+    // of the tile rather than a row of 8, so that a vector's lanes lie closer together and share
+    // more of their pairs (a loop runs as often as its busiest lane needs): on the sphere and
+    // spheres-nine 1.4 % and 2.1 % fewer instructions per frame, 0.3-1.9 % on four other views.
+    uint i = gl_LocalInvocationIndex;
+    ivec2 inTile = ivec2(int((i >> 3u & 1u) * 4u + (i & 3u)), int((i >> 4u) * 2u + (i >> 2u & 1u)));
+    ivec2 px = ivec2(tile % uTiles.x, tile / uTiles.x) * WEDGE_TILE + inTile;
     if (any(greaterThanEqual(px, uSize))) return;
     vec4 position = texelFetch(tPosition, px, 0);
     uint touched = 0u;
