@@ -170,7 +170,7 @@ void main() {
     // (neighbours on a mesh, whose rectangles are alike: a SIMD vector of them waits less for
     // its largest), the groups from all over the list (shared/Spread.h: the slots are listed
     // caster by caster, and a slot's cost, the tiles of its rectangle, follows the caster's
-    // size on screen). Measured on spheres-nine, 256²: the count stage 11-14 ms on two
+    // size on screen). Measured on spheres-nine, 256²: the count stage 10.6-13.5 ms on two
     // threads where one slot per invocation in groups of 64, in list order, took 18-26 ms with
     // the second thread idle for a third of it; groups of 8 took 19-20 ms, of 32 14 ms.
     const uint size = WEDGE_TILES_SLOT_GROUP;

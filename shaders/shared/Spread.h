@@ -30,6 +30,7 @@ SHARED_FN uint spreadGcd(uint a, uint b) {
 }
 
 // k for n items: the integer nearest 0.618... n, then the next one prime to n (1 for n <= 2).
+// Computed on the CPU (the shaders take k as a uniform): in GLSL the literal would be a float.
 SHARED_FN uint spreadStride(uint n) {
     if (n <= 2u) return 1u;
     uint k = uint(double(n) * 0.6180339887498949 + 0.5);
