@@ -203,6 +203,26 @@ RasterAndTiled rasterThenTiled(gpu::Renderer& renderer, int size, gpu::RenderSet
     return out;
 }
 
+// A frame past the tiled evaluation's loop budget: counted (wedge_tiles_truncated), refused
+// (wedge_tiles_over_limit), rasterised instead: V and the masks the raster pass's, bit for bit.
+void expectRasterisedPastTheBudget(const RasterAndTiled& f) {
+    EXPECT_GT(counter(f.tiledStats, "wedge_tiles_truncated"), 0.0);
+    EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
+    EXPECT_EQ(testutil::countDiffering(f.tiledV, f.rasterV, 0.0), 0u);
+    EXPECT_TRUE(f.tiledMasks.words == f.rasterMasks.words);
+}
+
+// Two frames of a data/ scene with the same settings on one renderer (a buffer sized by the
+// last frame: the first frame does not fit it, the second does).
+std::pair<KeptFrame, KeptFrame> renderTwice(const char* file, const gpu::RenderSettings& s) {
+    const geometry::Scene scene = geometry::loadScene(testutil::dataPath(file));
+    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
+    gpu::Renderer renderer(scene, shaders);
+    KeptFrame first = renderAndKeep(renderer, s);
+    KeptFrame second = renderAndKeep(renderer, s);
+    return {std::move(first), std::move(second)};
+}
+
 // evaluate=tiles (the wedges binned to 8 x 8 pixel tiles, then every pixel over
 // its tile's list in one compute pass, the fragment shader's arithmetic in lib/BitmaskEdge.glsl)
 // against evaluate=raster (the hulls rasterised, a fragment per pixel and wedge) on one
@@ -316,13 +336,9 @@ TEST_F(PotentialSilhouettes, TiledEvaluationOverItsLimitRasterises) {
 // the fill stage tests every slot's tiles again. Both give the same lists (in another order):
 // V and the masks bit for bit, the same entries, and wedge_tiles_refilled says which ran.
 TEST_F(PotentialSilhouettes, TiledListsRecordedOrRefilledAlike) {
-    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("spheres-nine.json"));
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
     gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 128, 128);
     s.parameters = {{"estimate", "quadrants"}, {"evaluate", "tiles"}};
-    const KeptFrame first = renderAndKeep(renderer, s);
-    const KeptFrame second = renderAndKeep(renderer, s);
+    const auto [first, second] = renderTwice("spheres-nine.json", s);
     std::printf("  spheres-nine at 128²: %.0f entries; refilled %.0f, then %.0f\n",
                 counter(first.stats, "wedge_tile_entries"),
                 counter(first.stats, "wedge_tiles_refilled"),
@@ -344,12 +360,8 @@ TEST_F(PotentialSilhouettes, TiledListsRecordedOrRefilledAlike) {
 // the same V and masks as the next frame, which fits, bit for bit, and wedge_moment_reruns
 // says which ran.
 TEST_F(PotentialSilhouettes, MomentPixelsThatDoNotFitRunTheEvaluationAgain) {
-    const geometry::Scene scene = geometry::loadScene(testutil::dataPath("plates-three.json"));
-    gpu::ShaderLoader shaders(gpu::defaultShaderDir());
-    gpu::Renderer renderer(scene, shaders);
-    const gpu::RenderSettings s = testutil::frameSettings("wedges-bitmask", 128, 128);
-    const KeptFrame first = renderAndKeep(renderer, s);
-    const KeptFrame second = renderAndKeep(renderer, s);
+    const auto [first, second] =
+        renderTwice("plates-three.json", testutil::frameSettings("wedges-bitmask", 128, 128));
     std::printf("  plates-three at 128²: %.0f moment pixels; reruns %.0f, then %.0f\n",
                 counter(first.stats, "moment_pixels"),
                 counter(first.stats, "wedge_moment_reruns"),
@@ -382,10 +394,7 @@ TEST_F(PotentialSilhouettes, TiledEvaluationPastItsLoopBudgetRasterises) {
     std::printf("  600-segment sphere at 64², field of view %.1f degrees: %.0f pixels past the "
                 "loop budget\n",
                 scene.camera.fovYDeg, counter(f.tiledStats, "wedge_tiles_truncated"));
-    EXPECT_GT(counter(f.tiledStats, "wedge_tiles_truncated"), 0.0);
-    EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
-    EXPECT_EQ(testutil::countDiffering(f.tiledV, f.rasterV, 0.0), 0u);
-    EXPECT_TRUE(f.tiledMasks.words == f.rasterMasks.words);
+    expectRasterisedPastTheBudget(f);
 }
 
 // The loop budget counts the iterations of the SIMD vector, which llvmpipe limits, not those of
@@ -411,10 +420,7 @@ TEST_F(PotentialSilhouettes, TiledBudgetCountsTheVectorNotOneLane) {
     std::printf("  600-segment sphere at 64²: %.0f pixels past the loop budget, tiled %.0f\n",
                 counter(f.tiledStats, "wedge_tiles_truncated"),
                 counter(f.tiledStats, "wedge_evaluation_tiled"));
-    EXPECT_GT(counter(f.tiledStats, "wedge_tiles_truncated"), 0.0);
-    EXPECT_EQ(counter(f.tiledStats, "wedge_tiles_over_limit"), 1.0);
-    EXPECT_EQ(testutil::countDiffering(f.tiledV, f.rasterV, 0.0), 0u);
-    EXPECT_TRUE(f.tiledMasks.words == f.rasterMasks.words);
+    expectRasterisedPastTheBudget(f);
 }
 
 // evaluate=auto (the default) takes the tiled evaluation from BitmaskOptions::kAutoTiledEdges
