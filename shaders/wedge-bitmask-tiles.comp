@@ -28,6 +28,9 @@ layout(local_size_x = 8, local_size_y = 8) in; // one tile
 #if WEDGE_TILE != 8
 #error "a work group is one 8 x 8 tile"
 #endif
+#if MOMENT_EDGES % 4 != 0
+#error "a moment slot's edges are stored four at a time"
+#endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 // The light samples ((s, t, angle about the centre, quadrant of its run), by angle) as texels.
@@ -64,7 +67,7 @@ layout(location = 4) uniform uint uMoments;
 // go to a slot of the moments buffer, while there are slots (uMomentSlots; the count of those
 // that needed one is read back: a frame with more runs this pass again with room for all).
 layout(std430, binding = BINDING_WEDGE_TILE_MOMENTS) writeonly buffer TileMoments {
-    uint tileMoments[]; // MOMENT_SLOT_UINTS per slot: the pixel, its edges' number, the edges
+    uvec4 tileMoments[]; // MOMENT_SLOT_UINTS / 4 per slot: the pixel, its edges' number, the edges
 };
 layout(location = 5) uniform uint uMomentSlots;
 // spreadStride of the active tiles' number (shared/Spread.h).
@@ -276,11 +279,14 @@ void main() {
         uint momentSlot = 0xFFFFFFFFu;
         if (needsMoment) momentSlot = atomicAdd(heads[3 * T + WEDGE_TILES_MOMENT_PIXELS], 1u);
         if (needsMoment && momentSlot < uMomentSlots) {
-            uint at = momentSlot * uint(MOMENT_SLOT_UINTS);
-            tileMoments[at] = uint(px.x) | (uint(px.y) << 16);
-            tileMoments[at + 1u] = uint(regions);
-            for (int k = 0; k < MOMENT_EDGES; ++k)
-                if (k < regions) tileMoments[at + 2u + uint(k)] = regionEdges[k];
+            // Four words a store, every edge word written (0 past `regions`): on a SIMD machine
+            // each store is a loop over the lanes, run whether or not a lane stores.
+            uint at = momentSlot * uint(MOMENT_SLOT_UINTS / 4);
+            tileMoments[at] = uvec4(uint(px.x) | (uint(px.y) << 16), uint(regions), 0u, 0u);
+            for (int k = 0; k < MOMENT_EDGES / 4; ++k)
+                tileMoments[at + 1u + uint(k)] =
+                    uvec4(regionEdges[4 * k], regionEdges[4 * k + 1], regionEdges[4 * k + 2],
+                          regionEdges[4 * k + 3]);
         }
         if (budget < 0) atomicAdd(heads[3 * T + WEDGE_TILES_TRUNCATED], 1u);
         if (pairs > 0u) {

@@ -65,7 +65,7 @@ void main() {
     int regionM[MOMENT_EDGES];
     float regionShare[MOMENT_EDGES];
     for (int e = 0; e < regions; ++e) {
-        uint edge = tileMoments[at + 2u + uint(e)];
+        uint edge = tileMoments[at + uint(MOMENT_SLOT_EDGES + e)];
         uint wedge = edge & 0x1FFFFFFFu;
         int m = int(edge >> 29) - 2;
         vec3 h0, h1, h2;

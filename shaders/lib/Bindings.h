@@ -61,11 +61,13 @@
 // testing the tiles again.
 #define BINDING_WEDGE_TILE_PAIRS 18
 // estimate=moments: per pixel that needs P (its samples see two or more layer counts), the
-// pixel (x | y << 16), the number of edges that added there with a region meeting the light,
-// and each one's wedge slot | (m + 2) << 29, for shaders/wedge-moments.comp.
+// pixel (x | y << 16), the number of edges that added there with a region meeting the light
+// (two words of padding), and each one's wedge slot | (m + 2) << 29 (0 past the number), for
+// shaders/wedge-moments.comp: written as MOMENT_SLOT_UINTS / 4 uvec4s.
 #define BINDING_WEDGE_TILE_MOMENTS 19
-#define MOMENT_EDGES 16 // edges a slot holds: a pixel where more add keeps no P
-#define MOMENT_SLOT_UINTS (2 + MOMENT_EDGES)
+#define MOMENT_EDGES 16 // edges a slot holds: a pixel where more add keeps no P (a multiple of 4)
+#define MOMENT_SLOT_UINTS (4 + MOMENT_EDGES)
+#define MOMENT_SLOT_EDGES 4 // the first edge's word in a slot
 #define WEDGE_TILES_TOTAL 0        // list entries over all tiles (after the heads' 3 per tile)
 #define WEDGE_TILES_PAIRS_ADDED 1  // (pixel, wedge) pairs that added to the counts
 #define WEDGE_TILES_OVERFLOW 2     // 1: the total passed 2^32 - 1 (the lists cannot be held)

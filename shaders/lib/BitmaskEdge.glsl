@@ -192,17 +192,18 @@ uint bitmaskLanes(uint byteBits) {
 // Checksums of one edge's adds (wedges-bitmask.md): the number of samples it adds to, and the
 // same weighted by 1 + the count's place in its 32-bit word; times m, summed over the edges,
 // the resolve compares them with the decoded counts: a count past [-8, 7] carries into its
-// neighbour (or out of the word) and changes them.
+// neighbour (or out of the word) and changes them. A word of mask bits holds four counts' words
+// (a byte each, bit j the count at place j): place j's weight 1 + j is 1 + (j & 1) + (j & 2) +
+// (j & 4), so the weighted sum is four population counts of the whole word, the masks repeated
+// in every byte (a population count is a dozen instructions on a SIMD machine without one).
 ivec2 bitmaskChecksums(uint words[8]) {
     int added = 0, weighted = 0;
     for (int w = 0; w < BITMASK_WORDS; ++w) {
         uint x = words[w];
-        for (int k = 0; k < 4; ++k) {
-            uint b = (x >> uint(8 * k)) & 0xFFu;
-            int c = bitCount(b);
-            added += c;
-            weighted += c + bitCount(b & 0xAAu) + 2 * bitCount(b & 0xCCu) + 4 * bitCount(b & 0xF0u);
-        }
+        int c = bitCount(x);
+        added += c;
+        weighted += c + bitCount(x & 0xAAAAAAAAu) + 2 * bitCount(x & 0xCCCCCCCCu) +
+                    4 * bitCount(x & 0xF0F0F0F0u);
     }
     return ivec2(added, weighted);
 }
