@@ -50,6 +50,13 @@ layout(std430, binding = BINDING_MASK_STATS) buffer MaskStats {
 
 layout(location = 0) uniform uint uEstimate;
 
+#ifdef BITMASK_TILED
+// evaluate=tiles: drawn twice, split by a stencil of its own (bitmask-resolve-split.frag): this
+// shader where a wedge added or the own plane may cut the light, BITMASK_RESOLVE_LIT elsewhere.
+// The stencil test before the shader: a fragment it fails costs no shading.
+layout(early_fragment_tests) in;
+#endif
+
 layout(location = 0) out float oVisibility;
 layout(location = 1) out uvec4 oMask0;
 #if BITMASK_SAMPLES > 128
@@ -96,6 +103,26 @@ int ownPlane(ivec2 px, out uint words[8], out float behindArea, out vec4 behindQ
     return behind;
 }
 
+#ifdef BITMASK_RESOLVE_LIT
+// The pixels no wedge reached and whose own plane leaves the whole light in front: what main's
+// untouched branch below gives them (ownPlane returns 0 there), and nothing else. Every D_i is
+// D(P, c): all samples hidden or none.
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    uint stencil = texelFetch(tStencil, px, 0).r;
+    int centre = int(stencil & 0x7Fu);
+    if (centre >= 64) centre -= 128;
+    if (centre < 0) atomicAdd(maskStats[MASK_STAT_NEGATIVE], 1u);
+    float occluded = centre == 0 ? 0.0 : uEstimate == 1u ? 1.0 : float(sign(centre));
+    uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    for (int w = 0; w < BITMASK_SAMPLES / 32; ++w) words[w] = centre != 0 ? 0xFFFFFFFFu : 0u;
+    oVisibility = 1.0 - clamp(occluded, 0.0, 1.0);
+    oMask0 = uvec4(words[0], words[1], words[2], words[3]);
+#if BITMASK_SAMPLES > 128
+    oMask1 = uvec4(words[4], words[5], words[6], words[7]);
+#endif
+}
+#else
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     uint planeWords[8];
@@ -282,3 +309,4 @@ void main() {
     oMask1 = uvec4(words[4], words[5], words[6], words[7]);
 #endif
 }
+#endif // BITMASK_RESOLVE_LIT

@@ -85,6 +85,67 @@ constexpr PipelineState kCombineState{.logicOp = true, .logicOpMode = GL_OR};
 
 enum CombineMode : GLuint { kGroupMask = 0, kComplement = 1, kEverySample = 2 };
 
+// silhouettes=potential evaluate=tiles: the resolve in two draws split by a stencil of their own.
+// bitmask-resolve-split.frag marks the pixels that need the full resolve (a wedge added to their
+// counts, or their own plane may cut the light); the full resolve runs there, its lit variant
+// (BITMASK_RESOLVE_LIT: D(P, c) alone) everywhere else, with the stencil tested before the
+// shader. On llvmpipe, which runs every branch of a shader masked, the full resolve cost its
+// whole length at every pixel: on data/box.json at 256², 48 of the frame's 204 M instructions.
+// The same V and masks as one draw of the full resolve.
+class TiledResolve {
+public:
+    TiledResolve(const ShaderLoader& shaders, const MaskLayout& layout)
+        : mSplit(shaders, "bitmask-resolve-split.frag", "bitmask-resolve-split", kSplitState,
+                 layout.defines()),
+          mFull(shaders, "bitmask-potential-resolve.frag", "bitmask-potential-resolve-tiled",
+                drawn(1), layout.tiledDefines()),
+          mLit(shaders, "bitmask-potential-resolve.frag", "bitmask-potential-resolve-lit", drawn(0),
+               withLit(layout.tiledDefines())) {}
+
+    void resize(int width, int height) {
+        mStencil = Texture({.width = width, .height = height, .format = GL_STENCIL_INDEX8,
+                            .label = "bitmask-resolve-split"});
+        mSplitFbo = Framebuffer({.attachments = {{GL_STENCIL_ATTACHMENT, &mStencil}},
+                                 .label = "bitmask-resolve-split"});
+    }
+    // The resolve's framebuffer attaches it (as its stencil).
+    const Texture& split() const { return mStencil; }
+
+    // The caller binds what the full resolve reads (counts, stencil view, area, G-buffer).
+    void execute(const Framebuffer& target, int width, int height,
+                 const std::function<void()>& setUniforms) const {
+        applyState(PipelineState{}); // the clear writes every stencil bit
+        const GLint zero = 0;
+        glClearNamedFramebufferiv(mSplitFbo.id(), GL_STENCIL, 0, &zero);
+        mSplit.execute(mSplitFbo, width, height);
+        mFull.execute(target, width, height, drawn(1), setUniforms);
+        mLit.execute(target, width, height, drawn(0), setUniforms);
+    }
+
+private:
+    static constexpr PipelineState kSplitState{
+        .colorWrite = false,
+        .stencilTest = true,
+        .stencilFront = {.func = GL_ALWAYS, .ref = 1, .depthPass = GL_REPLACE},
+        .stencilBack = {.func = GL_ALWAYS, .ref = 1, .depthPass = GL_REPLACE},
+    };
+    // Where the split's stencil is `ref`, unchanged.
+    static constexpr PipelineState drawn(GLint ref) {
+        return PipelineState{.stencilTest = true,
+                             .stencilWriteMask = 0,
+                             .stencilFront = {.func = GL_EQUAL, .ref = ref},
+                             .stencilBack = {.func = GL_EQUAL, .ref = ref}};
+    }
+    static std::vector<std::string> withLit(std::vector<std::string> defines) {
+        defines.push_back("BITMASK_RESOLVE_LIT 1");
+        return defines;
+    }
+
+    FullscreenPass mSplit, mFull, mLit;
+    Texture mStencil;
+    Framebuffer mSplitFbo;
+};
+
 class BitmaskWedgesMethod final : public SilhouetteBatchMethod {
 public:
     explicit BitmaskWedgesMethod(const MethodResources& r)
@@ -108,10 +169,7 @@ public:
                      ? std::make_unique<WedgeTilePass>(r.shaders, layout.defines())
                      : nullptr),
           mTiledResolve(layout.potential && layout.evaluate != BitmaskOptions::Evaluate::Raster
-                            ? std::make_unique<FullscreenPass>(
-                                  r.shaders, "bitmask-potential-resolve.frag",
-                                  "bitmask-potential-resolve-tiled", PipelineState{},
-                                  layout.tiledDefines())
+                            ? std::make_unique<TiledResolve>(r.shaders, layout)
                             : nullptr),
           mSamples({.size = 0, .label = "light-samples"}),
           mMaskStats({.size = MASK_STAT_COUNT * sizeof(std::uint32_t), .label = "mask-stats"}) {}
@@ -140,6 +198,7 @@ public:
                                     .label = "bitmask-area"});
             mResolveVisibility = 0;
         }
+        if (mTiledResolve) mTiledResolve->resize(width, height);
         mStencilView.reset();
         mWidth = width;
         mHeight = height;
@@ -148,7 +207,8 @@ public:
     std::size_t targetBytesPerPixel() const override {
         return 2 * std::size_t(mLayout.targets()) * mLayout.bytesPerTarget() +
                (mLayout.counts ? 4 * std::size_t(countLayers()) : 0) + // 4 bits a sample
-               (mLayout.potential ? 16 : 0); // A per quadrant (RGBA32F)
+               (mLayout.potential ? 16 : 0) + // A per quadrant (RGBA32F)
+               (mTiledResolve ? 1 : 0);       // the resolve's split (a stencil byte)
     }
 
     void execute(const FrameContext& ctx) override {
@@ -261,6 +321,8 @@ private:
             std::vector<FramebufferAttachment> a{{GL_COLOR_ATTACHMENT0, &t.visibility}};
             for (int i = 0; i < mLayout.targets(); ++i)
                 a.push_back({GLenum(GL_COLOR_ATTACHMENT1 + i), &mFinal[i]});
+            // (The tiled resolve's split: its stencil, which no shader samples.)
+            if (mTiledResolve) a.push_back({GL_STENCIL_ATTACHMENT, &mTiledResolve->split()});
             mResolveFbo = Framebuffer({.attachments = a, .label = "bitmask-potential-resolve"});
             mResolveVisibility = t.visibility.id();
         }
@@ -341,9 +403,12 @@ private:
             glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MASK_STATS, mMaskStats.id());
             const GLuint estimate = GLuint(mLayout.estimate);
-            const FullscreenPass& resolve = tiledFrame ? *mTiledResolve : mPotentialResolve;
-            resolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
-                            [&] { glUniform1ui(0, estimate); });
+            const auto uniforms = [&] { glUniform1ui(0, estimate); };
+            if (tiledFrame)
+                mTiledResolve->execute(mResolveFbo, t.width, t.height, uniforms);
+            else
+                mPotentialResolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
+                                          uniforms);
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                             GL_BUFFER_UPDATE_BARRIER_BIT);
         }
@@ -490,7 +555,7 @@ private:
     const DrawSet* mDrawnWedges = nullptr; // the wedge set the last frame drew (debug view)
     PotentialSet mPotential;
     std::unique_ptr<WedgeTilePass> mTiles;         // silhouettes=potential evaluate=tiles
-    std::unique_ptr<FullscreenPass> mTiledResolve; // its resolve
+    std::unique_ptr<TiledResolve> mTiledResolve;   // its resolve
     Texture mArea; // silhouettes=potential: per quadrant, the wedges' sum of m coverage
     Framebuffer mAreaFbo, mResolveFbo;
     GLuint mResolveVisibility = 0;
