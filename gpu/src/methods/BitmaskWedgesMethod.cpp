@@ -35,6 +35,7 @@
 #include <array>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -112,14 +113,15 @@ public:
     const Texture& split() const { return mStencil; }
 
     // The caller binds what the full resolve reads (counts, stencil view, area, G-buffer).
-    void execute(const Framebuffer& target, int width, int height,
+    // `setUniforms` for the full resolve; the lit variant reads the estimate alone.
+    void execute(const Framebuffer& target, int width, int height, GLuint estimate,
                  const std::function<void()>& setUniforms) const {
         applyState(PipelineState{}); // the clear writes every stencil bit
         const GLint zero = 0;
         glClearNamedFramebufferiv(mSplitFbo.id(), GL_STENCIL, 0, &zero);
         mSplit.execute(mSplitFbo, width, height);
         mFull.execute(target, width, height, drawn(1), setUniforms);
-        mLit.execute(target, width, height, drawn(0), setUniforms);
+        mLit.execute(target, width, height, drawn(0), [&] { glUniform1ui(0, estimate); });
     }
 
 private:
@@ -403,9 +405,12 @@ private:
             glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_MASK_STATS, mMaskStats.id());
             const GLuint estimate = GLuint(mLayout.estimate);
-            const auto uniforms = [&] { glUniform1ui(0, estimate); };
+            const auto uniforms = [&] {
+                glUniform1ui(0, estimate);
+                glUniform2ui(1, mRunQuadrants[0], mRunQuadrants[1]);
+            };
             if (tiledFrame)
-                mTiledResolve->execute(mResolveFbo, t.width, t.height, uniforms);
+                mTiledResolve->execute(mResolveFbo, t.width, t.height, estimate, uniforms);
             else
                 mPotentialResolve.execute(mResolveFbo, t.width, t.height, PipelineState{},
                                           uniforms);
@@ -501,6 +506,12 @@ private:
         }
         mSamples = Buffer({.size = table.size() * sizeof(glm::vec4), .data = table.data(),
                            .flags = 0, .label = "light-samples"});
+        // The same quadrants, 2 bits a run, for the potential resolve's uniform.
+        if (runQuadrants.size() > 32)
+            throw std::logic_error("wedges-bitmask: more than 256 light samples");
+        mRunQuadrants = {0u, 0u};
+        for (std::size_t r = 0; r < runQuadrants.size(); ++r)
+            mRunQuadrants[r / 16] |= static_cast<GLuint>(runQuadrants[r]) << (2 * (r % 16));
         mSeed = seed;
     }
 
@@ -565,6 +576,7 @@ private:
     Framebuffer mFinalNoStencilFbo;
     Buffer mSamples, mMaskStats;
     std::uint32_t mSeed = 0;
+    std::array<GLuint, 2> mRunQuadrants{}; // each run of 8 samples' quadrant, 2 bits a run
     std::array<Texture, 2> mGroup, mFinal;
     Framebuffer mGroupFbo, mFinalFbo;
     int mWidth = 0, mHeight = 0;
