@@ -196,7 +196,10 @@ SHARED_FN bool wedgeHullSilhouetteSpan(vec2 fw, float span, vec2 q0, vec2 q1, fl
     for (int k = 0; k < 4; ++k) {
         vec2 q = k < 2 ? q0 : q1;
         if (k == 1 || k == 3) q = -q;
+        // Measured from `first` round the full turn: a sector near 180 degrees (a wide one,
+        // wedgeHullNarrowed) ends past pi, where wedgeHullAngle wraps.
         float t = wedgeHullAngle(fw, q);
+        if (!(t > first)) t += 6.28318531f;
         if (t > first && t < last) {
             lo = min(lo, t);
             hi = max(hi, t);
@@ -213,7 +216,11 @@ SHARED_FN bool wedgeHullSilhouetteSpan(vec2 fw, float span, vec2 q0, vec2 q1, fl
 // edge's m_P is 0 and its fragments would be discarded). The front and back planes turn towards
 // each other to the silhouette part of the sector (wedgeHullSilhouetteSpan); the side planes
 // stay those of the whole sector, which hold for any part of it. Degenerate (nothing drawn)
-// when no receiver of the wedge sees a silhouette.
+// when no receiver of the wedge sees a silhouette. A sector over 178 degrees (but under 180),
+// which wedgeHull leaves Fullscreen, is bounded where its silhouette part is under 178: an edge
+// just under the light's plane, under the light, seen from the light over nearly a half-plane,
+// of which a box's edge sees one quarter as a silhouette (data/stability/light-grazing's shelf:
+// two of its four Fullscreen wedges, 5663 -> 4006 tile entries at 256^2).
 SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, bool narrow,
                                       vec3 w0, vec3 w1);
 
@@ -307,7 +314,11 @@ SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, 
     vec2 bw = vec2(csB * bu.x - snB * bu.y, csB * bu.y + snB * bu.x); // bu turned by +thetaB
     vec2 sum = fw + bw;
     float cHalf = 0.5f * length(sum); // cos(half the widened sector)
-    if (!(wedgeHullCross2(fw, bw) > 0.0f && cHalf >= kWedgeHullMinHalfCos)) return hull;
+    // Wider than 178 degrees (a light whose plane nearly holds the edge: a lamp close under a
+    // ceiling, a shelf's top): the whole wedge is Fullscreen, but the part of it that sees the
+    // edge as a silhouette may still be a narrow sector (below), bounded while under 180.
+    bool wide = !(cHalf >= kWedgeHullMinHalfCos);
+    if (!(wedgeHullCross2(fw, bw) > 0.0f) || (wide && !narrow)) return hull;
     vec2 m = sum / length(sum); // the bisector
     // Every ray at least 1.5 rho inside both boundaries, so the exact rays (within rho) are
     // strictly inside.
@@ -343,6 +354,7 @@ SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, 
         float lo = 0.0f;
         float hi = 0.0f;
         if (!(margin < kWedgeHullSilhouetteMarginMax)) {
+            if (wide) return hull; // too uncertain, and the whole sector too wide: Fullscreen
             lo = 0.0f; // too uncertain: the whole sector
             hi = wedgeHullAngle(fw, bw);
         } else if (!wedgeHullSilhouetteSpan(fw, wedgeHullAngle(fw, bw), q0, q1, margin, lo, hi)) {
@@ -351,6 +363,8 @@ SHARED_FN WedgeHull wedgeHullNarrowed(vec3 e0, vec3 e1, vec3 c, vec3 u, vec3 v, 
         }
         vec2 nf = vec2(cos(lo) * fw.x - sin(lo) * fw.y, sin(lo) * fw.x + cos(lo) * fw.y);
         vec2 nb = vec2(cos(hi) * fw.x - sin(hi) * fw.y, sin(hi) * fw.x + cos(hi) * fw.y);
+        // A wide sector narrowed to 178 degrees or more stays Fullscreen.
+        if (wide && !(0.5f * length(nf + nb) >= kWedgeHullMinHalfCos)) return hull;
         fw = nf;
         bw = nb;
         // The side planes are linear along the sector: ordered at its ends, so at these.

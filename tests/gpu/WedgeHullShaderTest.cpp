@@ -387,10 +387,27 @@ TEST_F(WedgeHullShaderTest, NarrowedComputeMatchesTheCppBuild) {
         inputs.push_back({it.in.e0, it.in.e1, it.in.c, it.in.u, it.in.v, vec4(w0, 1.0f),
                           vec4(w1, 1.0f)});
     }
+    // And a quarter as many edges just under the light's plane, across the light, as a box's
+    // top edges under a lamp (one third vertex across the top, one down the side): the whole
+    // wedge over 178 degrees, Fullscreen, the narrowed one often bounded (wide sectors).
+    for (int n = 0; n < kItems / 4; ++n) {
+        const vec3 c(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3));
+        const vec3 u(rng.uniform(0.1, 1), 0.0f, 0.0f), v(0.0f, 0.0f, rng.uniform(0.1, 1));
+        const float depth = -std::pow(10.0f, float(rng.uniform(-4, -1.5))) * (u.x + v.z);
+        const vec3 e0 = c + vec3(-rng.uniform(0.2, 2) * u.x, depth, rng.uniform(-0.8, 0.8) * v.z);
+        const vec3 e1 = c + vec3(rng.uniform(0.2, 2) * u.x, depth, e0.z - c.z + rng.uniform(-0.1, 0.1) * v.z);
+        const float len = glm::length(e1 - e0);
+        const vec3 across = glm::normalize(glm::cross(vec3(0.0f, 1.0f, 0.0f), e1 - e0));
+        const vec3 w0 = e0 + len * (rng.uniform(0, 1) < 0.5 ? 1.0f : -1.0f) * across;
+        const vec3 w1 = e0 - len * vec3(0.0f, 1.0f, 0.0f);
+        inputs.push_back({vec4(e0, 1.0f), vec4(e1, 1.0f), vec4(c, 1.0f), vec4(u, 0.0f),
+                          vec4(v, 0.0f), vec4(w0, 1.0f), vec4(w1, 1.0f)});
+    }
+    const int items = static_cast<int>(inputs.size());
     const std::vector<vec4> gpu = runItems(program, inputs, 5, "hull-narrow");
     int kindMismatch = 0, planeMismatch = 0, sideMismatch = 0, narrowed = 0, bounded = 0,
-        degenerate = 0;
-    for (int n = 0; n < kItems; ++n) {
+        degenerate = 0, wide = 0;
+    for (int n = 0; n < items; ++n) {
         const NarrowInput& x = inputs[n];
         const geometry::WedgeHull cpu = geometry::wedgeHullNarrowed(
             vec3(x.e0), vec3(x.e1), vec3(x.c), vec3(x.u), vec3(x.v), true, vec3(x.w0),
@@ -401,6 +418,8 @@ TEST_F(WedgeHullShaderTest, NarrowedComputeMatchesTheCppBuild) {
         kindMismatch += kind != cpu.kind;
         bounded += cpu.kind == geometry::kWedgeHullBounded;
         degenerate += cpu.kind == geometry::kWedgeHullDegenerate;
+        wide += cpu.kind == geometry::kWedgeHullBounded &&
+                whole.kind == geometry::kWedgeHullFullscreen;
         if (kind != cpu.kind || cpu.kind != geometry::kWedgeHullBounded) continue;
         // Front and back (0, 1): what the narrowing turns. The side planes (2, 3) are the whole
         // hull's, whose choice among near-equal candidates the driver may make otherwise
@@ -416,10 +435,13 @@ TEST_F(WedgeHullShaderTest, NarrowedComputeMatchesTheCppBuild) {
         sideMismatch += sideDiffers;
         narrowed += tighter;
     }
-    std::printf("  %d items: %d bounded (%d narrowed), %d with no silhouette receiver; %d kinds, "
-                "%d front or back planes and %d side planes differ from the C++ build\n",
-                kItems, bounded, narrowed, degenerate, kindMismatch, planeMismatch, sideMismatch);
+    std::printf("  %d items: %d bounded (%d narrowed, %d of a Fullscreen wedge), %d with no "
+                "silhouette receiver; %d kinds, %d front or back planes and %d side planes differ "
+                "from the C++ build\n",
+                items, bounded, narrowed, wide, degenerate, kindMismatch, planeMismatch,
+                sideMismatch);
     EXPECT_GT(narrowed, kItems / 10);
+    EXPECT_GT(wide, kItems / 16);
     EXPECT_EQ(kindMismatch, 0);
     EXPECT_EQ(planeMismatch, 0);
 }

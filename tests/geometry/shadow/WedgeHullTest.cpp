@@ -465,6 +465,84 @@ TEST(WedgeHullTest, NarrowedHullHoldsEverySilhouetteReceiver) {
     EXPECT_LT(otherInside, otherPoints / 2);
 }
 
+// (1b') An edge just under the light's plane, under the light (a shelf's top edge under a lamp, a
+// ceiling's edges beside it): the light's corners are seen from the edge over nearly 180
+// degrees, and the whole wedge is Fullscreen. Narrowed to the directions from which the edge is
+// a silhouette it may be bounded (wedgeHullNarrowed's wide sectors): every silhouette receiver
+// of a shadow ray through the edge (in double) is inside the narrowed hull. Third vertices at
+// random, and as on a box whose top face lies parallel to the light (the data/stability
+// light-grazing shelf: one third vertex across the top, the other down the front face).
+TEST(WedgeHullTest, NarrowedWideSectorsHoldEverySilhouetteReceiver) {
+    Rng rng(0x5e1f);
+    const std::array<double, 6> ts = {1e-3, 0.1, 1.0, 10.0, 1e3, 1e5};
+    long silhouettePoints = 0, otherPoints = 0, otherInside = 0;
+    int tried = 0, bounded = 0, degenerate = 0;
+    double worstTriangle = 0.0;
+    for (int n = 0; n < 3000; ++n) {
+        const RectLight light = randomLight(rng, 0.0);
+        const Frame f = frameOf(light);
+        const double size = glm::length(f.u) + glm::length(f.v);
+        // Under the light by 1e-4 .. 3e-2 of its size, across its middle, nearly parallel to it.
+        const double depth = -std::pow(10.0, rng.uniform(-4, -1.5)) * size;
+        const double tilt = rng.uniform(-1, 1) * 0.2 * std::abs(depth);
+        const double t0 = rng.uniform(-0.8, 0.8);
+        const dvec3 e0 = lightPoint(f, rng.uniform(-2, -0.2), t0, depth);
+        const dvec3 e1 = lightPoint(f, rng.uniform(0.2, 2), t0 + rng.uniform(-0.3, 0.3), depth + tilt);
+        const double len = glm::length(e1 - e0);
+        const dvec3 along = (e1 - e0) / len;
+        const dvec3 across = glm::normalize(glm::cross(f.n, along));
+        const bool box = n % 2 == 0;
+        const double toward = rng.uniform(0, 1) < 0.5 ? 1.0 : -1.0;
+        const dvec3 w0 = box ? e0 + len * rng.uniform(0.2, 2) * toward * across : e0 + len * rng.direction();
+        const dvec3 w1 = box ? e0 - len * rng.uniform(0.2, 2) * f.n : e0 + len * rng.direction();
+        const Case k{light, vec3(e0), vec3(e1), EdgeKind::CloseToLight};
+        if (hullOf(k).kind != geometry::kWedgeHullFullscreen) continue;
+        const WedgeHull h = geometry::wedgeHullNarrowed(k.e0, k.e1, light.center, light.u, light.v,
+                                                        true, vec3(w0), vec3(w1));
+        ++tried;
+        bounded += h.kind == geometry::kWedgeHullBounded;
+        degenerate += h.kind == geometry::kWedgeHullDegenerate;
+        if (h.kind == geometry::kWedgeHullFullscreen) continue;
+        const dvec3 de0(k.e0), de1(k.e1);
+        for (int li = 0; li < 13; ++li) {
+            const auto [s, t] = lightSample(rng, li);
+            const dvec3 y = lightPoint(f, s, t, 0.0);
+            for (int ai = 0; ai < 3; ++ai) {
+                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
+                const dvec3 a = de0 + lambda * (de1 - de0);
+                for (double tt : ts) {
+                    const dvec3 p = a + tt * (a - y);
+                    const double o0 = glm::dot(de0 - p, glm::cross(de1 - de0, w0 - de0));
+                    const double o1 = glm::dot(de0 - p, glm::cross(de1 - de0, w1 - de0));
+                    const bool in = h.kind == geometry::kWedgeHullBounded &&
+                                    geometry::wedgeHullContains(h.planes, vec3(p));
+                    if (o0 * o1 >= 0.0) {
+                        ++silhouettePoints;
+                        ASSERT_TRUE(in) << "t " << tt << " lambda " << lambda << " box " << box
+                                        << "\n" << describe(k);
+                        // and inside the rasterised triangles (evaluate=raster draws them), to
+                        // the quads' crease (ContainsEveryShadowRayAndEveryCoveredPoint)
+                        const double excess =
+                            triangleExcess(trianglePlanes(h), p) / (sceneScale(k) + glm::length(p));
+                        worstTriangle = std::max(worstTriangle, excess);
+                        ASSERT_LE(excess, 4e-7) << "triangle, t " << tt << "\n" << describe(k);
+                    } else {
+                        ++otherPoints;
+                        otherInside += in;
+                    }
+                }
+            }
+        }
+    }
+    std::printf("[ hull     ] wide sectors: %d Fullscreen wedges, %d bounded narrowed, %d with no "
+                "silhouette receiver; %ld silhouette points inside (worst triangle-plane excess %.3g of "
+                "the scale), %ld of %ld others kept\n",
+                tried, bounded, degenerate, silhouettePoints, worstTriangle, otherInside, otherPoints);
+    EXPECT_GT(tried, 1000);
+    EXPECT_GT(bounded, tried / 4); // the box edges: one silhouette sector in the wedge
+    EXPECT_GT(silhouettePoints, 10000);
+}
+
 // (1c) wedgeHullSilhouetteCone / wedgeHullTruncateCone: where the whole hull is Fullscreen
 // (edges whose line passes through the light, the common case among a curved caster's potential
 // silhouettes; edges towards a corner or close under the light), every point of a shadow ray
