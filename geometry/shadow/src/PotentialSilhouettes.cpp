@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace geometry {
 
@@ -26,6 +27,61 @@ int lightSide(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
         else return 0;
     }
     return pos == 4 ? 1 : neg == 4 ? -1 : 0;
+}
+
+// a + b as s + err exactly (Knuth's two-sum; no overflow in scene coordinates).
+double twoSum(double a, double b, double& err) {
+    const double s = a + b;
+    const double bv = s - a;
+    err = (a - (s - bv)) + (b - bv);
+    return s;
+}
+
+// Adds b to the expansion e (a sum of doubles whose value is exact): the old components become
+// the rounding errors of the running sum, and the sum is appended (Shewchuk's grow-expansion).
+void growExpansion(std::vector<double>& e, double b) {
+    double q = b;
+    for (double& x : e) {
+        double err = 0.0;
+        q = twoSum(q, x, err);
+        x = err;
+    }
+    e.push_back(q);
+}
+
+// Whether a, b, c, d (float coordinates) lie exactly in one plane: orient(a, b, c, d) = 0 in
+// exact arithmetic. The differences are exact in double where the coordinates' exponents are
+// within 29 of each other (checked: false where one is not), each of the determinant's six triple
+// products is four doubles exactly (fused multiply-add's product errors), and their sum is
+// accumulated without rounding: zero only if every component is.
+bool exactlyCoplanar(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& d) {
+    std::array<glm::dvec3, 3> r;
+    const std::array<const glm::vec3*, 3> to{&b, &c, &d};
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+            double err = 0.0;
+            r[i][k] = twoSum(double((*to[i])[k]), -double(a[k]), err);
+            if (err != 0.0) return false;
+        }
+    std::vector<double> sum;
+    sum.reserve(32);
+    // det(r0, r1, r2) = sum over permutations (i, j, k) of sign * r0[i] r1[j] r2[k].
+    constexpr int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+    for (int p = 0; p < 6; ++p) {
+        const double sign = p < 3 ? 1.0 : -1.0;
+        const double x = r[0][kPerm[p][0]], y = r[1][kPerm[p][1]], z = r[2][kPerm[p][2]];
+        const double yz = y * z;
+        const double yzErr = std::fma(y, z, -yz);
+        for (const double f : {yz, yzErr}) {
+            const double hi = x * f;
+            const double lo = std::fma(x, f, -hi);
+            growExpansion(sum, sign * hi);
+            growExpansion(sum, sign * lo);
+        }
+    }
+    for (const double x : sum)
+        if (x != 0.0) return false;
+    return true;
 }
 
 std::uint32_t thirdVertex(const glm::uvec3& tri, const Edge& e) {
@@ -66,6 +122,20 @@ PotentialEdgeStats potentialSilhouetteEdges(const Topology& topology, const Rect
             const EdgeUse a = uses[first], b = uses[first + 1];
             const int fa = a.sign * side[a.triangle], fb = b.sign * side[b.triangle];
             if (fa != 0 && fb != 0 && fa != fb) {
+                ++stats.skipped;
+                continue;
+            }
+            // Two triangles in one plane, on either side of the edge (a flat face's diagonal):
+            // orient(y, v0, v1, w) has opposite signs for the two third vertices at every point
+            // y, so the edge is a silhouette from nowhere and m_p = 0 at every receiver, whatever
+            // the light (straddling the plane, it would be kept above; a box under a lamp).
+            const glm::vec3 p0 = positions[edges[e].v0], p1 = positions[edges[e].v1];
+            const glm::vec3 w0 = positions[thirdVertex(triangles[a.triangle], edges[e])];
+            const glm::vec3 w1 = positions[thirdVertex(triangles[b.triangle], edges[e])];
+            const glm::dvec3 along = glm::dvec3(p1) - glm::dvec3(p0);
+            const double across = glm::dot(glm::cross(along, glm::dvec3(w0) - glm::dvec3(p0)),
+                                           glm::cross(along, glm::dvec3(w1) - glm::dvec3(p0)));
+            if (across < 0.0 && exactlyCoplanar(p0, p1, w0, w1)) {
                 ++stats.skipped;
                 continue;
             }

@@ -6,6 +6,7 @@
 
 #include <geometry/scene/GltfLoader.h>
 #include <geometry/scene/Primitives.h>
+#include <geometry/shadow/PotentialSilhouettes.h>
 #include <geometry/shadow/ShadowVolume.h>
 #include <geometry/shadow/Silhouette.h>
 
@@ -1175,6 +1176,55 @@ TEST(Silhouette, GameLevel) {
     const SilhouetteFrame& capped = extractor.update(lightAt(l, 0.5f), box, withCaps);
     checkFrame(topo, capped, l, false, withCaps, "oa_dm1, caps as vertices");
     EXPECT_EQ(capped.volumeVertices.size(), 6 * topo.triangles().size() + sides);
+}
+
+
+// Potential silhouettes (wedges-bitmask): an edge between two triangles that lie exactly in one
+// plane, on either side of it (a flat face's diagonal), is a silhouette from no point at all, so
+// it is left out even where the face's plane straddles the light (data/stability/light-grazing's
+// shelf, 4 mm under its light: two of those diagonals were full-screen wedges). Exactly: the
+// same face bent by one float step out of its plane keeps its diagonal.
+TEST(PotentialSilhouetteEdges, FlatFaceDiagonalsAreLeftOut) {
+    RectLight light;
+    light.center = {0.0f, 2.5f, -0.696f};
+    light.u = {0.45f, 0.0f, 0.0f};
+    light.v = {0.0f, 0.0f, 0.3f};
+    const MeshData box = makeBox({-1.0f, 2.476f, -0.85f}, {2.0f, 0.04f, 0.3f});
+    const Topology shelf(box);
+    ASSERT_EQ(shelf.edges().size(), 18u); // 12 edges and 6 diagonals
+    std::vector<PotentialEdge> edges;
+    const PotentialEdgeStats s = potentialSilhouetteEdges(shelf, light, edges);
+    EXPECT_EQ(s.interior + s.skipped, 18u);
+    EXPECT_EQ(s.boundary + s.nonManifold, 0u);
+    const auto positions = shelf.positions();
+    int diagonals = 0;
+    for (const PotentialEdge& e : edges) {
+        // A box edge's end points differ in one coordinate, a diagonal's in two.
+        const glm::vec3 d = positions[e.v1] - positions[e.v0];
+        diagonals += (d.x != 0.0f) + (d.y != 0.0f) + (d.z != 0.0f) == 2;
+    }
+    EXPECT_EQ(diagonals, 0);
+    // The box's straddled faces' diagonals were kept before: the front (z = -0.7) and the end
+    // (x = 0) planes cut the light, and so do the four edges between them and the top and bottom.
+    EXPECT_GE(s.skipped, 6u);
+    EXPECT_GE(edges.size(), 5u);
+
+    // The shelf's front face alone (a quad in the plane z = -0.7, which cuts the light): four
+    // boundary edges; its diagonal left out, unless the face is bent by one float step.
+    MeshData front;
+    front.positions = {{-2.0f, 2.456f, -0.7f}, {0.0f, 2.456f, -0.7f}, {0.0f, 2.496f, -0.7f},
+                       {-2.0f, 2.496f, -0.7f}};
+    front.triangles = {{0, 1, 2}, {0, 2, 3}};
+    const PotentialEdgeStats flat = potentialSilhouetteEdges(Topology(front), light, edges);
+    EXPECT_EQ(flat.boundary, 4u);
+    EXPECT_EQ(flat.interior, 0u);
+    EXPECT_EQ(flat.skipped, 1u);
+    EXPECT_EQ(edges.size(), 4u);
+    front.positions[3].z = std::nextafter(-0.7f, 0.0f);
+    const PotentialEdgeStats bent = potentialSilhouetteEdges(Topology(front), light, edges);
+    EXPECT_EQ(bent.interior, 1u);
+    EXPECT_EQ(bent.skipped, 0u);
+    EXPECT_EQ(edges.size(), 5u);
 }
 
 } // namespace

@@ -11,7 +11,9 @@
 // - boundary edges (one triangle) and edges with more than two triangles, always;
 // - an edge of two triangles unless both triangles' planes keep the light wholly on one side
 //   each and those sides make the edge a non-silhouette from every light point (the two faces
-//   facing every light point alike, for a consistently oriented pair).
+//   facing every light point alike, for a consistently oriented pair), or the two triangles lie
+//   exactly in one plane on either side of the edge (a flat face's diagonal: a silhouette from
+//   no point at all).
 // Each entry carries at most two triangles (their third vertices); an edge of k > 2 triangles
 // becomes ceil(k / 2) entries over the same edge, whose counts add.
 #pragma once
@@ -36,6 +38,7 @@ struct PotentialEdgeStats {
     std::size_t boundary = 0;    // one-triangle edges
     std::size_t nonManifold = 0; // edges of more than two triangles (entries: ceil(k / 2) each)
     std::size_t skipped = 0;     // two-triangle edges that are a silhouette from no light point
+                                 // (flat faces' diagonals included)
 };
 
 // The potential silhouette edges of `topology` for `light`, appended to `out` (cleared first).
