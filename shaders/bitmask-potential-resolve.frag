@@ -41,8 +41,10 @@ layout(binding = TEXUNIT_STENCIL) uniform usampler2D tStencil;
 layout(binding = TEXUNIT_PARTS0) uniform sampler2D tArea; // per quadrant: the wedges' sum of m share
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
-layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
-    vec4 lightSamples[]; // (s, t, angle about the centre, 0), in count order
+// The light samples ((s, t, angle about the centre, quadrant of its run), in count order) and the
+// angle bins after them, as a uniform block (lib/Bindings.h BINDING_LIGHT_SAMPLES_UBO).
+layout(std140, binding = BINDING_LIGHT_SAMPLES_UBO) uniform LightSampleTable {
+    vec4 uLightSamples[BITMASK_SAMPLES + LIGHT_SAMPLE_ANGLE_BINS + 1];
 };
 layout(std430, binding = BINDING_MASK_STATS) buffer MaskStats {
     uint maskStats[];
@@ -95,13 +97,17 @@ int ownPlane(ivec2 px, out uint words[8], out float behindArea, out vec4 behindQ
     // SIMD rasteriser (llvmpipe) every lane runs a branch, masked, whichever lanes take it, but
     // a loop ends once every lane has reached its bound (measured: 1.5 ms of a 4.5 ms resolve at
     // 256^2).
+    // Each sample's bit into its word by comparing with each constant index: the word picked
+    // by a per-lane index into a local array is a memory access per lane on a SIMD rasteriser
+    // (this loop, with the samples read from a storage buffer: 2.9 % of the frame's
+    // instructions on data/stability/light-grazing, whose shelf's faces cut the light).
     int n = front < 1.0 ? BITMASK_SAMPLES : 0;
     for (int i = 0; i < n; ++i) {
-        vec2 st = lightSamples[i].xy;
-        if (nc + st.x * nu + st.y * nv <= 0.0) {
-            words[i >> 5] |= 1u << uint(i & 31);
-            ++behind;
-        }
+        vec2 st = uLightSamples[i].xy;
+        bool hidden = nc + st.x * nu + st.y * nv <= 0.0;
+        uint bit = hidden ? 1u << uint(i & 31) : 0u;
+        for (int w = 0; w < BITMASK_SAMPLES / 32; ++w) words[w] |= (i >> 5) == w ? bit : 0u;
+        behind += hidden ? 1 : 0;
     }
     atomicAdd(maskStats[MASK_STAT_OWN_PLANE], 1u);
     return behind;
@@ -186,27 +192,38 @@ void main() {
         for (int k = 0; k < BITMASK_SAMPLES / 32; ++k)
             planeWord = k == (layer >> 2) ? planeWords[k] : planeWord;
         uint planeByte = (planeWord >> uint(8 * (layer & 3))) & 0xFFu;
+        // The checksums' sums of the word's 8 counts (d_j = nibble j - 8): sum d_j and
+        // sum (1 + j) d_j, by nibble sums within the word (j's bits split the places).
+        uint odd = (x >> 4u) & 0x0F0F0F0Fu;
+        uint pairs = (x & 0x0F0F0F0Fu) + odd;                // bytes: nibbles 2b + 2b + 1
+        uint all8 = (pairs * 0x01010101u) >> 24u;           // sum over j of nibble j
+        uint odds = (odd * 0x01010101u) >> 24u;             // over odd j
+        uint mid = (pairs >> 8u) & 0x00FF00FFu;             // bytes 1 and 3: j in {2, 3, 6, 7}
+        uint twos = (mid & 0xFFFFu) + (mid >> 16u);
+        uint high = pairs >> 16u;                           // bytes 2 and 3: j in 4..7
+        uint fours = (high & 0xFFu) + (high >> 8u);
+        added += all8 - 64u;
+        weighted += all8 + odds + 2u * twos + 4u * fours - 288u;
+        // Per sample, without a branch (llvmpipe runs a branch's body for every lane, and each
+        // assignment in it once more to mask it): layers = |D| + the own plane's bit is 0
+        // exactly where the sample is lit, so the sums need no test; seen's bit 0, set by the
+        // lit ones, is cleared after the words, and the least count skips them.
         uint hiddenByte = 0u;
         for (int j = 0; j < 8; ++j) {
-            int d = int((x >> uint(4 * j)) & 15u) - 8;
-            added += uint(d);
-            weighted += uint((j + 1) * d);
-            int D = centre + d;
-            int plane = int((planeByte >> uint(j)) & 1u);
-            if (D != 0 || plane != 0) {
-                hiddenByte |= 1u << uint(j);
-                ++hidden;
-                int layers = abs(D) + plane;
-                sumD += layers;
-                sumD2 += layers * layers;
-                hiddenRun += 1;
-                sumRun += layers;
-                seen |= 1u << uint(min(layers, 31));
-                leastD = min(leastD, layers);
-                mostD = max(mostD, layers);
-                negative = negative || D < 0;
-            }
+            int D = centre + int((x >> uint(4 * j)) & 15u) - 8;
+            int layers = abs(D) + int((planeByte >> uint(j)) & 1u);
+            bool lit = layers == 0;
+            hiddenByte |= lit ? 0u : 1u << uint(j);
+            hiddenRun += lit ? 0 : 1;
+            sumRun += layers;
+            sumD2 += layers * layers;
+            seen |= 1u << uint(min(layers, 31));
+            leastD = min(leastD, lit ? 1 << 30 : layers);
+            mostD = max(mostD, layers);
+            negative = negative || D < 0;
         }
+        hidden += hiddenRun;
+        sumD += sumRun;
         for (int k = 0; k < BITMASK_SAMPLES / 32; ++k)
             words[k] |= k == (layer >> 2) ? hiddenByte << uint(8 * (layer & 3)) : 0u;
         // The word's quadrant (uRunQuadrants), one-hot: no dynamic index.
@@ -216,6 +233,7 @@ void main() {
         hiddenQ += inQ * hiddenRun;
         sumQ += inQ * sumRun;
     }
+    seen &= ~1u; // (set by lit samples, layers 0: no hidden sample's)
     bool overflow = added != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8)).r ||
                     weighted != imageLoad(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 1)).r;
     // Per quadrant: D(P, c) + the wedges' m times the quadrant's share in R + the own plane's.

@@ -33,9 +33,12 @@ layout(local_size_x = 8, local_size_y = 8) in; // one tile
 #endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
-// The light samples ((s, t, angle about the centre, quadrant of its run), by angle) as texels.
-layout(binding = TEXUNIT_WEDGE_TILE_SAMPLES) uniform samplerBuffer tSamples;
-#define LIGHT_SAMPLE(i) texelFetch(tSamples, i)
+// The light samples ((s, t, angle about the centre, quadrant of its run), by angle) and the angle
+// bins after them (lib/Bindings.h), as a uniform block (BINDING_LIGHT_SAMPLES_UBO).
+layout(std140, binding = BINDING_LIGHT_SAMPLES_UBO) uniform LightSampleTable {
+    vec4 uLightSamples[BITMASK_SAMPLES + LIGHT_SAMPLE_ANGLE_BINS + 1];
+};
+#define LIGHT_SAMPLE(i) uLightSamples[i]
 layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform writeonly uimage2DArray iCounts;
 layout(binding = IMAGE_BITMASK_AREA, rgba32f) uniform writeonly image2D iArea;
 // estimate=moments: the stencil's D(P, c) (bits 0-6, signed), to find the pixels that need P.
@@ -53,8 +56,8 @@ layout(binding = TEXUNIT_WEDGE_TILE_LISTS) uniform usamplerBuffer tLists;
 vec4 record(uint slot, int k) {
     return texelFetch(tRecords, int(slot) * TILE_WEDGE_TEXELS + k);
 }
-// TileWedge's fields by texel: e0 0, e1 1, planes 2-5, tri0 6-8, tri1 9-11, rect 12, far 13,
-// tiles 14, kind 15.
+// TileWedge's fields by texel: e0 0, e1 1, planes 2-5, tri0 6-8, tri1 9-11, bound 12 (13
+// unused), tiles 14, kind 15.
 
 layout(location = 1) uniform ivec2 uTiles; // tiles across, down
 layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
@@ -177,10 +180,10 @@ void main() {
                 uvec2 kind = floatBitsToUint(record(slot, 15).xy);
                 vec4 planes[4] = vec4[4](record(slot, 2), record(slot, 3), record(slot, 4),
                                          record(slot, 5));
-                vec4 rect = record(slot, 12);
+                vec4 bound = record(slot, 12); // a cut cone's far face, a full-screen rectangle
                 bool holds = kind.x == WEDGE_BOUNDED
-                                 ? tileWedgeHolds(planes, record(slot, 13), kind.y != 0u, eye, p)
-                                 : all(greaterThanEqual(ndc, rect.xy)) && all(lessThanEqual(ndc, rect.zw));
+                                 ? tileWedgeHolds(planes, bound, kind.y != 0u, eye, p)
+                                 : all(greaterThanEqual(ndc, bound.xy)) && all(lessThanEqual(ndc, bound.zw));
                 if (!holds) continue;
                 vec4 tri0[3] = vec4[3](record(slot, 6), record(slot, 7), record(slot, 8));
                 vec4 tri1[3] = vec4[3](record(slot, 9), record(slot, 10), record(slot, 11));

@@ -22,8 +22,12 @@
 layout(local_size_x = 64) in;
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
-layout(binding = TEXUNIT_WEDGE_TILE_SAMPLES) uniform samplerBuffer tSamples;
-#define LIGHT_SAMPLE(i) texelFetch(tSamples, i)
+// The light samples ((s, t, angle about the centre, quadrant of its run), by angle) and the angle
+// bins after them (lib/Bindings.h), as a uniform block (BINDING_LIGHT_SAMPLES_UBO).
+layout(std140, binding = BINDING_LIGHT_SAMPLES_UBO) uniform LightSampleTable {
+    vec4 uLightSamples[BITMASK_SAMPLES + LIGHT_SAMPLE_ANGLE_BINS + 1];
+};
+#define LIGHT_SAMPLE(i) uLightSamples[i]
 layout(binding = IMAGE_GROUP_COUNTS, r32ui) uniform writeonly uimage2DArray iCounts;
 
 #include "lib/BitmaskEdge.glsl"

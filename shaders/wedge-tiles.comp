@@ -196,8 +196,8 @@ void main() {
     triangleCorners(edge.v0, edge.v1, apex.y, w.tri1);
     w.kind = uvec4(wedge.kind, wedge.eyeInside, 0u, 0u);
     w.tiles = ivec4(0, 0, -1, -1);
-    w.rect = vec4(0.0);
-    w.far = vec4(0.0, 0.0, 0.0, -1.0);
+    w.bound = vec4(0.0, 0.0, 0.0, -1.0);
+    w.unused = vec4(0.0);
     float reach = wedge.rays[3].w;
     if (wedge.kind == WEDGE_BOUNDED && reach > 0.0) {
         // (wedgeHullTruncateCone's l, from the stored directions)
@@ -209,7 +209,7 @@ void main() {
         vec3 gb = nearE1 ? wedge.rays[1].xyz : wedge.rays[0].xyz;
         vec3 gc = nearE1 ? wedge.rays[3].xyz : wedge.rays[2].xyz;
         vec3 l = (cross(gb, gc) + cross(gc, ga) + cross(ga, gb)) / dot(ga, cross(gb, gc));
-        w.far = vec4(l, -dot(l, apex) - reach);
+        w.bound = vec4(l, -dot(l, apex) - reach);
     }
     if (wedge.kind == WEDGE_BOUNDED || wedge.kind == WEDGE_FULLSCREEN) {
         // What the raster pass covers: a full-screen wedge's triangle over its group's
@@ -217,7 +217,7 @@ void main() {
         vec4 r = wedge.kind == WEDGE_FULLSCREEN
                      ? screenRect(groups[wedge.group].influenceMin.xyz, groups[wedge.group].influenceMax.xyz)
                      : hullScreenRect(wedge);
-        w.rect = r;
+        if (wedge.kind == WEDGE_FULLSCREEN) w.bound = r;
         // Pixels whose centres may lie in r (one more each side for rounding), as tiles.
         vec2 lo = floor((r.xy * 0.5 + 0.5) * vec2(uSize) - 0.5) - 1.0;
         vec2 hi = ceil((r.zw * 0.5 + 0.5) * vec2(uSize) - 0.5) + 1.0;

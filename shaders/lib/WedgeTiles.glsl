@@ -16,10 +16,13 @@ struct TileWedge {
                     // a full-screen wedge's let every P through (its rectangle decides)
     vec4 tri0[3];   // the edge's triangles as wedge.vert hands them to wedge-bitmask.frag
     vec4 tri1[3];
-    vec4 rect;      // WEDGE_FULLSCREEN: the NDC rectangle of its group's influence (wedge.vert's)
-    vec4 far;       // a cut silhouette cone's far face (WedgeHull::reach) as a fifth plane
-                    // (inside: dot(far.xyz, P) + far.w <= 0); else (0, 0, 0, -1). Not a
-                    // bound on P: see tileWedgeHolds
+    vec4 bound;     // WEDGE_FULLSCREEN: the NDC rectangle of its group's influence (wedge.vert's);
+                    // WEDGE_BOUNDED: a cut silhouette cone's far face (WedgeHull::reach) as a
+                    // fifth plane (inside: dot(far.xyz, P) + far.w <= 0), else (0, 0, 0, -1),
+                    // not a bound on P: see tileWedgeHolds. (One texel for both: the
+                    // evaluation reads it once a pair; a texel costs a SIMD vector about 100
+                    // instructions on llvmpipe, read by every lane whatever its branch.)
+    vec4 unused;
     ivec4 tiles;    // the tiles its hull's screen rectangle touches: x0, y0, x1, y1 (inclusive)
     uvec4 kind;     // x: GpuWedge::kind (WEDGE_BOUNDED, WEDGE_FULLSCREEN; others add nothing),
                     // y: GpuWedge::eyeInside

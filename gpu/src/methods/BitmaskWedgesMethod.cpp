@@ -230,7 +230,7 @@ public:
             glClearNamedFramebufferuiv(mGroupFbo.id(), GL_COLOR, i, empty.data());
             glClearNamedFramebufferuiv(mFinalFbo.id(), GL_COLOR, i, empty.data());
         }
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_SAMPLES, mSamples.id());
+        bindSampleTable();
         if (mLayout.counts) {
             const GLuint bias = 0x88888888u; // every 4-bit count at its bias, 8
             glClearTexImage(mCounts.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &bias);
@@ -316,7 +316,7 @@ private:
             ctx.addCpuTime("potential-silhouettes", msSince(t0));
         }
         mPotential.bind(ctx.casters);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_SAMPLES, mSamples.id());
+        bindSampleTable();
         glNamedFramebufferTexture(mAreaFbo.id(), GL_DEPTH_STENCIL_ATTACHMENT, t.depthStencil.id(),
                                   0);
         if (mResolveVisibility != t.visibility.id()) {
@@ -483,6 +483,15 @@ private:
         combineMask(ctx.targets, states.zero, kEverySample);
     }
 
+    // The light-samples table as a storage buffer (the wedge fragment shader) and as a uniform
+    // block (lib/Bindings.h BINDING_LIGHT_SAMPLES_UBO: the tiled evaluation, the moments pass
+    // and the potential resolve's own-plane samples, where llvmpipe reads a uniform per lane in
+    // about half the instructions of a buffer's or texel's).
+    void bindSampleTable() const {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_LIGHT_SAMPLES, mSamples.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_LIGHT_SAMPLES_UBO, mSamples.id());
+    }
+
     void uploadPattern(std::uint32_t seed) {
         if (mSamples.size() > 0 && seed == mSeed) return;
         // (s, t, angle about the centre, quadrant of its run of 8) per sample, in the
@@ -504,6 +513,15 @@ private:
             const std::size_t entry = b == LIGHT_SAMPLE_ANGLE_BINS ? pattern.size() : first;
             table.emplace_back(static_cast<float>(entry), 0.0f, 0.0f, 0.0f);
         }
+        // At most 256 samples and the bins: 8.2 KB, within the 16 KB of a uniform block that
+        // every GL 4.5 driver allows; checked, for a driver that reports less.
+        GLint maxBlock = 0;
+        glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &maxBlock);
+        if (table.size() * sizeof(glm::vec4) > static_cast<std::size_t>(maxBlock))
+            throw std::runtime_error("wedges-bitmask: the light-samples table (" +
+                                     std::to_string(table.size() * sizeof(glm::vec4)) +
+                                     " bytes) is larger than GL_MAX_UNIFORM_BLOCK_SIZE (" +
+                                     std::to_string(maxBlock) + ")");
         mSamples = Buffer({.size = table.size() * sizeof(glm::vec4), .data = table.data(),
                            .flags = 0, .label = "light-samples"});
         // The same quadrants, 2 bits a run, for the potential resolve's uniform.

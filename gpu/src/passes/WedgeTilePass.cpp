@@ -193,7 +193,9 @@ bool WedgeTilePass::run(const Targets& t, const DrawSet& set, std::uint32_t slot
     };
     texels(mRecordTexels, GL_RGBA32F, mRecords, TEXUNIT_WEDGE_TILE_RECORDS);
     texels(mListTexels, GL_R32UI, mLists, TEXUNIT_WEDGE_TILE_LISTS);
-    texels(mSampleTexels, GL_RGBA32F, samples, TEXUNIT_WEDGE_TILE_SAMPLES);
+    // The light-samples table as a uniform block (lib/Bindings.h BINDING_LIGHT_SAMPLES_UBO; its
+    // size checked where it is made).
+    glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_LIGHT_SAMPLES_UBO, samples.id());
     glUseProgram(mEvaluate.id());
     glUniform2i(1, mTiles.x, mTiles.y);
     glUniform2iv(2, 1, size);

@@ -79,7 +79,7 @@ private:
     struct TextureDeleter {
         void operator()(GLuint id) const { glDeleteTextures(1, &id); }
     };
-    Handle<TextureDeleter> mRecordTexels, mListTexels, mSampleTexels;
+    Handle<TextureDeleter> mRecordTexels, mListTexels;
 };
 
 } // namespace gpu
