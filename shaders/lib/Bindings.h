@@ -8,9 +8,10 @@
 #define BINDING_OCCLUSION_UBO 1 // OcclusionUniforms (the occlusion method's frame)
 #define BINDING_PCSS_UBO 2      // PcssUniforms (the pcss method's maps and sample pattern)
 #define BINDING_SAMPLE_MAPS_UBO 3 // SampleMapUniforms (the sample-maps method's frame)
-// wedges-bitmask's tiled evaluation and moments pass: the light-samples table (the buffer of
-// BINDING_LIGHT_SAMPLES) as a uniform block: llvmpipe reads a uniform per lane in about half the
-// instructions of a buffer texel (the samples' loop: light-grazing 3.5 % of the frame's).
+// wedges-bitmask's tiled evaluation, moments pass and potential resolve: the light-samples table
+// (the buffer of BINDING_LIGHT_SAMPLES) as a uniform block: llvmpipe reads a uniform per lane in
+// about half the instructions of a buffer texel (the samples' loop: light-grazing 2.2 % of the
+// frame's).
 #define BINDING_LIGHT_SAMPLES_UBO 4
 
 // Storage buffers (std430). Static: every caster's welded geometry, concatenated (CasterSet).

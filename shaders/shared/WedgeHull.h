@@ -25,7 +25,8 @@
 // exact point of W lies inside the float planes (tested in tests/geometry/shadow/WedgeHullTest.cpp,
 // which also shows the margins are needed: a 16th of them fails). The hull is Fullscreen
 // instead where that bound is too weak (the edge's line passes within 3e-4 (|e0 - c| + |u| + |v|)
-// + 1.5e-4 |e1 - e0| of a light corner, seen along the edge), where the sector is wider than 178°,
+// + 1.5e-4 |e1 - e0| of a light corner, seen along the edge), where the sector is wider than 178°
+// (wedgeHullNarrowed: unless the part of it that sees the edge as a silhouette is narrower),
 // or where the side planes would cross inside the sector (a ray nearly along the edge). Quads are
 // split into two triangles whose planes agree only to the rounding of their vertices (~1e-7 of
 // the scene).
