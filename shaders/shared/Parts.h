@@ -531,14 +531,19 @@ SHARED_FN float partsRegionsOverlap(vec2 fromA, vec2 toA, vec3 lineA, vec2 fromB
     else
         return 0.0f;
     if (!(coverageCross2(from, to) > 0.0f)) return 0.0f; // a ray, or nothing
+    // Two pieces, split where the lines cross inside the sector, else at its bisector (the
+    // farther line is then the same on both sides, and the pieces add up to the whole): on a
+    // SIMD machine both sides of a branch run (llvmpipe), and a third walk for the unsplit
+    // sector cost a third of the moments pass (data/plates-three.json: 65 M instructions in
+    // the overlaps of its 339 M).
+    vec2 split = normalize(from) + normalize(to); // inside the sector (under pi)
     vec3 x = cross(lineA, lineB); // where the lines cross (homogeneous)
     if (x.z != 0.0f) {
         vec2 c = vec2(x.x / x.z, x.y / x.z);
-        if (coverageCross2(from, c) > 0.0f && coverageCross2(c, to) > 0.0f)
-            return partsSectorBeyondBoth(from, c, lineA, lineB) +
-                   partsSectorBeyondBoth(c, to, lineA, lineB);
+        if (coverageCross2(from, c) > 0.0f && coverageCross2(c, to) > 0.0f) split = c;
     }
-    return partsSectorBeyondBoth(from, to, lineA, lineB);
+    return partsSectorBeyondBoth(from, split, lineA, lineB) +
+           partsSectorBeyondBoth(split, to, lineA, lineB);
 }
 
 SHARED_END
