@@ -398,6 +398,62 @@ TEST(WedgeHullTest, ContainsEveryShadowRayAndEveryCoveredPoint) {
                 rayPoints, coveredPoints, worstTriangle);
 }
 
+namespace {
+
+// Points of shadow rays through the edge (13 light points, the end points and one between, at
+// the distances `ts` beyond it) from which the edge of triangles with third vertices w0, w1 is
+// a silhouette (both on one side of the plane through the point and the edge, in double) must
+// lie inside the narrowed hull h, by its planes and, with `triangles`, by its rasterised
+// triangles (to the quads' crease, as ContainsEveryShadowRayAndEveryCoveredPoint); the others
+// are counted.
+struct ReceiverCounts {
+    long silhouette = 0, other = 0, otherInside = 0;
+    double worstTriangle = 0.0; // largest triangle-plane excess, relative to the scale
+};
+::testing::AssertionResult silhouetteReceiversInside(const WedgeHull& h, const Case& k,
+                                                     const dvec3& w0, const dvec3& w1, Rng& rng,
+                                                     const std::array<double, 6>& ts,
+                                                     bool triangles, ReceiverCounts& c) {
+    const Frame f = frameOf(k.light);
+    const dvec3 e0(k.e0), e1(k.e1);
+    for (int li = 0; li < 13; ++li) {
+        const auto [s, t] = lightSample(rng, li);
+        const dvec3 y = lightPoint(f, s, t, 0.0);
+        for (int ai = 0; ai < 3; ++ai) {
+            const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
+            const dvec3 a = e0 + lambda * (e1 - e0);
+            for (double tt : ts) {
+                const dvec3 p = a + tt * (a - y);
+                // orient(p, e0, e1, w) as dot(e0 - p, (e1 - e0) x (w - e0)): the cross product
+                // of the short vectors, stable for far points.
+                const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
+                const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
+                const bool in = h.kind == geometry::kWedgeHullBounded &&
+                                geometry::wedgeHullContains(h.planes, vec3(p));
+                if (!(o0 * o1 >= 0.0)) {
+                    ++c.other;
+                    c.otherInside += in;
+                    continue;
+                }
+                ++c.silhouette;
+                if (!in)
+                    return ::testing::AssertionFailure()
+                           << "outside: t " << tt << " lambda " << lambda << "\n" << describe(k);
+                if (!triangles) continue;
+                const double excess =
+                    triangleExcess(trianglePlanes(h), p) / (sceneScale(k) + glm::length(p));
+                c.worstTriangle = std::max(c.worstTriangle, excess);
+                if (!(excess <= 4e-7))
+                    return ::testing::AssertionFailure() << "outside a triangle: t " << tt
+                                                         << "\n" << describe(k);
+            }
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
+
+} // namespace
+
 // (1b) wedgeHullNarrowed (wedges-bitmask silhouettes=potential): every point of a shadow ray
 // through the edge from which the edge is a silhouette (its two triangles' third vertices on one
 // side of the plane through the point and the edge, in double) is inside the narrowed hull, and
@@ -406,7 +462,7 @@ TEST(WedgeHullTest, ContainsEveryShadowRayAndEveryCoveredPoint) {
 TEST(WedgeHullTest, NarrowedHullHoldsEverySilhouetteReceiver) {
     Rng rng(0xface);
     const std::array<double, 6> ts = {1e-3, 0.1, 1.0, 10.0, 1e3, 1e5};
-    long inside = 0, silhouettePoints = 0, otherPoints = 0, otherInside = 0;
+    ReceiverCounts counts;
     int degenerate = 0, tried = 0;
     for (int n = 0; n < 4400; ++n) {
         const auto kind = static_cast<EdgeKind>(n % kKinds);
@@ -429,40 +485,15 @@ TEST(WedgeHullTest, NarrowedHullHoldsEverySilhouetteReceiver) {
                                                         k.light.v, true, vec3(w0), vec3(w1));
         ++tried;
         degenerate += h.kind == geometry::kWedgeHullDegenerate;
-        const Frame f = frameOf(k.light);
-        for (int li = 0; li < 13; ++li) {
-            const auto [s, t] = lightSample(rng, li);
-            const dvec3 y = lightPoint(f, s, t, 0.0);
-            for (int ai = 0; ai < 3; ++ai) {
-                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
-                const dvec3 a = e0 + lambda * (e1 - e0);
-                for (double tt : ts) {
-                    const dvec3 p = a + tt * (a - y);
-                    // orient(p, e0, e1, w) as dot(e0 - p, (e1 - e0) x (w - e0)): the cross product
-                    // of the short vectors, stable for far points.
-                    const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
-                    const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
-                    const bool in = h.kind == geometry::kWedgeHullBounded &&
-                                    geometry::wedgeHullContains(h.planes, vec3(p));
-                    if (o0 * o1 >= 0.0) {
-                        ++silhouettePoints;
-                        inside += in;
-                        ASSERT_TRUE(in) << "t " << tt << " lambda " << lambda << " flat " << flat
-                                        << "\n" << describe(k);
-                    } else {
-                        ++otherPoints;
-                        otherInside += in;
-                    }
-                }
-            }
-        }
+        ASSERT_TRUE(silhouetteReceiversInside(h, k, w0, w1, rng, ts, false, counts))
+            << "flat " << flat;
     }
     std::printf("[ hull     ] narrowed: %d hulls, %d with no silhouette receiver; %ld silhouette "
                 "points inside, %ld of %ld others kept (%.0f%%)\n",
-                tried, degenerate, inside, otherInside, otherPoints,
-                100.0 * double(otherInside) / double(std::max(otherPoints, 1L)));
-    EXPECT_GT(silhouettePoints, 10000);
-    EXPECT_LT(otherInside, otherPoints / 2);
+                tried, degenerate, counts.silhouette, counts.otherInside, counts.other,
+                100.0 * double(counts.otherInside) / double(std::max(counts.other, 1L)));
+    EXPECT_GT(counts.silhouette, 10000);
+    EXPECT_LT(counts.otherInside, counts.other / 2);
 }
 
 // (1b') An edge just under the light's plane, under the light (a shelf's top edge under a lamp, a
@@ -475,9 +506,8 @@ TEST(WedgeHullTest, NarrowedHullHoldsEverySilhouetteReceiver) {
 TEST(WedgeHullTest, NarrowedWideSectorsHoldEverySilhouetteReceiver) {
     Rng rng(0x5e1f);
     const std::array<double, 6> ts = {1e-3, 0.1, 1.0, 10.0, 1e3, 1e5};
-    long silhouettePoints = 0, otherPoints = 0, otherInside = 0;
+    ReceiverCounts counts;
     int tried = 0, bounded = 0, degenerate = 0;
-    double worstTriangle = 0.0;
     for (int n = 0; n < 3000; ++n) {
         const RectLight light = randomLight(rng, 0.0);
         const Frame f = frameOf(light);
@@ -503,44 +533,17 @@ TEST(WedgeHullTest, NarrowedWideSectorsHoldEverySilhouetteReceiver) {
         bounded += h.kind == geometry::kWedgeHullBounded;
         degenerate += h.kind == geometry::kWedgeHullDegenerate;
         if (h.kind == geometry::kWedgeHullFullscreen) continue;
-        const dvec3 de0(k.e0), de1(k.e1);
-        for (int li = 0; li < 13; ++li) {
-            const auto [s, t] = lightSample(rng, li);
-            const dvec3 y = lightPoint(f, s, t, 0.0);
-            for (int ai = 0; ai < 3; ++ai) {
-                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
-                const dvec3 a = de0 + lambda * (de1 - de0);
-                for (double tt : ts) {
-                    const dvec3 p = a + tt * (a - y);
-                    const double o0 = glm::dot(de0 - p, glm::cross(de1 - de0, w0 - de0));
-                    const double o1 = glm::dot(de0 - p, glm::cross(de1 - de0, w1 - de0));
-                    const bool in = h.kind == geometry::kWedgeHullBounded &&
-                                    geometry::wedgeHullContains(h.planes, vec3(p));
-                    if (o0 * o1 >= 0.0) {
-                        ++silhouettePoints;
-                        ASSERT_TRUE(in) << "t " << tt << " lambda " << lambda << " box " << box
-                                        << "\n" << describe(k);
-                        // and inside the rasterised triangles (evaluate=raster draws them), to
-                        // the quads' crease (ContainsEveryShadowRayAndEveryCoveredPoint)
-                        const double excess =
-                            triangleExcess(trianglePlanes(h), p) / (sceneScale(k) + glm::length(p));
-                        worstTriangle = std::max(worstTriangle, excess);
-                        ASSERT_LE(excess, 4e-7) << "triangle, t " << tt << "\n" << describe(k);
-                    } else {
-                        ++otherPoints;
-                        otherInside += in;
-                    }
-                }
-            }
-        }
+        ASSERT_TRUE(silhouetteReceiversInside(h, k, w0, w1, rng, ts, true, counts))
+            << "box " << box;
     }
     std::printf("[ hull     ] wide sectors: %d Fullscreen wedges, %d bounded narrowed, %d with no "
                 "silhouette receiver; %ld silhouette points inside (worst triangle-plane excess %.3g of "
                 "the scale), %ld of %ld others kept\n",
-                tried, bounded, degenerate, silhouettePoints, worstTriangle, otherInside, otherPoints);
+                tried, bounded, degenerate, counts.silhouette, counts.worstTriangle,
+                counts.otherInside, counts.other);
     EXPECT_GT(tried, 1000);
     EXPECT_GT(bounded, tried / 4); // the box edges: one silhouette sector in the wedge
-    EXPECT_GT(silhouettePoints, 10000);
+    EXPECT_GT(counts.silhouette, 10000);
 }
 
 // (1c) wedgeHullSilhouetteCone / wedgeHullTruncateCone: where the whole hull is Fullscreen
