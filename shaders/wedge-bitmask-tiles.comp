@@ -56,8 +56,8 @@ layout(binding = TEXUNIT_WEDGE_TILE_LISTS) uniform usamplerBuffer tLists;
 vec4 record(uint slot, int k) {
     return texelFetch(tRecords, int(slot) * TILE_WEDGE_TEXELS + k);
 }
-// TileWedge's fields by texel: e0 0, e1 1, planes 2-5, tri0 6-8, tri1 9-11, bound 12 (13
-// unused), tiles 14, kind 15.
+// TileWedge's fields by texel: e0 0 (and the kind), e1 1 (and eyeInside), planes 2-5, tri0 6-7,
+// tri1 8-9, bound 10, tiles 11.
 
 layout(location = 1) uniform ivec2 uTiles; // tiles across, down
 layout(location = 2) uniform ivec2 uSize;  // the frame's pixels
@@ -175,23 +175,23 @@ void main() {
                 uint slot = texelFetch(tLists, int(uListBase + first + base + j)).r;
                 // The rest of the hull test: a cut cone's far face, a full-screen wedge's
                 // rectangle (its planes let every pixel through). (kind and eyeInside are
-                // integers stored in float texels: compared as bits, 0 and 1 being zero and a
+                // integers stored in the ends' w: compared as bits, 0 and 1 being zero and a
                 // denormal.)
-                uvec2 kind = floatBitsToUint(record(slot, 15).xy);
+                vec4 e0 = record(slot, 0), e1 = record(slot, 1);
+                uvec2 kind = floatBitsToUint(vec2(e0.w, e1.w));
                 vec4 planes[4] = vec4[4](record(slot, 2), record(slot, 3), record(slot, 4),
                                          record(slot, 5));
-                vec4 bound = record(slot, 12); // a cut cone's far face, a full-screen rectangle
+                vec4 bound = record(slot, 10); // a cut cone's far face, a full-screen rectangle
                 bool holds = kind.x == WEDGE_BOUNDED
                                  ? tileWedgeHolds(planes, bound, kind.y != 0u, eye, p)
                                  : all(greaterThanEqual(ndc, bound.xy)) && all(lessThanEqual(ndc, bound.zw));
                 if (!holds) continue;
-                vec4 tri0[3] = vec4[3](record(slot, 6), record(slot, 7), record(slot, 8));
-                vec4 tri1[3] = vec4[3](record(slot, 9), record(slot, 10), record(slot, 11));
+                vec4 tri0[2] = vec4[2](record(slot, 6), record(slot, 7));
+                vec4 tri1[2] = vec4[2](record(slot, 8), record(slot, 9));
                 vec3 h0, h1, h2;
                 float sg;
                 int m;
-                if (!bitmaskEdgeRegion(p, record(slot, 0).xyz, record(slot, 1).xyz, tri0, tri1, m,
-                                       light, h0, h1, h2, sg))
+                if (!bitmaskEdgeRegion(p, e0.xyz, e1.xyz, tri0, tri1, m, light, h0, h1, h2, sg))
                     continue;
                 adds |= 1u << j;
                 positive |= m > 0 ? 1u << j : 0u;

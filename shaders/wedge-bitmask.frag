@@ -26,8 +26,8 @@ flat in vec4 vE1;
 flat in vec4 vPlanes[4];
 flat in uint vBounded;
 #ifdef BITMASK_POTENTIAL
-flat in vec4 vTri0[3];
-flat in vec4 vTri1[3];
+flat in vec4 vTri0[2];
+flat in vec4 vTri1[2];
 // The edge's share of A_q = (1/|L_q|) integral of D over quadrant q of the light, per quadrant:
 // m_P(e) times the share of the quadrant in R (regionQuadrantCoverage of the R the samples
 // take; their mean is edgeCoverage's), summed over the wedges by additive blending.

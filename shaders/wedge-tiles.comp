@@ -105,7 +105,7 @@ vec4 hullScreenRect(GpuWedge wedge) {
 // Whether a surface box [lo, hi] (lo.x > hi.x: no surface) may hold a pixel the wedge changes.
 bool boundsMayHold(TileWedge w, vec4 lo, vec4 hi) {
     if (lo.x > hi.x) return false; // no surface
-    return w.kind.x == WEDGE_FULLSCREEN || boxMayMeetHull(w.planes, lo.xyz, hi.xyz);
+    return tileWedgeKind(w) == WEDGE_FULLSCREEN || boxMayMeetHull(w.planes, lo.xyz, hi.xyz);
 }
 
 #endif
@@ -184,20 +184,18 @@ void main() {
 #if WEDGE_TILES_STAGE == 0
     GpuWedge wedge = wedges[slot];
     TileWedge w;
-    w.e0 = wedge.e0;
-    w.e1 = wedge.e1;
+    w.e0 = vec4(wedge.e0.xyz, uintBitsToFloat(wedge.kind));
+    w.e1 = vec4(wedge.e1.xyz, uintBitsToFloat(wedge.eyeInside));
     // A full-screen wedge's planes let every point through (the evaluation's first test; its
     // rectangle decides after).
     for (int i = 0; i < 4; ++i)
         w.planes[i] = wedge.kind == WEDGE_FULLSCREEN ? vec4(0.0, 0.0, 0.0, -1.0) : wedge.planes[i];
     GpuEdge edge = edges[wedge.edge]; // a twin slot's edge is another slot's
     uvec2 apex = edgeApexes[wedge.edge];
-    triangleCorners(edge.v0, edge.v1, apex.x, w.tri0);
-    triangleCorners(edge.v0, edge.v1, apex.y, w.tri1);
-    w.kind = uvec4(wedge.kind, wedge.eyeInside, 0u, 0u);
+    trianglePlane(edge.v0, edge.v1, apex.x, w.tri0);
+    trianglePlane(edge.v0, edge.v1, apex.y, w.tri1);
     w.tiles = ivec4(0, 0, -1, -1);
     w.bound = vec4(0.0, 0.0, 0.0, -1.0);
-    w.unused = vec4(0.0);
     float reach = wedge.rays[3].w;
     if (wedge.kind == WEDGE_BOUNDED && reach > 0.0) {
         // (wedgeHullTruncateCone's l, from the stored directions)

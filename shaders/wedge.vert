@@ -27,10 +27,10 @@ flat out vec4 vPlanes[4];
 flat out uint vBounded;
 #ifdef WEDGE_APEXES
 // wedges-bitmask silhouettes=potential (engine/PotentialSet.h): the edge's (at most two)
-// triangles, each as its three corners in ascending vertex-id order, w: the sign that turns
-// orient(P, corners) into orient(P, e0, e1, apex) (0: no triangle). The same triangle reaches
-// the fragment shader in the same order from each of its edges, so its orientation about P is
-// computed bit for bit alike on all three (the counts of its edges cancel exactly).
+// triangles as lib/WedgeCorners.glsl's trianglePlane gives them (a corner, the sign, the
+// normal). The same triangle reaches the fragment shader as the same floats from each of its
+// edges, so its orientation about P is computed bit for bit alike on all three (the counts of
+// its edges cancel exactly).
 layout(std430, binding = BINDING_WELDED_POSITIONS) readonly buffer WeldedPositions {
     vec4 weldedPositions[];
 };
@@ -40,8 +40,8 @@ layout(std430, binding = BINDING_EDGES) readonly buffer Edges {
 layout(std430, binding = BINDING_EDGE_APEXES) readonly buffer EdgeApexes {
     uvec2 edgeApexes[];
 };
-flat out vec4 vTri0[3];
-flat out vec4 vTri1[3];
+flat out vec4 vTri0[2];
+flat out vec4 vTri1[2];
 #endif
 
 #define WEDGE_PASS_ENTRY 0u
@@ -68,7 +68,7 @@ void main() {
         for (int i = 0; i < 4; ++i) vPlanes[i] = vec4(0.0);
         vBounded = 0u;
 #ifdef WEDGE_APEXES
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; i < 2; ++i) {
             vTri0[i] = vec4(0.0);
             vTri1[i] = vec4(0.0);
         }
@@ -83,8 +83,8 @@ void main() {
 #ifdef WEDGE_APEXES
     GpuEdge edge = edges[wedge.edge]; // a twin slot's edge is another slot's
     uvec2 apex = edgeApexes[wedge.edge];
-    triangleCorners(edge.v0, edge.v1, apex.x, vTri0);
-    triangleCorners(edge.v0, edge.v1, apex.y, vTri1);
+    trianglePlane(edge.v0, edge.v1, apex.x, vTri0);
+    trianglePlane(edge.v0, edge.v1, apex.y, vTri1);
 #endif
     bool entry = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside == 0u;
     bool exit = wedge.kind == WEDGE_BOUNDED && wedge.eyeInside != 0u;

@@ -51,12 +51,13 @@ CoverageLight frameCoverageLight() {
 // neighbour) is taken a little towards the camera, as the stencil's polygon offset takes it
 // (the visible side of a two-sided surface): the orientation of the eye instead.
 // (triangleSide: the sign of orient(P, e0, e1, apex); triangleShare: its share given sc.)
-// t: the triangle's corners in ascending vertex-id order, w the sign that turns orient(P,
-// corners) into orient(P, e0, e1, apex) (wedge.vert's triangleCorners; 0: no triangle).
-int triangleSide(vec4 t[3], vec3 p) {
+// t: the triangle as lib/WedgeCorners.glsl's trianglePlane gives it: t[0] its first corner in
+// ascending vertex-id order, w the sign that turns orient(P, corners) into orient(P, e0, e1,
+// apex) (0: no triangle); t[1] the normal of the sorted corners.
+int triangleSide(vec4 t[2], vec3 p) {
     if (t[0].w == 0.0) return 0;
     vec3 a = t[0].xyz;
-    vec3 n = cross(t[1].xyz - a, t[2].xyz - a);
+    vec3 n = t[1].xyz;
     float d = t[0].w * dot(a - p, n);
     float tol = 4e-6 * length(n) * (length(a - p) + length(p));
     if (!(abs(d) > tol)) {
@@ -75,12 +76,13 @@ int triangleShare(int side, float sc) {
 // (wedge-bitmask-tiles.comp: on a SIMD machine a branch costs whether or not a lane takes it,
 // while a loop costs only the iterations some lane needs).
 // bitmaskEdgeRegion: R for `light` as half-planes (h0, h1, h2; sg its orientation) and, with
-// BITMASK_POTENTIAL, m = m_P(e) from the edge's triangles tri0, tri1; false where R misses the
+// BITMASK_POTENTIAL, m = m_P(e) from the edge's triangles' planes tri0, tri1 (trianglePlane's);
+// false where R misses the
 // light, or (potential) where the edge is no silhouette seen from P (m = 0). Deterministic: run
 // again with the same arguments it gives the same R.
 bool bitmaskEdgeRegion(vec3 p, vec3 e0, vec3 e1,
 #ifdef BITMASK_POTENTIAL
-                       vec4 tri0[3], vec4 tri1[3], out int m,
+                       vec4 tri0[2], vec4 tri1[2], out int m,
 #endif
                        CoverageLight light, out vec3 h0, out vec3 h1, out vec3 h2,
                        out float sg) {
@@ -166,7 +168,7 @@ bool bitmaskEdgeSamples(ivec2 px, vec3 h0, vec3 h1, vec3 h2, float sg, out uint 
 // the edge adds nothing at P.
 bool bitmaskEdge(ivec2 px, vec3 p, vec3 e0, vec3 e1,
 #ifdef BITMASK_POTENTIAL
-                 vec4 tri0[3], vec4 tri1[3], out int m,
+                 vec4 tri0[2], vec4 tri1[2], out int m,
 #endif
                  out CoverageLight light, out vec3 h0, out vec3 h1, out vec3 h2, out float sg,
                  out uint words[8], out uint any) {

@@ -18,11 +18,19 @@ vec4 screenRect(vec3 lo, vec3 hi) {
 }
 
 #ifdef WEDGE_APEXES
-// A triangle's corners (global welded ids a, b, c; c = 0xFFFFFFFF: no triangle, all zero) in
-// ascending id order, w: the sign of the sorting permutation. Needs weldedPositions[].
-void triangleCorners(uint a, uint b, uint c, out vec4 t[3]) {
+// A triangle's plane as lib/BitmaskEdge.glsl's triangleSide takes it (global welded ids a, b,
+// c; c = 0xFFFFFFFF: no triangle, all zero): t[0] its first corner t0 in ascending id order,
+// with in w the sign of the sorting permutation (which turns orientations about the sorted
+// corners into those about (a, b, c)); t[1] the normal (t1 - t0) x (t2 - t0) of the sorted
+// corners. A triangle reaches triangleSide as the same floats from each of its three edges, so
+// its side of P is decided bit for bit alike on all three (their counts cancel exactly).
+// Computed once per wedge, for the raster pass (wedge.vert) and the tiled evaluation's records
+// (wedge-tiles.comp) alike: two texels a triangle where its three corners took three, and no
+// cross product per pixel. Needs weldedPositions[].
+void trianglePlane(uint a, uint b, uint c, out vec4 t[2]) {
     if (c == 0xFFFFFFFFu) {
-        for (int i = 0; i < 3; ++i) t[i] = vec4(0.0);
+        t[0] = vec4(0.0);
+        t[1] = vec4(0.0);
         return;
     }
     // Sort (a, b, c) ascending, counting the swaps (the permutation's parity).
@@ -31,9 +39,9 @@ void triangleCorners(uint a, uint b, uint c, out vec4 t[3]) {
     if (a > b) { x = a; a = b; b = x; parity = -parity; }
     if (b > c) { x = b; b = c; c = x; parity = -parity; }
     if (a > b) { x = a; a = b; b = x; parity = -parity; }
-    t[0] = vec4(weldedPositions[a].xyz, parity);
-    t[1] = vec4(weldedPositions[b].xyz, parity);
-    t[2] = vec4(weldedPositions[c].xyz, parity);
+    vec3 t0 = weldedPositions[a].xyz;
+    t[0] = vec4(t0, parity);
+    t[1] = vec4(cross(weldedPositions[b].xyz - t0, weldedPositions[c].xyz - t0), 0.0);
 }
 #endif
 

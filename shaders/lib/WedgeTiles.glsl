@@ -8,25 +8,27 @@
 #define WEDGE_TILE 8 // pixels per tile side (WedgeTilePass::kTile, its surface-tiles.comp's)
 #endif
 
-#define TILE_WEDGE_TEXELS 16 // vec4s in a TileWedge
+#define TILE_WEDGE_TEXELS 12 // vec4s in a TileWedge
 struct TileWedge {
-    vec4 e0;        // xyz: the edge's start (GpuWedge::e0)
-    vec4 e1;        // xyz: its end
+    vec4 e0;        // xyz: the edge's start (GpuWedge::e0); w: GpuWedge::kind's bits
+                    // (WEDGE_BOUNDED, WEDGE_FULLSCREEN; others add nothing)
+    vec4 e1;        // xyz: its end; w: GpuWedge::eyeInside's bits (the evaluation reads the
+                    // kind with the ends it needs anyway: a texel fewer a pair)
     vec4 planes[4]; // the hull's planes (GpuWedge::planes): P inside all four, or no change;
                     // a full-screen wedge's let every P through (its rectangle decides)
-    vec4 tri0[3];   // the edge's triangles as wedge.vert hands them to wedge-bitmask.frag
-    vec4 tri1[3];
+    vec4 tri0[2];   // the edge's triangles as wedge.vert hands them to wedge-bitmask.frag
+    vec4 tri1[2];   // (lib/WedgeCorners.glsl trianglePlane)
     vec4 bound;     // WEDGE_FULLSCREEN: the NDC rectangle of its group's influence (wedge.vert's);
                     // WEDGE_BOUNDED: a cut silhouette cone's far face (WedgeHull::reach) as a
                     // fifth plane (inside: dot(far.xyz, P) + far.w <= 0), else (0, 0, 0, -1),
                     // not a bound on P: see tileWedgeHolds. (One texel for both: the
                     // evaluation reads it once a pair; a texel costs a SIMD vector about 100
                     // instructions on llvmpipe, read by every lane whatever its branch.)
-    vec4 unused;
     ivec4 tiles;    // the tiles its hull's screen rectangle touches: x0, y0, x1, y1 (inclusive)
-    uvec4 kind;     // x: GpuWedge::kind (WEDGE_BOUNDED, WEDGE_FULLSCREEN; others add nothing),
-                    // y: GpuWedge::eyeInside
 };
+uint tileWedgeKind(TileWedge w) {
+    return floatBitsToUint(w.e0.w);
+}
 
 #ifndef WEDGE_TILES_TEXELS // (the evaluation reads them as texels)
 layout(std430, binding = BINDING_WEDGE_TILE_RECORDS) buffer TileWedges {

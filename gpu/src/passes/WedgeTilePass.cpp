@@ -13,7 +13,7 @@ namespace gpu {
 
 namespace {
 
-constexpr std::size_t kTileWedgeBytes = 16 * 16; // TileWedge (shaders/lib/WedgeTiles.glsl)
+constexpr std::size_t kTileWedgeBytes = 12 * 16; // TileWedge (shaders/lib/WedgeTiles.glsl)
 constexpr std::size_t kPairBytes = 3 * 4;         // a recorded entry (BINDING_WEDGE_TILE_PAIRS)
 constexpr std::size_t kMaxPairs = std::size_t(1) << 24; // 192 MiB of recorded entries
 constexpr std::size_t kMomentSlotBytes = MOMENT_SLOT_UINTS * 4; // a pixel's edges for P
