@@ -118,7 +118,7 @@ void main() {
         uvec2 area[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
         uint pairs = 0u;
         // estimate=moments: every edge that added with a region that meets the light, as its
-        // wedge slot and m (slot | (m + 2) << 29: the slots' records, 16 texels each, fit a
+        // wedge slot and m (slot | (m + 2) << 29: the slots' records, 12 texels each, fit a
         // buffer texture), for P after the list (wedge-moments.comp computes their regions
         // again). In registers: written by comparing with each constant index (an index that
         // varies, into a local array, is a memory access per lane on a SIMD machine).
