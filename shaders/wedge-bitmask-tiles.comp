@@ -125,6 +125,7 @@ void main() {
         uint regionEdges[MOMENT_EDGES];
         for (int k = 0; k < MOMENT_EDGES; ++k) regionEdges[k] = 0u;
         int regions = 0;
+        float selfP = 0.0; // P's terms of the kept edges with themselves (wedge-moments.comp)
         bool momentsKept = uMoments != 0u;
         // The list in runs of 32, in three loops: the hull's four planes, where most pairs end,
         // as bits; then, for the set bits, the rest of the hull test (lib/WedgeTiles.glsl
@@ -227,6 +228,8 @@ void main() {
                         for (int k = 0; k < MOMENT_EDGES; ++k)
                             regionEdges[k] = k == regions ? edge : regionEdges[k];
                         ++regions;
+                        selfP += float(m) * share; // m^2 |R ∩ L| / |L|: P's own terms
+
                     } else {
                         momentsKept = false;
                     }
@@ -285,7 +288,8 @@ void main() {
             // Four words a store, every edge word written (0 past `regions`): on a SIMD machine
             // each store is a loop over the lanes, run whether or not a lane stores.
             uint at = momentSlot * uint(MOMENT_SLOT_UINTS / 4);
-            tileMoments[at] = uvec4(uint(px.x) | (uint(px.y) << 16), uint(regions), 0u, 0u);
+            tileMoments[at] = uvec4(uint(px.x) | (uint(px.y) << 16), uint(regions),
+                                    floatBitsToUint(selfP), 0u);
             for (int k = 0; k < MOMENT_EDGES / 4; ++k)
                 tileMoments[at + 1u + uint(k)] =
                     uvec4(regionEdges[4 * k], regionEdges[4 * k + 1], regionEdges[4 * k + 2],

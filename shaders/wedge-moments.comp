@@ -6,7 +6,9 @@
 //   P = (1/|L|) integral over L of (sum over the edges of m times R's indicator)^2
 //     = sum_e m_e^2 |R_e ∩ L| / |L| + 2 sum_{e < f} m_e m_f |R_e ∩ R_f ∩ L| / |L|,
 // each R again as the evaluation computed it (the same statements on the same receiver, edge
-// and light), the pairs' overlaps by shared/Parts.h partsRegionsOverlap. With D(P, c) and A
+// and light), the pairs' overlaps by shared/Parts.h partsRegionsOverlap. The first sum, each
+// edge with itself, the evaluation adds up as it keeps the edges (the slot's third word): here
+// it would take each edge's walk around the light's square again. With D(P, c) and A
 // the resolve has the second moment of D from it. Written as bits into the moment layer (the
 // layer after the mark), where the evaluation left WEDGE_TILES_NO_MOMENT. A pass of its own,
 // over those pixels only: in the evaluation every pixel would pay a pass of the pairs' loop,
@@ -63,11 +65,10 @@ void main() {
     int regions = int(tileMoments[at + 1u]);
     vec3 p = texelFetch(tPosition, px, 0).xyz;
     const CoverageLight light = frameCoverageLight();
-    // Each edge's R: its sector's rays (from, to), its line, m and m |R ∩ L| / |L|.
+    // Each edge's R: its sector's rays (from, to), its line and m.
     vec4 regionSector[MOMENT_EDGES];
     vec3 regionLine[MOMENT_EDGES];
     int regionM[MOMENT_EDGES];
-    float regionShare[MOMENT_EDGES];
     for (int e = 0; e < regions; ++e) {
         uint edge = tileMoments[at + uint(MOMENT_SLOT_EDGES + e)];
         uint wedge = edge & 0x1FFFFFFFu;
@@ -75,19 +76,19 @@ void main() {
         vec3 h0, h1, h2;
         float sg;
         edgeRegion(p, record(wedge, 0).xyz, record(wedge, 1).xyz, light, h0, h1, h2, sg);
-        vec4 a = float(m) * regionQuadrantCoverage(h0, h1, h2);
         regionSector[e] = vec4(partsSectorFrom(h0, h1, sg), partsSectorTo(h0, h1, sg));
         regionLine[e] = h2;
         regionM[e] = m;
-        regionShare[e] = 0.25 * (a.x + a.y + a.z + a.w);
     }
-    float sum = 0.0;
+    float sum = uintBitsToFloat(tileMoments[at + 2u]); // sum_e m_e^2 |R_e ∩ L| / |L|
     for (int e = 0; e < regions; ++e) {
-        sum += float(regionM[e]) * regionShare[e]; // m^2 |R_e ∩ L| / |L|
+        vec4 sectorE = regionSector[e];
+        vec3 lineE = regionLine[e];
+        int mE = regionM[e];
         for (int f = e + 1; f < regions; ++f)
-            sum += 2.0 * float(regionM[e] * regionM[f]) *
-                   partsRegionsOverlap(regionSector[e].xy, regionSector[e].zw, regionLine[e],
-                                       regionSector[f].xy, regionSector[f].zw, regionLine[f]);
+            sum += 2.0 * float(mE * regionM[f]) *
+                   partsRegionsOverlap(sectorE.xy, sectorE.zw, lineE, regionSector[f].xy,
+                                       regionSector[f].zw, regionLine[f]);
     }
     imageStore(iCounts, ivec3(px, BITMASK_SAMPLES / 8 + 3), uvec4(floatBitsToUint(sum)));
 }

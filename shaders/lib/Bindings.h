@@ -66,8 +66,9 @@
 // testing the tiles again.
 #define BINDING_WEDGE_TILE_PAIRS 18
 // estimate=moments: per pixel that needs P (its samples see two or more layer counts), the
-// pixel (x | y << 16), the number of edges that added there with a region meeting the light
-// (two words of padding), and each one's wedge slot | (m + 2) << 29 (0 past the number), for
+// pixel (x | y << 16), the number of edges that added there with a region meeting the light,
+// the sum over them of m^2 |R ∩ L| / |L| (float bits; a word of padding), and each one's wedge
+// slot | (m + 2) << 29 (0 past the number), for
 // shaders/wedge-moments.comp: written as MOMENT_SLOT_UINTS / 4 uvec4s.
 #define BINDING_WEDGE_TILE_MOMENTS 19
 #define MOMENT_EDGES 16 // edges a slot holds: a pixel where more add keeps no P (a multiple of 4)
