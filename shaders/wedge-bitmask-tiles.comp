@@ -229,7 +229,6 @@ void main() {
                             regionEdges[k] = k == regions ? edge : regionEdges[k];
                         ++regions;
                         selfP += float(m) * share; // m^2 |R ∩ L| / |L|: P's own terms
-
                     } else {
                         momentsKept = false;
                     }
