@@ -254,6 +254,28 @@ std::pair<double, double> lightSample(Rng& rng, int i) {
     return {rng.uniform(-1, 1), rng.uniform(-1, 1)};
 }
 
+// The points of the shadow rays through k's edge: from each of the 13 light points (lightSample),
+// through `lambdas` points a of the edge (its two ends, then points drawn between them), the
+// points a + t (a - y) for each t of ts, in that order. visit(p, lambda, t) returns false to
+// stop, and then this returns false.
+template <std::size_t N, class Visit>
+bool forShadowRayPoints(const Case& k, Rng& rng, int lambdas, const std::array<double, N>& ts,
+                        Visit&& visit) {
+    const Frame f = frameOf(k.light);
+    const dvec3 e0(k.e0), e1(k.e1);
+    for (int li = 0; li < 13; ++li) {
+        const auto [s, t] = lightSample(rng, li);
+        const dvec3 y = lightPoint(f, s, t, 0.0);
+        for (int ai = 0; ai < lambdas; ++ai) {
+            const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
+            const dvec3 a = e0 + lambda * (e1 - e0);
+            for (double tt : ts)
+                if (!visit(a + tt * (a - y), lambda, tt)) return false;
+        }
+    }
+    return true;
+}
+
 } // namespace
 
 TEST(WedgeHullTest, TopologyIsClosedAndTableMatchesFaces) {
@@ -354,30 +376,22 @@ TEST(WedgeHullTest, ContainsEveryShadowRayAndEveryCoveredPoint) {
         const double scale = sceneScale(k);
         const Frame f = frameOf(k.light);
         const dvec3 e0(k.e0), e1(k.e1);
-        for (int li = 0; li < 13; ++li) {
-            const auto [s, t] = lightSample(rng, li);
-            const dvec3 y = lightPoint(f, s, t, 0.0);
-            for (int ai = 0; ai < 4; ++ai) {
-                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
-                const dvec3 a = e0 + lambda * (e1 - e0);
-                for (double tt : ts) {
-                    const dvec3 p = a + tt * (a - y);
-                    ASSERT_LE(planeExcess(h, p), 0.0)
-                        << "t " << tt << " lambda " << lambda << " s " << s << " t " << t << "\n"
-                        << describe(k);
-                    ASSERT_TRUE(geometry::wedgeHullContains(h.planes, vec3(p)))
-                        << "float test, t " << tt << "\n"
-                        << describe(k);
-                    const double excess = triangleExcess(tri, p) / (scale + glm::length(p));
-                    worstTriangle = std::max(worstTriangle, excess);
-                    // The quads' two triangles are coplanar only up to the rounding of their
-                    // float vertices (~2^-23 of the distance between them, i.e. of the edge's
-                    // length and the scene's coordinates): the crease may be that far concave.
-                    ASSERT_LE(excess, 4e-7) << "triangle, t " << tt << "\n" << describe(k);
-                    ++rayPoints;
-                }
-            }
-        }
+        const bool inside = forShadowRayPoints(k, rng, 4, ts, [&](const dvec3& p, double lambda,
+                                                                  double tt) {
+            const double plane = planeExcess(h, p);
+            EXPECT_LE(plane, 0.0) << "t " << tt << " lambda " << lambda << "\n" << describe(k);
+            const bool inFloat = geometry::wedgeHullContains(h.planes, vec3(p));
+            EXPECT_TRUE(inFloat) << "float test, t " << tt << "\n" << describe(k);
+            const double excess = triangleExcess(tri, p) / (scale + glm::length(p));
+            worstTriangle = std::max(worstTriangle, excess);
+            // The quads' two triangles are coplanar only up to the rounding of their float
+            // vertices (~2^-23 of the distance between them, i.e. of the edge's length and the
+            // scene's coordinates): the crease may be that far concave.
+            EXPECT_LE(excess, 4e-7) << "triangle, t " << tt << "\n" << describe(k);
+            ++rayPoints;
+            return plane <= 0.0 && inFloat && excess <= 4e-7;
+        });
+        if (!inside) return;
         // Points around the edge and the light, at several scales: non-zero coverage means
         // inside. (Coverage is zero outside the exact wedge, so this also samples its boundary.)
         const dvec3 mid = 0.5 * (e0 + e1);
@@ -414,42 +428,38 @@ struct ReceiverCounts {
                                                      const dvec3& w0, const dvec3& w1, Rng& rng,
                                                      const std::array<double, 6>& ts,
                                                      bool triangles, ReceiverCounts& c) {
-    const Frame f = frameOf(k.light);
     const dvec3 e0(k.e0), e1(k.e1);
-    for (int li = 0; li < 13; ++li) {
-        const auto [s, t] = lightSample(rng, li);
-        const dvec3 y = lightPoint(f, s, t, 0.0);
-        for (int ai = 0; ai < 3; ++ai) {
-            const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
-            const dvec3 a = e0 + lambda * (e1 - e0);
-            for (double tt : ts) {
-                const dvec3 p = a + tt * (a - y);
-                // orient(p, e0, e1, w) as dot(e0 - p, (e1 - e0) x (w - e0)): the cross product
-                // of the short vectors, stable for far points.
-                const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
-                const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
-                const bool in = h.kind == geometry::kWedgeHullBounded &&
-                                geometry::wedgeHullContains(h.planes, vec3(p));
-                if (!(o0 * o1 >= 0.0)) {
-                    ++c.other;
-                    c.otherInside += in;
-                    continue;
-                }
-                ++c.silhouette;
-                if (!in)
-                    return ::testing::AssertionFailure()
-                           << "outside: t " << tt << " lambda " << lambda << "\n" << describe(k);
-                if (!triangles) continue;
-                const double excess =
-                    triangleExcess(trianglePlanes(h), p) / (sceneScale(k) + glm::length(p));
-                c.worstTriangle = std::max(c.worstTriangle, excess);
-                if (!(excess <= 4e-7))
-                    return ::testing::AssertionFailure() << "outside a triangle: t " << tt
-                                                         << "\n" << describe(k);
-            }
+    ::testing::AssertionResult result = ::testing::AssertionSuccess();
+    forShadowRayPoints(k, rng, 3, ts, [&](const dvec3& p, double lambda, double tt) {
+        // orient(p, e0, e1, w) as dot(e0 - p, (e1 - e0) x (w - e0)): the cross product of the
+        // short vectors, stable for far points.
+        const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
+        const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
+        const bool in = h.kind == geometry::kWedgeHullBounded &&
+                        geometry::wedgeHullContains(h.planes, vec3(p));
+        if (!(o0 * o1 >= 0.0)) {
+            ++c.other;
+            c.otherInside += in;
+            return true;
         }
-    }
-    return ::testing::AssertionSuccess();
+        ++c.silhouette;
+        if (!in) {
+            result = ::testing::AssertionFailure()
+                     << "outside: t " << tt << " lambda " << lambda << "\n" << describe(k);
+            return false;
+        }
+        if (!triangles) return true;
+        const double excess =
+            triangleExcess(trianglePlanes(h), p) / (sceneScale(k) + glm::length(p));
+        c.worstTriangle = std::max(c.worstTriangle, excess);
+        if (!(excess <= 4e-7)) {
+            result = ::testing::AssertionFailure() << "outside a triangle: t " << tt << "\n"
+                                                   << describe(k);
+            return false;
+        }
+        return true;
+    });
+    return result;
 }
 
 } // namespace
@@ -650,31 +660,22 @@ TEST(WedgeHullTest, SilhouetteConesHoldEverySilhouetteReceiver) {
         }
         // The sampled points first, then the box around them the cones are cut to.
         std::vector<std::pair<dvec3, bool>> points;
-        const Frame f = frameOf(k.light);
         glm::dvec3 lo(1e300), hi(-1e300);
-        for (int li = 0; li < 13; ++li) {
-            const auto [s, t] = lightSample(rng, li);
-            const dvec3 y = lightPoint(f, s, t, 0.0);
-            for (int ai = 0; ai < 3; ++ai) {
-                const double lambda = ai == 0 ? 0.0 : ai == 1 ? 1.0 : rng.uniform(0, 1);
-                const dvec3 a = e0 + lambda * (e1 - e0);
-                for (double tt : ts) {
-                    const dvec3 p = a + tt * (a - y);
-                    // On the edge's line (y on it: the edge seen end-on), within the rounding
-                    // of p: no plane through the edge and p, no region on the light.
-                    if (glm::length(glm::cross(p - e0, e1 - e0)) / len <
-                        1e-5 * (glm::length(p - e0) + sceneScale(k))) {
-                        ++onLine;
-                        continue;
-                    }
-                    const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
-                    const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
-                    points.push_back({p, o0 * o1 >= 0.0});
-                    lo = glm::min(lo, p);
-                    hi = glm::max(hi, p);
-                }
+        forShadowRayPoints(k, rng, 3, ts, [&](const dvec3& p, double, double) {
+            // On the edge's line (y on it: the edge seen end-on), within the rounding of p: no
+            // plane through the edge and p, no region on the light.
+            if (glm::length(glm::cross(p - e0, e1 - e0)) / len <
+                1e-5 * (glm::length(p - e0) + sceneScale(k))) {
+                ++onLine;
+                return true;
             }
-        }
+            const double o0 = glm::dot(e0 - p, glm::cross(e1 - e0, w0 - e0));
+            const double o1 = glm::dot(e0 - p, glm::cross(e1 - e0, w1 - e0));
+            points.push_back({p, o0 * o1 >= 0.0});
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+            return true;
+        });
         WedgeHull cut[2];
         for (int which = 0; which < 2; ++which)
             cut[which] = geometry::wedgeHullTruncateCone(c[which], k.light.center, k.light.u,
