@@ -8,15 +8,16 @@
 #include "engine/MethodOptions.h"
 #include "engine/ShaderBindings.h"
 #include "passes/FullscreenPass.h"
+#include "passes/SampleMapPass.h"
 
 #include <geometry/core/Error.h>
-#include <geometry/core/Sampling.h>
 #include <geometry/shadow/SampleMapFrame.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,28 +29,10 @@ namespace {
 // out's N-buffer comes on top).
 constexpr std::size_t kMaxMapBytes = std::size_t(256) << 20;
 
-Program loadMapProgram(const ShaderLoader& shaders, bool alphaTested) {
-    std::vector<std::string> defines = {"SAMPLE_MAP"};
-    if (alphaTested) {
-        defines.push_back("ALPHA_TEST");
-        defines.push_back("MATERIAL_BASE_LEVEL");
-    }
-    return shaders.load({.stages = {{GL_VERTEX_SHADER, "pcss-shadow.vert"},
-                                    {GL_FRAGMENT_SHADER, "pcss-shadow.frag"}},
-                         .defines = defines,
-                         .label = alphaTested ? "sample-map-alpha-test" : "sample-map"});
-}
-
-// Depth only, zNear / z reversed (cleared to 0, GREATER keeps the nearest), no culling: every
-// triangle occludes from both sides, as in pcss's maps.
-constexpr PipelineState kMapState{
-    .depthTest = true, .depthFunc = GL_GREATER, .depthWrite = true, .colorWrite = false};
-
 class SampleMapsMethod final : public VisibilityMethod {
 public:
     explicit SampleMapsMethod(const MethodResources& r)
-        : mOptions(sampleMapsOptions(r.parameters)), mOpaque(loadMapProgram(r.shaders, false)),
-          mAlphaTested(loadMapProgram(r.shaders, true)),
+        : mOptions(sampleMapsOptions(r.parameters)),
           mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{},
                   lookupDefines(mOptions)),
           mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}),
@@ -68,16 +51,7 @@ public:
                 std::to_string(mOptions.resolution) + " needs " +
                 std::to_string(layers * r2 * 4 >> 20) + " MiB of shadow maps, over the " +
                 std::to_string(kMaxMapBytes >> 20) + " MiB limit; lower one of them");
-        mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
-                         .width = mOptions.resolution,
-                         .height = mOptions.resolution,
-                         .layers = mOptions.samples,
-                         .format = GL_DEPTH_COMPONENT32F,
-                         .wrap = GL_CLAMP_TO_BORDER,
-                         .label = "sample-maps"});
-        for (int i = 0; i < mOptions.samples; ++i)
-            mFbos.emplace_back(FramebufferDesc{
-                .attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, i}}, .label = "sample-map"});
+        mMaps.emplace(r.shaders, mOptions.samples, mOptions.resolution, "sample-maps");
         if (mOptions.earlyOut) {
             mNBuffer = Texture({.target = GL_TEXTURE_2D_ARRAY,
                                 .width = mOptions.resolution,
@@ -114,20 +88,7 @@ public:
         const bool cached = mMapsDrawn;
         if (!cached && !f.empty) {
             ScopedPass pass(&ctx.timers, "sample-maps-shadow");
-            applyState(kMapState);
-            const SceneGeometry::Programs programs{mOpaque, mAlphaTested, false};
-            const float nothing = 0.0f;
-            for (std::size_t i = 0; i < f.views.size(); ++i) {
-                glBindFramebuffer(GL_FRAMEBUFFER, mFbos[i].id());
-                glViewport(0, 0, mOptions.resolution, mOptions.resolution);
-                glClearNamedFramebufferfv(mFbos[i].id(), GL_DEPTH, 0, &nothing);
-                const glm::mat4 m = f.projection(i);
-                for (const Program* p : {&mOpaque, &mAlphaTested})
-                    glProgramUniformMatrix4fv(p->id(), UNIFORM_SAMPLE_MAP_VIEW, 1, GL_FALSE,
-                                              &m[0][0]);
-                for (const std::size_t object : mObjects)
-                    ctx.sceneGeometry.drawObject(object, programs);
-            }
+            mMaps->draw(f, 0, f.views.size(), mObjects, ctx.sceneGeometry);
             if (earlyOut) buildNBuffer();
         }
         mMapsDrawn = true;
@@ -138,7 +99,7 @@ public:
             ScopedPass pass(&ctx.timers, "sample-maps-lookup");
             glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
-            glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps.id());
+            glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps->maps().id());
             if (mOptions.earlyOut) {
                 glBindTextureUnit(TEXUNIT_SAMPLE_MAP_NBUFFER, mNBuffer.id());
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_STATS, mStats.id());
@@ -174,7 +135,7 @@ private:
     // Map mNearest's max N-buffer (shaders/sample-maps-nbuffer.comp), from the maps just drawn.
     void buildNBuffer() const {
         glUseProgram(mNBufferProgram.id());
-        glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps.id());
+        glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps->maps().id());
         glBindImageTexture(IMAGE_SAMPLE_MAP_NBUFFER, mNBuffer.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                            GL_R32F);
         const GLuint groups = static_cast<GLuint>((mOptions.resolution + 7) / 8);
@@ -235,15 +196,10 @@ private:
         const std::uint32_t seed = ctx.settings.seed;
         if (mFitted && ctx.light == mLight && subset == mSubset && seed == mSeed) return;
         const auto t0 = Clock::now();
-        mObjects.clear();
-        geometry::Aabb bounds;
-        for (const std::uint32_t c : subset) {
-            const std::size_t object = ctx.casters.sceneObject(c);
-            mObjects.push_back(object);
-            bounds.extend(ctx.scene.objects[object].mesh.bounds());
-        }
-        const std::vector<glm::vec2> samples = geometry::stratifiedSquare(mOptions.samples, seed);
-        mFrame = geometry::fitSampleMapFrame(ctx.light, samples, bounds);
+        SampleMapSetup setup =
+            fitSampleMaps(ctx.scene, ctx.casters, subset, ctx.light, mOptions.samples, seed);
+        mObjects = std::move(setup.objects);
+        mFrame = std::move(setup.frame);
         std::vector<glm::vec4> views;
         for (const geometry::SampleMapView& v : mFrame.views) {
             const glm::vec3 d = v.origin - ctx.light.center;
@@ -263,10 +219,9 @@ private:
     }
 
     SampleMapsOptions mOptions;
-    Program mOpaque, mAlphaTested;
     FullscreenPass mLookup;
     Buffer mUniforms, mStats, mViews;
-    Texture mMaps;
+    std::optional<SampleMapPass> mMaps;
     // early_out=on: map mNearest's max N-buffer, one layer per level.
     Texture mNBuffer;
     Program mNBufferProgram;
@@ -275,7 +230,6 @@ private:
     std::array<glm::vec4, 4> mQuadrantOffsets{}; // per quadrant: least (xy), largest (zw)
     float mOffsetShare = 0.0f, mFootprintMargin = 0.0f;
     bool mEmptyTestUsable = false;
-    std::vector<Framebuffer> mFbos;
     geometry::SampleMapFrame mFrame;
     bool mFitted = false, mMapsDrawn = false;
     geometry::RectLight mLight;
