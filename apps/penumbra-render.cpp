@@ -150,6 +150,16 @@ int run(const Options& opt) {
             std::fprintf(stderr, "%s  reference: %d/%d light samples%s", tty ? "\r" : "", done,
                          total, tty && done < total ? "" : "\n");
         };
+    if (!opt.quiet && method.name == "pdsm")
+        settings.progress = [tty = isatty(fileno(stderr)) != 0, last = -1](int done,
+                                                                             int total) mutable {
+            // The deep map's rows as they are merged: every tenth when logged, all on a terminal.
+            const int tenth = total > 0 ? 10 * done / total : 10;
+            if (!tty && tenth == last) return;
+            last = tenth;
+            std::fprintf(stderr, "%s  pdsm: deep map %d/%d rows%s", tty ? "\r" : "", done, total,
+                         tty && done < total ? "" : "\n");
+        };
 
     std::vector<double> frameMs;
     std::map<std::string, std::vector<double>> gpuMs, cpuMs;
@@ -235,6 +245,11 @@ int run(const Options& opt) {
             warnings.push_back("sample-maps: casters reach the light's plane or lie beyond the "
                                "maps' 71.6-degree frustum (sample_maps_clipped); what they hide "
                                "from the samples that cannot see them is drawn lit");
+        if (c.name == "pdsm_clipped" && c.value > 0.0)
+            warnings.push_back("pdsm: casters reach the light's plane or lie beyond the maps' "
+                               "71.6-degree frustum (pdsm_clipped); what they hide from the "
+                               "samples that cannot see them, and receivers outside the deep map "
+                               "(pdsm_pixels_outside), are drawn lit");
     }
     for (const auto& w : warnings)
         std::fprintf(stderr, "penumbra-render: warning: %s\n", w.get<std::string>().c_str());

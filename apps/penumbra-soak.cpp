@@ -147,6 +147,10 @@ int run(const Options& opt) {
         s.width = width;
         s.height = height;
         s.samples = opt.samples;
+        // pdsm builds its deep map again whenever the light moves, here every frame: at its
+        // smallest (16 samples, 128² maps) as the truth methods take --samples, not its
+        // defaults' 256 shadow passes of 512² and their merge (tens of seconds a frame).
+        if (method == "pdsm") s.parameters = {{"samples", "16"}, {"resolution", "128"}};
         const int k = frame % period; // the frame of the sequence
         s.seed = static_cast<std::uint32_t>(k + 1);
         s.camera = viewer::flyThrough(cameras, k, opt.legFrames);

@@ -13,6 +13,7 @@
 // about half the instructions of a buffer texel (the samples' loop: light-grazing 2.2 % of the
 // frame's).
 #define BINDING_LIGHT_SAMPLES_UBO 4
+#define BINDING_PDSM_UBO 5 // PdsmUniforms (the pdsm method's deep map)
 
 // Storage buffers (std430). Static: every caster's welded geometry, concatenated (CasterSet).
 #define BINDING_WELDED_POSITIONS 0 // vec4 per welded vertex (w = 1)
@@ -74,6 +75,10 @@
 #define MOMENT_EDGES 16 // edges a slot holds: a pixel where more add keeps no P (a multiple of 4)
 #define MOMENT_SLOT_UINTS (4 + MOMENT_EDGES)
 #define MOMENT_SLOT_EDGES 4 // the first edge's word in a slot
+// pdsm: uint counters of the lookup (PDSM_STAT_*).
+#define BINDING_PDSM_STATS 20
+#define PDSM_STAT_OUTSIDE 0 // receivers outside a clipped deep map (drawn lit; may be hidden)
+#define PDSM_STAT_COUNT 1
 #define WEDGE_TILES_TOTAL 0        // list entries over all tiles (after the heads' 3 per tile)
 #define WEDGE_TILES_PAIRS_ADDED 1  // (pixel, wedge) pairs that added to the counts
 #define WEDGE_TILES_OVERFLOW 2     // 1: the total passed 2^32 - 1 (the lists cannot be held)
@@ -145,6 +150,8 @@
 #define TEXUNIT_SAMPLE_MAP_NBUFFER 25 // sample-maps early_out=on: the max N-buffer (layer = level)
 #define TEXUNIT_WEDGE_TILE_RECORDS 26 // wedges-bitmask evaluate=tiles: the TileWedges as RGBA32F texels
 #define TEXUNIT_WEDGE_TILE_LISTS 27   // the same: the tiles' heads and lists as R32UI texels
+#define TEXUNIT_PDSM_INDEX 28 // pdsm: per deep-map texel (first point, point count), RG32UI
+#define TEXUNIT_PDSM_DATA 29  // pdsm: the points, four per RGB32UI buffer texel (shared/Pdsm.h)
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 #define PCSS_REACH_BOXES 16 // pcss: boxes around the casters for the reach test
@@ -229,6 +236,18 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
     // zw the largest lateral offset d_i - d_k of its samples from sample k along eu, ev
     vec4 emptyQuadrant[4];
 PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
+
+// The pdsm method's deep map (geometry/shadow/PenumbraDeepShadowMap.h PdsmGrid), from the
+// light's centre (frame.lightCenter).
+PENUMBRA_UBO_BEGIN(PdsmUniforms, BINDING_PDSM_UBO)
+    vec4 eu;     // xyz: the map's first lateral axis, w: 1 if it holds casters (0: V = 1)
+    vec4 ev;     // xyz: its second lateral axis, w: 1 if clipped (receivers outside it counted)
+    vec4 n;      // xyz: its depth axis (the light's normal towards the casters), w: zNear
+    vec4 extent; // xy: lo in m = (x, y) / z, zw: 1 / (hi - lo)
+    // x: resolution R, y: sFar, z: the receiver offset's grazing part in deep-map texels (bias),
+    // w: a texel's world size per unit of depth (the extent's larger side over R)
+    vec4 params;
+PENUMBRA_UBO_END(PdsmUniforms, pdsm)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented
 // triangles lie to the left of v0 -> v1 seen from the light (geometry/shadow/Silhouette.h).

@@ -46,6 +46,9 @@ std::map<std::string, Frame> renderAll(const geometry::Scene& scene, int samples
         s.method = method;
         s.width = s.height = kSize;
         s.samples = method == "reference" ? kReferenceSamples : samples;
+        // pdsm: 64 samples and 256² maps (its defaults, 256 and 512², build its deep map from
+        // 256 shadow passes: a minute for the million-triangle mesh under the sanitizers).
+        if (method == "pdsm") s.parameters = {{"samples", "64"}, {"resolution", "256"}};
         EXPECT_NO_THROW(renderer.renderFrame(s));
         Frame f{renderer.visibility(), renderer.normal()};
         std::size_t bad = 0;
@@ -168,10 +171,11 @@ TEST_F(EdgeCases, TinyLightConvergesToHard) {
     scene.light.v = {0.0f, 0.0f, 1e-6f};
     geometry::validateScene(scene);
     const auto frames = renderAll(scene);
-    // Measured: 0 for all but occlusion 30 (its texel grid along the shadow's edge), pcss 1
-    // and sample-maps 5 (its 512² maps' texels along the shadow's edge).
+    // Measured: 0 for all but occlusion 30 (its texel grid along the shadow's edge), pcss 1,
+    // sample-maps 5 (its 512² maps' texels along the shadow's edge) and pdsm 11 (its 256² maps'
+    // and deep map's texels there).
     checkAgainst("light 2e-6 wide vs hard", frames, frames.at("hard").visibility,
-                 {{"occlusion", 40}, {"sample-maps", 8}}, 4);
+                 {{"occlusion", 40}, {"sample-maps", 8}, {"pdsm", 14}}, 4);
 }
 
 // A light far larger than the scene (1000 x 1000, 50 above): the crate's shadow is faint and
@@ -190,11 +194,11 @@ TEST_F(EdgeCases, LightFarLargerThanTheScene) {
     // sides and the floor beside it lit (V ~ 1) where the reference says ~0.5. Occlusion and
     // pcss get the sides (horizon term) but not the floor. sample-maps 599: most light samples
     // see the crate beyond its maps' 71.6-degree cap, so the crate is missing from their maps
-    // (counted as sample_maps_clipped).
+    // (counted as sample_maps_clipped); pdsm, built from such maps, 599 too.
     checkAgainst("light 1000 wide vs reference", frames, frames.at("reference").visibility,
                  {{"hard", 1050}, {"wedges-additive", 1000}, {"wedges-blend", 1000},
                   {"wedges-multiply", 1000}, {"wedges-bitmask", 1000}, {"auto", 1000}, {"occlusion", 900}, {"pcss", 920},
-                  {"sample-maps", 660},
+                  {"sample-maps", 660}, {"pdsm", 660},
                   {"raytrace", 220}},
                  0);
 }
@@ -218,9 +222,11 @@ TEST_F(EdgeCases, LightInsideAClosedRoom) {
     geometry::validateScene(scene);
     const auto frames = renderAll(scene);
     // Measured (of 4096): wedge methods and auto 2, hard 261 (no penumbra), occlusion 252, pcss
-    // 172, raytrace (16 samples) 16.
+    // 172, raytrace (16 samples) 16, pdsm 30 (the room's walls around the lamp lie beyond its
+    // one frustum along the light's normal: drawn lit, counted as pdsm_pixels_outside).
     checkAgainst("room, light inside vs reference", frames, frames.at("reference").visibility,
-                 {{"hard", 320}, {"occlusion", 310}, {"pcss", 220}, {"raytrace", 40}}, 8);
+                 {{"hard", 320}, {"occlusion", 310}, {"pcss", 220}, {"raytrace", 40}, {"pdsm", 40}},
+                 8);
 }
 
 // The light inside a closed occluder (a sphere around it, not touching it): everything outside

@@ -101,5 +101,6 @@ std::unique_ptr<VisibilityMethod> createAlphaComposite(const MethodResources&,
 std::unique_ptr<VisibilityMethod> createOcclusionMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createPcssMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createSampleMapsMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createPdsmMethod(const MethodResources&);
 
 } // namespace gpu

@@ -77,6 +77,16 @@ struct SampleMapsOptions {
 };
 SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given);
 
+// pdsm: penumbra deep shadow maps (St-Amour et al. 2005).
+struct PdsmOptions {
+    int samples = 0;         // light samples k, one shadow map each, merged into the deep map
+    int resolution = 0;      // side of each sample map and of the deep map in texels
+    float tolerance = 0.0f;  // the compression's bound on |dV|
+    float normalOffset = 0.0f; // the receiver offset: x tan(angle) deep-map texels
+    bool ownPlane = true;    // V at most the share of the light in front of the receiver
+};
+PdsmOptions pdsmOptions(std::span<const ParameterValue> given);
+
 // auto.
 struct AutoOptions {
     std::string wedgeMethod; // the method's name: "wedges-blend", "wedges-bitmask", ...

@@ -138,6 +138,32 @@ constexpr MethodParameter kSampleMapsParameters[] = {
      "receiver in reach reads all N maps"},
 };
 
+// pdsm (St-Amour et al. 2005): the sample maps merged into one deep map from the light's centre.
+constexpr std::string_view kPdsmSamples[] = {"16", "32", "64", "128", "256"};
+constexpr std::string_view kPdsmResolution[] = {"128", "256", "512", "1024"};
+constexpr std::string_view kPdsmTolerance[] = {"0.003", "0.004", "0.008", "0.016", "0.032"};
+constexpr std::string_view kPdsmBias[] = {"0.0", "0.1", "0.25", "0.5", "1.0"};
+constexpr std::string_view kPdsmPlane[] = {"on", "off"};
+constexpr MethodParameter kPdsmParameters[] = {
+    {"samples", kPdsmSamples, "256",
+     "light samples k, one shadow map each (the reference's stratified pattern for the same "
+     "count and seed), merged into the deep map; precomputed once per light and casters"},
+    {"resolution", kPdsmResolution, "512",
+     "side of each sample map and of the deep map (from the light's centre) in texels"},
+    {"tolerance", kPdsmTolerance, "0.004",
+     "the compression's guaranteed bound on |V stored - V of the k samples| at every depth of "
+     "every texel, 8-bit values included: more stores fewer points (at or below 1 / (2k) + "
+     "0.002 every sample's step is kept)"},
+    {"bias", kPdsmBias, "0.0",
+     "the receiver moved bias x tan(angle between its normal and the light's centre) deep-map "
+     "texels along its normal, towards the light, beside the receiver-plane reads and the maps' "
+     "slope offset that already keep surfaces from hiding themselves: more lifts every "
+     "receiver towards its casters (lighter penumbrae)"},
+    {"plane", kPdsmPlane, "on",
+     "on: V at most the share of the light in front of the receiver's own plane (as raytrace "
+     "counts it); off: only the deep map"},
+};
+
 // auto: which wedge method serves the objects it gives to wedges.
 constexpr std::string_view kAutoWedges[] = {"bitmask", "blend", "additive", "multiply"};
 constexpr std::string_view kAutoAlpha[] = {"sample-maps", "pcss", "occlusion"};
@@ -151,7 +177,7 @@ constexpr MethodParameter kAutoParameters[] = {
      "pcss), pcss's shadow maps or occlusion textures (each with its default parameters)"},
 };
 
-const std::array<MethodInfo, 11> kMethods = {{
+const std::array<MethodInfo, 12> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
      createReferenceMethod},
@@ -173,6 +199,9 @@ const std::array<MethodInfo, 11> kMethods = {{
      "honours alpha-tested casters", false, createPcssMethod, kPcssParameters, true},
     {"sample-maps", "average of N hard shadows from light samples, one shadow map each; honours "
      "alpha-tested casters", false, createSampleMapsMethod, kSampleMapsParameters, true},
+    {"pdsm", "penumbra deep shadow maps (St-Amour et al. 2005): k sample shadow maps merged "
+     "into one map of compressed visibility functions along depth, precomputed per light; "
+     "honours alpha-tested casters", false, createPdsmMethod, kPdsmParameters, true},
     {"auto", "per-object choice (wedges or occlusion textures), composed in one frame", false,
      createAutoMethod, kAutoParameters, true},
 }};
@@ -343,6 +372,15 @@ SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given) {
             .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
             .ownPlane = parameterValue(r, "plane") == "on",
             .earlyOut = parameterValue(r, "early_out") == "on"};
+}
+
+PdsmOptions pdsmOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("pdsm"), given);
+    return {.samples = intValue(r, "samples"),
+            .resolution = intValue(r, "resolution"),
+            .tolerance = std::stof(std::string(parameterValue(r, "tolerance"))),
+            .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
+            .ownPlane = parameterValue(r, "plane") == "on"};
 }
 
 AutoOptions autoOptions(std::span<const ParameterValue> given) {

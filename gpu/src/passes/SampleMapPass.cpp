@@ -48,8 +48,13 @@ SampleMapPass::SampleMapPass(const ShaderLoader& shaders, int layers, int resolu
 
 void SampleMapPass::draw(const geometry::SampleMapFrame& frame, std::size_t first,
                          std::size_t count, std::span<const std::size_t> objects,
-                         const SceneGeometry& geometry) const {
+                         const SceneGeometry& geometry, float slopeBias) const {
     applyState(kMapState);
+    // Reversed depth (zNear / z): farther is smaller, so the offset is negative.
+    if (slopeBias > 0.0f) {
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(-slopeBias, -1.0f);
+    }
     const SceneGeometry::Programs programs{mOpaque, mAlphaTested, false};
     const float nothing = 0.0f;
     for (std::size_t k = 0; k < count; ++k) {
@@ -61,6 +66,10 @@ void SampleMapPass::draw(const geometry::SampleMapFrame& frame, std::size_t firs
         for (const Program* p : {&mOpaque, &mAlphaTested})
             glProgramUniformMatrix4fv(p->id(), UNIFORM_SAMPLE_MAP_VIEW, 1, GL_FALSE, &m[0][0]);
         for (const std::size_t object : objects) geometry.drawObject(object, programs);
+    }
+    if (slopeBias > 0.0f) {
+        glPolygonOffset(0.0f, 0.0f);
+        glDisable(GL_POLYGON_OFFSET_FILL);
     }
 }
 

@@ -29,9 +29,12 @@ public:
     SampleMapPass(const ShaderLoader& shaders, int layers, int resolution, const char* label);
 
     // Clears layers 0..count-1 and draws views first..first + count - 1 of `frame` into them,
-    // each with `objects` (scene objects).
+    // each with `objects` (scene objects). `slopeBias` > 0: every surface is stored that many
+    // texels' worth of its own depth slope farther from the sample (glPolygonOffset), so that a
+    // surface the sample grazes does not hide its own points in the texels it spans.
     void draw(const geometry::SampleMapFrame& frame, std::size_t first, std::size_t count,
-              std::span<const std::size_t> objects, const SceneGeometry& geometry) const;
+              std::span<const std::size_t> objects, const SceneGeometry& geometry,
+              float slopeBias = 0.0f) const;
 
     const Texture& maps() const { return mMaps; }
     int resolution() const { return mResolution; }

@@ -1,0 +1,158 @@
+// The `pdsm` method's map (penumbra deep shadow maps, St-Amour, Paquette & Poulin 2005), built
+// on the CPU from the `sample-maps` method's shadow maps (SampleMapFrame.h: one per light
+// sample, all looking along the light's normal n with its lateral axes).
+//
+// A texel of the deep map is a ray from the light's centre c through m = (x, y) / z in (eu, ev,
+// n), over the region where some sample's map may hide a receiver. Along it, the points
+// q(s) = c + (zNear / s) (m, 1) for s = zNear / z in [sFar, 1] (reversed depth, as the maps store
+// it). From sample y_i = c + d_i (d_i lateral: depth along n is the same from every sample),
+// q(s) lies in map i at m - d_i s / zNear: a straight line through the map, affine in s. It is
+// hidden from y_i where that map's texel holds a caster nearer to y_i (stored value
+// > s (1 + depthBias), the comparison of the sample-maps lookup, one texel, no filtering). The
+// build walks that line through map i's texels (a 2D DDA) and turns each texel's stored value
+// into the exact interval of s it hides: per sample a set of hidden intervals, per texel the sum
+// over the samples, V(t) = 1 - hidden / N, a staircase in the depth code t (shared/Pdsm.h).
+// The staircase is then compressed to a piecewise-linear function with a guaranteed bound:
+// |V_stored(t) - V_staircase(t)| <= tolerance at every t, quantisation of the values to 8 bits
+// included (the staircase's steps themselves lie on the 16-bit depth codes). The compression is
+// Lokovic & Veach's (2000) greedy one: from each segment's start, the window of slopes that keep
+// every later step within the bound is narrowed step by step, and the segment ends where it
+// would empty; a step larger than twice the bound is stored as a step (two points at one depth).
+//
+// Storage (the slides' index + data textures): per texel (first group, point count) and the
+// points, 24 bits each, four in three 32-bit words (shared/Pdsm.h), each texel's from a group's
+// start. A texel whose function is 1
+// everywhere stores no point. The lookup (shaders/pdsm-lookup.frag) reads it with the same
+// statements as evaluatePdsm below.
+#pragma once
+
+#include <geometry/core/Types.h>
+#include <geometry/shadow/SampleMapFrame.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace geometry {
+
+// The deep map's frame: the light's centre and axes (those of the sample maps), the extent in
+// m and the depth range.
+struct PdsmGrid {
+    glm::vec3 centre{0.0f};
+    glm::vec3 eu{1, 0, 0}, ev{0, 0, 1}, n{0, -1, 0};
+    glm::vec2 lo{0.0f}, hi{0.0f}; // extent in m from the centre
+    int resolution = 0;           // texels per side
+    float zNear = 0.0f;           // the casters' least depth along n (t = 0)
+    float sFar = 0.0f;            // zNear / the deepest receiver's depth (t = 1), in (0, 1)
+    // The extent was capped at kSampleMapMaxTan, or the sample frame is clipped: receivers the
+    // map does not hold may be hidden (the lookup counts them).
+    bool clipped = false;
+    bool empty = true; // no casters: every receiver lit
+
+    // The texel centre's m of texel (i, j) (column i, row j from lo).
+    glm::vec2 texelCentre(int i, int j) const;
+};
+
+// The region the deep map must hold: every receiver that some sample's map may hide
+// (geometry::inReach's bound over the depths up to the deepest receiver of `scene`), capped at
+// kSampleMapMaxTan. `scene`: the bounds of everything that may receive (all objects).
+PdsmGrid fitPdsmGrid(const SampleMapFrame& frame, const glm::vec3& lightCentre, const Aabb& scene,
+                     int resolution);
+
+// One step of a texel's staircase: at depth code `code` V goes from `before` to `after`.
+struct PdsmStep {
+    std::uint32_t code = 0;
+    float before = 1.0f, after = 1.0f;
+};
+
+// A stored point before packing: depth code and value in [0, 1].
+struct PdsmPoint {
+    std::uint32_t code = 0;
+    float value = 1.0f;
+};
+
+// The compression's tolerance is a bound on |dV|. A run of one-sample steps (1 / k each) can be
+// cut through by a line only where the bound is above 1 / (2 k) plus the 8-bit values' half
+// step (0.5 / 255); below that every step is kept as a step (two points). The method's default,
+// 0.004, keeps every step for k <= 128 and just cuts through single steps at k = 256: on
+// data/plates-three.json the mean error against `reference` N = 1024 was the same at 0.004 and
+// 0.008 (0.0026, 0.0027; 73 and 19 points per stored texel) and 0.0032 at 0.016, and at k = 64
+// the bound of one sample's step (0.0176) cost the sphere 0.010 where 0.004 cost 0.004.
+
+// The piecewise-linear function within `tolerance` of the staircase that starts at `start`
+// (V at t = 0) and steps at `steps` (codes strictly increasing, in (0, 65535]), values
+// quantised to 8 bits (the bound includes them). tolerance > 0.5 / 255.
+std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmStep> steps,
+                                             float tolerance);
+
+// The largest |stored - staircase| over every depth (exact: both are linear or constant between
+// the steps and the points, which lie on the steps' codes), the stored function read as the
+// lookup reads it (shared/Pdsm.h pdsmSegment, values decoded from their 8 bits).
+float pdsmDeviation(float start, std::span<const PdsmStep> steps,
+                    std::span<const PdsmPoint> points);
+
+// Shifts each sample map's texel grid by its own fraction of a texel (the window widened by one
+// texel, its start moved by a share of it from the R2 sequence over the sample's index). Fitted
+// to the same box, the maps put a caster's edge at about the same fraction of a texel in every
+// map, so that rounding every sample's edge to texel centres moved all of them the same way: on
+// data/box.json (axis-aligned, as its maps are) V came out lighter by 0.8 of a sample on average
+// over the penumbra (k = 64); with the grids shifted the k roundings average out
+// (PenumbraDeepShadowMapTest.ShiftedGridsDoNotBiasThePenumbra).
+void jitterSampleMapGrids(SampleMapFrame& frame, int resolution);
+
+// The sample maps as read back: views.size() layers of resolution^2 values zNear / z (0: no
+// caster), rows bottom-up (GL order).
+struct PdsmMaps {
+    int resolution = 0;
+    std::span<const float> texels;
+};
+
+struct PdsmBuildSettings {
+    float tolerance = 0.004f;
+    float depthBias = 1e-3f; // hidden where the stored value > s (1 + depthBias)
+    int threads = 0;         // 0: std::thread::hardware_concurrency()
+    // (rows done, rows), from the calling thread.
+    std::function<void(int, int)> progress;
+};
+
+struct PdsmStats {
+    std::uint64_t points = 0;        // stored points over all texels
+    std::uint64_t steps = 0;         // the staircases' steps before compression
+    std::uint32_t texelsStored = 0;  // texels with a function (not 1 everywhere)
+    std::uint32_t longest = 0;       // the most points of one texel
+    float maxDeviation = 0.0f;       // the largest pdsmDeviation over the texels
+    double buildMs = 0.0;            // the walk and the compression (CPU)
+};
+
+struct Pdsm {
+    PdsmGrid grid;
+    // Per texel (row-major from lo, rows along ev): its first group of points and its point
+    // count. Each texel's points start a group (a bisection reads whole groups).
+    std::vector<std::uint32_t> index;
+    // The points, four per three words (shared/Pdsm.h); each texel's last group padded.
+    std::vector<std::uint32_t> data;
+    PdsmStats stats;
+
+    std::size_t bytes() const {
+        return (index.size() + data.size()) * sizeof(std::uint32_t);
+    }
+};
+
+// The staircase of deep-map texel (i, j): V at t = 0 and its steps (codes strictly increasing).
+float pdsmStaircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
+                    int i, int j, float depthBias, std::vector<PdsmStep>& steps);
+
+Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
+               const PdsmBuildSettings& settings);
+
+// Packs 24-bit points (depth code | value code << 16) four to three words from `words`
+// (zeroed, 3 ceil(n / 4) of them).
+void packPdsmPoints(std::span<const std::uint32_t> points, std::uint32_t* words);
+
+// V of texel (i, j) at depth code t, as the lookup reads it.
+float evaluatePdsm(const Pdsm& map, int i, int j, float t);
+
+} // namespace geometry

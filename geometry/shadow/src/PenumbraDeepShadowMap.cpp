@@ -1,0 +1,505 @@
+#include <geometry/shadow/PenumbraDeepShadowMap.h>
+
+#include <shared/Pdsm.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+namespace geometry {
+
+namespace {
+
+constexpr std::uint32_t kMaxCode = 65535u;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+std::uint32_t depthCode(float t) {
+    return static_cast<std::uint32_t>(std::lround(std::clamp(t, 0.0f, 1.0f) * float(kMaxCode)));
+}
+
+std::uint32_t valueCode(float v) {
+    return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
+
+float decodedValue(float v) { return float(valueCode(v)) / 255.0f; }
+
+// The stored function at code x as the lookup reads it (shared/Pdsm.h): the last point at or
+// before x and the segment to the next; `left`: the limit from below x instead.
+float storedAt(std::span<const PdsmPoint> p, float x, bool left) {
+    if (p.empty()) return 1.0f;
+    std::size_t k = 0;
+    const auto before = [&](std::size_t i) {
+        return left ? float(p[i].code) < x : float(p[i].code) <= x;
+    };
+    if (!before(0)) return decodedValue(p[0].value);
+    while (k + 1 < p.size() && before(k + 1)) ++k;
+    if (k + 1 == p.size()) return decodedValue(p[k].value);
+    return shader::pdsmSegment(float(p[k].code), decodedValue(p[k].value), float(p[k + 1].code),
+                               decodedValue(p[k + 1].value), x);
+}
+
+// The cells of a grid of `cell`-texel squares (cells [lo, hi] per axis) that the line P(t) =
+// p0 + t d (texel units) crosses for t in [tA, tB], in order, each with its t-range: visit(x, y,
+// ta, tb). A 2D DDA (Amanatides & Woo 1987).
+template <typename Visit>
+void walkCells(glm::vec2 p0, glm::vec2 d, float tA, float tB, int cell, glm::ivec2 lo,
+               glm::ivec2 hi, Visit&& visit) {
+    const float size = static_cast<float>(cell);
+    const glm::vec2 start = p0 + d * tA;
+    int c[2], step[2];
+    float tNext[2], tDelta[2];
+    for (int a = 0; a < 2; ++a) {
+        c[a] = std::clamp(static_cast<int>(std::floor(start[a] / size)), lo[a], hi[a]);
+        if (std::abs(d[a]) < 1e-12f) {
+            step[a] = 0;
+            tNext[a] = kInf;
+            tDelta[a] = kInf;
+        } else {
+            step[a] = d[a] > 0.0f ? 1 : -1;
+            tNext[a] = (static_cast<float>(c[a] + (d[a] > 0.0f ? 1 : 0)) * size - p0[a]) / d[a];
+            tDelta[a] = size / std::abs(d[a]);
+        }
+    }
+    float t = tA;
+    const int guard = 2 * (hi[0] - lo[0] + hi[1] - lo[1]) + 8;
+    for (int n = 0; t < tB && n < guard; ++n) {
+        const float tExit = std::min({tNext[0], tNext[1], tB});
+        if (tExit > t) visit(c[0], c[1], t, tExit);
+        const int a = tNext[0] < tNext[1] ? 0 : 1;
+        c[a] += step[a];
+        tNext[a] += tDelta[a];
+        t = tExit;
+        if (c[a] < lo[a] || c[a] > hi[a]) break;
+    }
+}
+
+// One map as the walk reads it: its texels and the largest stored value per block of
+// kPdsmBlock^2 texels (a block whose largest value cannot hide the line there is skipped).
+constexpr int kPdsmBlock = 8;
+struct MapLayer {
+    const float* texels;
+    const float* blockMax;
+    int R, blocks;
+};
+
+// Hidden intervals of t in [0, 1] along one line through one map (texel units, P(t) = p0 +
+// t (p1 - p0)), as events: code << 1 | 1 where one starts, code << 1 where one ends (none at
+// the line's end). A point of the line is hidden where its texel stores a value above
+// s (1 + bias), s = 1 - t (1 - sFar).
+void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, float sFar, float bias,
+             std::vector<std::uint32_t>& events) {
+    const glm::vec2 d = p1 - p0;
+    const int R = map.R;
+    float tA = 0.0f, tB = 1.0f;
+    const float size = static_cast<float>(R);
+    for (int a = 0; a < 2; ++a) {
+        if (std::abs(d[a]) < 1e-12f) {
+            if (p0[a] < 0.0f || p0[a] >= size) return;
+            continue;
+        }
+        float t0 = (0.0f - p0[a]) / d[a], t1 = (size - p0[a]) / d[a];
+        if (t0 > t1) std::swap(t0, t1);
+        tA = std::max(tA, t0);
+        tB = std::min(tB, t1);
+    }
+    if (!(tA < tB)) return;
+    const float depthSpan = 1.0f - sFar;
+    // t beyond which a stored value hides the line.
+    const auto hiddenFrom = [&](float stored) {
+        return (1.0f - stored / (1.0f + bias)) / depthSpan;
+    };
+    bool open = false;
+    float openStart = 0.0f, openEnd = 0.0f;
+    const auto emit = [&](float s, float e) {
+        events.push_back(depthCode(s) << 1 | 1u);
+        if (e < 1.0f) events.push_back(depthCode(e) << 1);
+    };
+    const auto texel = [&](int x, int y, float t, float tExit) {
+        const float stored = map.texels[static_cast<std::size_t>(y) * R + x];
+        if (!(stored > 0.0f)) return;
+        const float h0 = std::max(t, hiddenFrom(stored));
+        if (h0 >= tExit) return;
+        if (open && h0 <= openEnd) {
+            openEnd = tExit;
+            return;
+        }
+        if (open) emit(openStart, openEnd);
+        open = true;
+        openStart = h0;
+        openEnd = tExit;
+    };
+    const int last = map.blocks - 1;
+    walkCells(p0, d, tA, tB, kPdsmBlock, glm::ivec2(0), glm::ivec2(last),
+              [&](int bx, int by, float ta, float tb) {
+                  // The line's s is least at tb: a block whose largest value hides nothing there
+                  // hides nothing in it.
+                  const float most = map.blockMax[static_cast<std::size_t>(by) * map.blocks + bx];
+                  if (!(most > 0.0f) || hiddenFrom(most) >= tb) return;
+                  const glm::ivec2 lo(bx * kPdsmBlock, by * kPdsmBlock);
+                  const glm::ivec2 hi = glm::min(lo + (kPdsmBlock - 1), glm::ivec2(R - 1));
+                  walkCells(p0, d, ta, tb, 1, lo, hi, texel);
+              });
+    if (open) emit(openStart, openEnd);
+}
+
+} // namespace
+
+glm::vec2 PdsmGrid::texelCentre(int i, int j) const {
+    return lo + (glm::vec2(static_cast<float>(i), static_cast<float>(j)) + 0.5f) /
+                    static_cast<float>(resolution) * (hi - lo);
+}
+
+PdsmGrid fitPdsmGrid(const SampleMapFrame& f, const glm::vec3& lightCentre, const Aabb& scene,
+                     int resolution) {
+    PdsmGrid g;
+    g.centre = lightCentre;
+    g.eu = f.eu;
+    g.ev = f.ev;
+    g.n = f.n;
+    g.resolution = resolution;
+    if (f.empty) return g;
+    g.empty = false;
+    g.zNear = f.zNear;
+    // The deepest receiver: the scene box's farthest corner along n (at least the casters').
+    float deepest = f.zFar;
+    if (!scene.empty())
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 q((c & 1) ? scene.max.x : scene.min.x,
+                              (c & 2) ? scene.max.y : scene.min.y,
+                              (c & 4) ? scene.max.z : scene.min.z);
+            deepest = std::max(deepest, glm::dot(q - lightCentre, f.n));
+        }
+    deepest = std::max(deepest * 1.001f, f.zNear * 1.01f);
+    g.sFar = f.zNear / deepest;
+    // inReach's widening for every depth in [zNear, deepest]: the light's half extent times
+    // the spread of 1 / z, and 1 % of the casters' extent.
+    const float spread = 1.0f / f.zNear - 1.0f / deepest;
+    const glm::vec2 slack = 0.01f * (f.centreHi - f.centreLo) + f.half * spread;
+    g.lo = f.centreLo - slack;
+    g.hi = f.centreHi + slack;
+    g.clipped = f.clipped;
+    for (int a = 0; a < 2; ++a) {
+        if (g.lo[a] < -kSampleMapMaxTan || g.hi[a] > kSampleMapMaxTan) g.clipped = true;
+        g.lo[a] = std::max(g.lo[a], -kSampleMapMaxTan);
+        g.hi[a] = std::min(g.hi[a], kSampleMapMaxTan);
+    }
+    return g;
+}
+
+void jitterSampleMapGrids(SampleMapFrame& frame, int resolution) {
+    for (std::size_t k = 0; k < frame.views.size(); ++k) {
+        SampleMapView& v = frame.views[k];
+        const glm::vec2 texel = (v.hi - v.lo) / static_cast<float>(resolution);
+        // The R2 sequence (the plastic number's powers): well spread in the unit square.
+        const float i = static_cast<float>(k);
+        const glm::vec2 shift(std::fmod(0.5f + i * 0.7548776662f, 1.0f),
+                              std::fmod(0.5f + i * 0.5698402910f, 1.0f));
+        v.lo -= shift * texel;
+        v.hi += (1.0f - shift) * texel;
+    }
+}
+
+std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmStep> steps,
+                                             float tolerance) {
+    // The values are rounded to 8 bits afterwards: at most half a step more.
+    const float eps = tolerance - 0.5f / 255.0f - 1e-6f;
+    if (!(eps > 0.0f)) throw std::invalid_argument("pdsm: tolerance must exceed 0.5 / 255");
+    std::vector<PdsmPoint> out;
+    out.push_back({0u, start});
+    float ox = 0.0f, oy = start;       // the current segment's start
+    float slo = -kInf, shi = kInf;     // the slopes that keep every step since within eps
+    float lastX = 0.0f;                // the last step taken into the window
+    bool have = false;
+    const auto constrain = [&](float x, float lo, float hi) {
+        // Within [0, 1] too (the staircase is), so that no stored value needs clamping, which
+        // would move the segment at its other steps.
+        lo = std::max(lo, 0.0f);
+        hi = std::min(hi, 1.0f);
+        const float a = (lo - oy) / (x - ox), b = (hi - oy) / (x - ox);
+        const float nlo = std::max(slo, a), nhi = std::min(shi, b);
+        if (nlo > nhi) return false;
+        slo = nlo;
+        shi = nhi;
+        lastX = x;
+        have = true;
+        return true;
+    };
+    const auto flush = [&] { // end the segment at the last step taken
+        const float slope = have ? 0.5f * (slo + shi) : 0.0f;
+        const float y = oy + slope * (lastX - ox);
+        out.push_back({static_cast<std::uint32_t>(lastX), y});
+        ox = lastX;
+        oy = y;
+        slo = -kInf;
+        shi = kInf;
+        have = false;
+    };
+    const auto add = [&](float x, float lo, float hi) {
+        if (constrain(x, lo, hi)) return;
+        flush(); // from the last step taken (before x), the window is open again
+        [[maybe_unused]] const bool ok = constrain(x, lo, hi);
+        assert(ok);
+    };
+    for (const PdsmStep& s : steps) {
+        const float x = static_cast<float>(s.code);
+        if (std::abs(s.after - s.before) <= 2.0f * eps) {
+            // Both sides of the step within eps of the line.
+            add(x, std::max(s.before, s.after) - eps, std::min(s.before, s.after) + eps);
+        } else {
+            // A step: the segment ends at x near `before`, the next starts at `after`.
+            add(x, s.before - eps, s.before + eps);
+            flush();
+            out.push_back({s.code, s.after});
+            oy = s.after;
+        }
+    }
+    const float last = steps.empty() ? start : steps.back().after;
+    if (steps.empty() || steps.back().code < kMaxCode)
+        add(static_cast<float>(kMaxCode), last - eps, last + eps);
+    if (have) flush();
+    // A constant function needs its first point only.
+    bool constant = true;
+    for (const PdsmPoint& p : out) constant = constant && valueCode(p.value) == valueCode(start);
+    if (constant) out.resize(1);
+    for (PdsmPoint& p : out) p.value = decodedValue(p.value);
+    return out;
+}
+
+float pdsmDeviation(float start, std::span<const PdsmStep> steps,
+                    std::span<const PdsmPoint> points) {
+    // Pieces of the staircase: [c_p, c_{p+1}) with value f_p; the last one to the end code.
+    float worst = 0.0f;
+    float c = 0.0f, f = start;
+    const auto piece = [&](float next, bool end) {
+        worst = std::max(worst, std::abs(storedAt(points, c, false) - f));
+        worst = std::max(worst, std::abs(storedAt(points, next, !end) - f));
+    };
+    for (const PdsmStep& s : steps) {
+        piece(static_cast<float>(s.code), false);
+        c = static_cast<float>(s.code);
+        f = s.after;
+    }
+    piece(static_cast<float>(kMaxCode), true);
+    return worst;
+}
+
+namespace {
+
+// Per layer, the largest stored value of each kPdsmBlock^2 block.
+std::vector<float> blockMaxima(const PdsmMaps& maps, std::size_t layers, int& blocks) {
+    const int R = maps.resolution;
+    blocks = (R + kPdsmBlock - 1) / kPdsmBlock;
+    const std::size_t per = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(blocks);
+    std::vector<float> out(per * layers, 0.0f);
+    for (std::size_t k = 0; k < layers; ++k) {
+        const float* layer = maps.texels.data() + k * static_cast<std::size_t>(R) * R;
+        float* b = out.data() + k * per;
+        for (int y = 0; y < R; ++y)
+            for (int x = 0; x < R; ++x) {
+                float& m = b[static_cast<std::size_t>(y / kPdsmBlock) * blocks + x / kPdsmBlock];
+                m = std::max(m, layer[static_cast<std::size_t>(y) * R + x]);
+            }
+    }
+    return out;
+}
+
+float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
+                const std::vector<float>& blockMax, int blocks, int i, int j, float depthBias,
+                std::vector<PdsmStep>& steps) {
+    thread_local std::vector<std::uint32_t> events;
+    events.clear();
+    steps.clear();
+    const int R = maps.resolution;
+    const std::size_t layerSize = static_cast<std::size_t>(R) * static_cast<std::size_t>(R);
+    const std::size_t blockSize =
+        static_cast<std::size_t>(blocks) * static_cast<std::size_t>(blocks);
+    const glm::vec2 m = grid.texelCentre(i, j);
+    const float size = static_cast<float>(R);
+    for (std::size_t k = 0; k < frame.views.size(); ++k) {
+        const SampleMapView& v = frame.views[k];
+        const glm::vec3 o = v.origin - grid.centre;
+        const glm::vec2 d(glm::dot(o, grid.eu), glm::dot(o, grid.ev));
+        const glm::vec2 inv = 1.0f / (v.hi - v.lo);
+        // m - d s / zNear in map k, at s = 1 (t = 0) and s = sFar (t = 1), in texels.
+        const glm::vec2 p0 = (m - d / grid.zNear - v.lo) * inv * size;
+        const glm::vec2 p1 = (m - d * (grid.sFar / grid.zNear) - v.lo) * inv * size;
+        const MapLayer layer{maps.texels.data() + k * layerSize, blockMax.data() + k * blockSize,
+                             R, blocks};
+        walkMap(p0, p1, layer, grid.sFar, depthBias, events);
+    }
+    std::sort(events.begin(), events.end());
+    const float n = static_cast<float>(frame.views.size());
+    int hidden = 0;
+    std::size_t e = 0;
+    while (e < events.size() && (events[e] >> 1) == 0u) hidden += (events[e++] & 1u) ? 1 : -1;
+    const float start = 1.0f - static_cast<float>(hidden) / n;
+    while (e < events.size()) {
+        const std::uint32_t code = events[e] >> 1;
+        const float before = 1.0f - static_cast<float>(hidden) / n;
+        while (e < events.size() && (events[e] >> 1) == code)
+            hidden += (events[e++] & 1u) ? 1 : -1;
+        const float after = 1.0f - static_cast<float>(hidden) / n;
+        if (after != before) steps.push_back({code, before, after});
+    }
+    return start;
+}
+
+} // namespace
+
+float pdsmStaircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
+                    int i, int j, float depthBias, std::vector<PdsmStep>& steps) {
+    int blocks = 0;
+    const std::vector<float> blockMax = blockMaxima(maps, frame.views.size(), blocks);
+    return staircase(frame, grid, maps, blockMax, blocks, i, j, depthBias, steps);
+}
+
+Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
+               const PdsmBuildSettings& settings) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Pdsm out;
+    out.grid = grid;
+    const int R = grid.resolution;
+    const std::size_t texels = static_cast<std::size_t>(R) * static_cast<std::size_t>(R);
+    out.index.assign(2 * texels, 0u);
+    if (grid.empty || frame.views.empty()) return out;
+    const std::size_t layer =
+        static_cast<std::size_t>(maps.resolution) * static_cast<std::size_t>(maps.resolution);
+    if (maps.texels.size() < layer * frame.views.size())
+        throw std::invalid_argument("pdsm: fewer map texels than the frame's views need");
+
+    int blocks = 0;
+    const std::vector<float> blockMax = blockMaxima(maps, frame.views.size(), blocks);
+    // Per row: its texels' packed points, and each texel's count.
+    std::vector<std::vector<std::uint32_t>> rowPoints(static_cast<std::size_t>(R));
+    struct Partial {
+        PdsmStats stats;
+    };
+    int threads = settings.threads > 0 ? settings.threads
+                                       : static_cast<int>(std::thread::hardware_concurrency());
+    threads = std::clamp(threads, 1, 64);
+    std::vector<Partial> partial(static_cast<std::size_t>(threads));
+    std::atomic<int> nextRow{0}, rowsDone{0};
+    const auto work = [&](int w) {
+        std::vector<PdsmStep> steps;
+        PdsmStats& st = partial[static_cast<std::size_t>(w)].stats;
+        for (int j = nextRow++; j < R; j = nextRow++) {
+            std::vector<std::uint32_t>& row = rowPoints[static_cast<std::size_t>(j)];
+            for (int i = 0; i < R; ++i) {
+                const float start = staircase(frame, grid, maps, blockMax, blocks, i, j,
+                                              settings.depthBias, steps);
+                std::uint32_t count = 0;
+                if (!(steps.empty() && valueCode(start) == 255u)) {
+                    const std::vector<PdsmPoint> pts =
+                        compressPdsmStaircase(start, steps, settings.tolerance);
+                    st.maxDeviation = std::max(st.maxDeviation, pdsmDeviation(start, steps, pts));
+                    for (const PdsmPoint& p : pts) row.push_back(p.code | valueCode(p.value) << 16);
+                    count = static_cast<std::uint32_t>(pts.size());
+                    ++st.texelsStored;
+                    st.longest = std::max(st.longest, count);
+                    st.points += count;
+                    st.steps += steps.size();
+                }
+                out.index[2 * (static_cast<std::size_t>(j) * R + i) + 1] = count;
+            }
+            const int done = ++rowsDone;
+            if (w == 0 && settings.progress) settings.progress(done, R);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+    try {
+        work(0); // the progress callback may throw (an interrupted bench): stop the others
+    } catch (...) {
+        nextRow = R;
+        for (std::thread& t : pool) t.join();
+        throw;
+    }
+    for (std::thread& t : pool) t.join();
+    if (settings.progress) settings.progress(R, R);
+
+    for (const Partial& p : partial) {
+        out.stats.points += p.stats.points;
+        out.stats.steps += p.stats.steps;
+        out.stats.texelsStored += p.stats.texelsStored;
+        out.stats.longest = std::max(out.stats.longest, p.stats.longest);
+        out.stats.maxDeviation = std::max(out.stats.maxDeviation, p.stats.maxDeviation);
+    }
+    if (out.stats.points > 0xFFFFFFFFull)
+        throw std::length_error("pdsm: more than 2^32 points");
+    // Concatenate in texel order, each texel's points from a group's start.
+    std::uint64_t groups = 0;
+    for (int j = 0; j < R; ++j)
+        for (int i = 0; i < R; ++i)
+            groups += (out.index[2 * (static_cast<std::size_t>(j) * R + i) + 1] + 3) / 4;
+    if (groups > 0xFFFFFFFFull) throw std::length_error("pdsm: more than 2^32 point groups");
+    out.data.assign(3 * groups, 0u);
+    std::uint32_t group = 0;
+    for (int j = 0; j < R; ++j) {
+        const std::vector<std::uint32_t>& row = rowPoints[static_cast<std::size_t>(j)];
+        std::size_t r = 0;
+        for (int i = 0; i < R; ++i) {
+            const std::size_t at = 2 * (static_cast<std::size_t>(j) * R + i);
+            const std::uint32_t count = out.index[at + 1];
+            out.index[at] = group;
+            packPdsmPoints(std::span<const std::uint32_t>(row).subspan(r, count),
+                           out.data.data() + 3 * static_cast<std::size_t>(group));
+            r += count;
+            group += (count + 3) / 4;
+        }
+    }
+    out.stats.buildMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
+void packPdsmPoints(std::span<const std::uint32_t> points, std::uint32_t* words) {
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        const std::uint32_t bits = points[p] & 0xFFFFFFu;
+        std::uint32_t* w = words + 3 * (p / 4);
+        switch (p % 4) {
+        case 0: w[0] |= bits; break;
+        case 1:
+            w[0] |= bits << 24;
+            w[1] |= bits >> 8;
+            break;
+        case 2:
+            w[1] |= bits << 16;
+            w[2] |= bits >> 16;
+            break;
+        default: w[2] |= bits << 8; break;
+        }
+    }
+}
+
+float evaluatePdsm(const Pdsm& map, int i, int j, float t) {
+    // The lookup's statements (pdsm-lookup.frag pdsmFunction), a group of four points per read.
+    const std::size_t at = 2 * (static_cast<std::size_t>(j) * map.grid.resolution + i);
+    const std::uint32_t first = map.index[at], count = map.index[at + 1];
+    if (count == 0) return 1.0f;
+    const auto group = [&](std::uint32_t g) {
+        const std::uint32_t* w = map.data.data() + 3 * static_cast<std::size_t>(first + g);
+        return glm::uvec3(w[0], w[1], w[2]);
+    };
+    // The last group whose first point lies at or before t (the first group if none does).
+    std::uint32_t lo = 0, hi = (count - 1) / 4;
+    while (lo < hi) {
+        const std::uint32_t mid = (lo + hi + 1) >> 1;
+        const glm::uvec3 w = group(mid);
+        if (shader::pdsmPointDepth(shader::pdsmPointBits(w.x, w.y, w.z, 0u)) <= t)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    const glm::uvec3 w = group(lo);
+    const std::uint32_t inGroup = std::min(count - 4 * lo, 4u);
+    const std::uint32_t next = lo + 1 < (count + 3) / 4 ? lo + 1 : lo;
+    const glm::uvec3 wn = group(next);
+    return shader::pdsmGroupValue(w.x, w.y, w.z, inGroup, wn.x, wn.y, wn.z, next != lo, t);
+}
+
+} // namespace geometry

@@ -1,0 +1,334 @@
+// The pdsm method (gpu/src/methods/PdsmMethod.cpp, shaders/pdsm-lookup.frag) on the GL driver:
+// - the lookup's read of a texel's function (shaders/lib/Pdsm.glsl) gives what the CPU model
+//   (geometry::evaluatePdsm) gives, on random compressed staircases;
+// - on data scenes it errs against `reference` by its measured error (the maps' texels, the
+//   compression's tolerance and k samples), with few pixels off by more than 0.05;
+// - the deep map is built once and reused until the light moves;
+// - the receiver's own plane bounds V (plane=on) on a wall beside the light;
+// - a deep map that cannot hold every receiver (casters reaching the light's plane) says so, and
+//   counts the receivers it does not hold;
+// - memory-hungry parameters are refused with the figure.
+#include "GlTestEnv.h"
+#include "RenderTestUtil.h"
+
+#include <geometry/core/Error.h>
+#include <geometry/shadow/PenumbraDeepShadowMap.h>
+#include <gpu/gl/Objects.h>
+#include <gpu/gl/ShaderLoader.h>
+#include <shared/Pdsm.h>
+
+#include "engine/ShaderBindings.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using testutil::Rendered;
+
+class PdsmMethod : public GlTest {};
+
+// The compute shader as a file in a scratch directory (the loader resolves `lib/...` includes in
+// the shaders/ root).
+class ScratchShader {
+public:
+    explicit ScratchShader(const std::string& text) {
+        static std::atomic<int> counter{0};
+        mDir = fs::temp_directory_path() /
+               ("penumbra-pdsm-shader-" + std::to_string(::getpid()) + "-" +
+                std::to_string(counter++));
+        fs::create_directories(mDir);
+        mPath = (mDir / "pdsm-check.comp").string();
+        std::ofstream(mPath) << text;
+    }
+    ~ScratchShader() {
+        std::error_code ec;
+        fs::remove_all(mDir, ec);
+    }
+    const std::string& path() const { return mPath; }
+
+private:
+    fs::path mDir;
+    std::string mPath;
+};
+
+const char* kCheckComp = R"(#include "lib/Bindings.h"
+#include "lib/Pdsm.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Queries { vec4 queries[]; }; // first, count, t
+layout(std430, binding = 1) writeonly buffer Results { float results[]; };
+uniform uint count;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    vec4 q = queries[i];
+    results[i] = pdsmFunction(floatBitsToUint(q.x), floatBitsToUint(q.y), q.z);
+}
+)";
+
+TEST_F(PdsmMethod, FunctionReadEqualsTheCpuModel) {
+    // 1024 texels of random staircases (as in PenumbraDeepShadowMapTest), compressed and
+    // packed as the builder packs them, read at each point's depth, between points and beyond.
+    std::mt19937 rng(11);
+    geometry::Pdsm map;
+    map.grid.resolution = 32;
+    std::vector<std::uint32_t> bits;
+    std::uint32_t group = 0;
+    for (int texel = 0; texel < 32 * 32; ++texel) {
+        const int n = texel % 3 == 0 ? 64 : 256;
+        int hidden = std::uniform_int_distribution<int>(0, n)(rng);
+        const float start = 1.0f - float(hidden) / float(n);
+        std::vector<geometry::PdsmStep> steps;
+        std::uint32_t code = 0;
+        const int k = std::uniform_int_distribution<int>(0, 300)(rng);
+        for (int s = 0; s < k; ++s) {
+            code += std::uniform_int_distribution<std::uint32_t>(1, 400)(rng);
+            if (code > 65535) break;
+            const int before = hidden;
+            hidden = std::clamp(hidden + std::uniform_int_distribution<int>(-4, 4)(rng), 0, n);
+            if (std::uniform_int_distribution<int>(0, 60)(rng) == 0) hidden = hidden ? 0 : n;
+            if (hidden == before) continue;
+            steps.push_back({code, 1.0f - float(before) / n, 1.0f - float(hidden) / n});
+        }
+        const std::vector<geometry::PdsmPoint> points =
+            geometry::compressPdsmStaircase(start, steps, 1.0f / n + 0.5f / 255.0f + 2e-6f);
+        std::vector<std::uint32_t> texelBits;
+        for (const geometry::PdsmPoint& p : points)
+            texelBits.push_back(p.code |
+                                static_cast<std::uint32_t>(std::lround(p.value * 255.0f)) << 16);
+        map.index.push_back(group);
+        map.index.push_back(static_cast<std::uint32_t>(texelBits.size()));
+        map.data.resize(3 * (group + (texelBits.size() + 3) / 4), 0u);
+        geometry::packPdsmPoints(texelBits, map.data.data() + 3 * group);
+        group += static_cast<std::uint32_t>((texelBits.size() + 3) / 4);
+        bits.insert(bits.end(), texelBits.begin(), texelBits.end());
+    }
+    // Queries: per texel with points, at every point's depth, halfway to the next, and random.
+    std::vector<glm::vec4> queries;
+    std::vector<glm::ivec2> texels;
+    std::size_t longest = 0;
+    for (int texel = 0; texel < 32 * 32; ++texel) {
+        const std::uint32_t first = map.index[2 * texel], count = map.index[2 * texel + 1];
+        longest = std::max<std::size_t>(longest, count);
+        std::vector<float> ts = {0.0f, 1.0f, 0.37f};
+        for (std::uint32_t p = 0; p < count; ++p) {
+            const std::uint32_t* w = map.data.data() + 3 * (first + p / 4);
+            const float t = shader::pdsmPointDepth(shader::pdsmPointBits(w[0], w[1], w[2], p % 4));
+            ts.push_back(t);
+            ts.push_back(t + 0.5f / PDSM_DEPTH_CODES);
+        }
+        for (const float t : ts) {
+            queries.emplace_back(glm::uintBitsToFloat(first), glm::uintBitsToFloat(count), t, 0.0f);
+            texels.emplace_back(texel % 32, texel / 32);
+        }
+    }
+    ScratchShader file(kCheckComp);
+    gpu::ShaderLoader loader(gpu::defaultShaderDir());
+    gpu::Program program =
+        loader.load({.stages = {{GL_COMPUTE_SHADER, file.path()}}, .label = "pdsm-check"});
+    ASSERT_TRUE(program);
+    std::vector<std::uint32_t> words = map.data;
+    gpu::Buffer data({.size = words.size() * 4, .data = words.data(), .label = "pdsm-data"});
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &tex);
+    glTextureBuffer(tex, GL_RGB32UI, data.id());
+    gpu::Buffer in({.size = queries.size() * sizeof(glm::vec4), .data = queries.data(),
+                    .label = "pdsm-queries"});
+    gpu::Buffer out({.size = queries.size() * sizeof(float), .label = "pdsm-results"});
+    glUseProgram(program.id());
+    glProgramUniform1ui(program.id(), program.uniformLocation("count"),
+                        static_cast<GLuint>(queries.size()));
+    glBindTextureUnit(TEXUNIT_PDSM_DATA, tex);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glDispatchCompute(static_cast<GLuint>((queries.size() + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> gpu(queries.size());
+    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(gpu.size() * sizeof(float)),
+                            gpu.data());
+    glUseProgram(0);
+    glDeleteTextures(1, &tex);
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    double worst = 0.0;
+    std::size_t off = 0;
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+        const float cpu = geometry::evaluatePdsm(map, texels[q].x, texels[q].y, queries[q].z);
+        const double d = std::abs(double(gpu[q]) - double(cpu));
+        worst = std::max(worst, d);
+        off += d > 1e-6;
+    }
+    std::printf("  %zu reads over %zu points (longest function %zu): largest |GPU - CPU| %.2g\n",
+                queries.size(), bits.size(), longest, worst);
+    EXPECT_GT(longest, 40u); // the bisection takes several steps
+    EXPECT_EQ(off, 0u);      // the same statements: equal up to the driver's division
+}
+
+// Mean |dV| and pixels off by > 0.05 where both have a surface.
+struct Diff {
+    double mean = 0.0;
+    std::size_t off = 0, pixels = 0;
+};
+
+Diff diff(const Rendered& a, const Rendered& b) {
+    Diff d;
+    for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
+        const float x = a.visibility.data[i], y = b.visibility.data[i];
+        if (!std::isfinite(x) || !std::isfinite(y)) continue;
+        d.mean += std::abs(x - y);
+        d.off += std::abs(x - y) > 0.05f;
+        ++d.pixels;
+    }
+    if (d.pixels) d.mean /= static_cast<double>(d.pixels);
+    return d;
+}
+
+TEST_F(PdsmMethod, AgainstTheReferenceOnDataScenes) {
+    // 128², k = 64 samples, maps of 256², against reference N = 256 (the bench: 256², k = 256,
+    // maps of 512², N = 1024). Measured error of each (the maps' texels, the compression's
+    // 0.004 and the 64 samples' own banding).
+    struct Case {
+        const char* scene;
+        double mean;     // measured
+        std::size_t off; // measured pixels off by > 0.05
+    };
+    // The pixels off by > 0.05 lie along the plates' and the box's umbra edges (the maps'
+    // texels at 256²) and the curved casters' terminators; plates-three's mean is mostly the 64
+    // samples' own banding under its axis-aligned plates.
+    for (const Case& c : {Case{"plates-three.json", 0.00601, 121}, Case{"sphere.json", 0.00215, 20},
+                          Case{"box.json", 0.00325, 84}, Case{"torus.json", 0.00262, 24}}) {
+        SCOPED_TRACE(c.scene);
+        const auto scene = geometry::loadScene(testutil::dataPath(c.scene));
+        const Rendered ref = testutil::render(scene, "reference", 128, 128, 256);
+        const Rendered r = testutil::render(scene, "pdsm", 128, 128, 1,
+                                            {{"samples", "64"}, {"resolution", "256"}});
+        const Diff d = diff(r, ref);
+        std::printf("  %s 128²: pdsm (k = 64, 256²) vs reference N = 256: mean %.5f, %zu of %zu "
+                    "pixels off by > 0.05; %g points, longest function %g, build %.0f ms\n",
+                    c.scene, d.mean, d.off, d.pixels, testutil::counter(r.stats, "pdsm_points"),
+                    testutil::counter(r.stats, "pdsm_longest_function"),
+                    testutil::counter(r.stats, "pdsm_precompute_ms"));
+        EXPECT_GT(d.pixels, 5000u);
+        EXPECT_LT(d.mean, c.mean + 0.0005);
+        EXPECT_LE(d.off, c.off + c.off / 10);
+        EXPECT_LE(testutil::counter(r.stats, "pdsm_max_deviation"),
+                  0.004 + 1e-5);
+    }
+}
+
+// Equal pixel for pixel, NaN (no surface) where the other is NaN.
+bool sameImage(const geometry::FloatImage& a, const geometry::FloatImage& b) {
+    if (a.data.size() != b.data.size()) return false;
+    for (std::size_t i = 0; i < a.data.size(); ++i) {
+        const float x = a.data[i], y = b.data[i];
+        if (std::isnan(x) != std::isnan(y) || (!std::isnan(x) && x != y)) return false;
+    }
+    return true;
+}
+
+// Levels from their first spawn camera with the viewer's lamp, against raytrace N = 256: the
+// lamp hangs in a room, so casters reach the light's plane and the deep map (one frustum along
+// the light's normal, capped at 71.6 degrees) is clipped. kaos2's view lies within it; on
+// oa_dm5's the walls and ceiling above the lamp lie outside and are drawn lit where the
+// reference has them dark: the method's known failure, counted (pdsm_pixels_outside).
+TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
+    struct Case {
+        const char* level;
+        double mean, hard; // measured: pdsm's and hard's mean |dV|
+        std::size_t outsideAtLeast;
+    };
+    // Measured: kaos2 0.00054 (hard 0.00000: no shadow in the view; 45 pixels along the walls'
+    // feet), oa_dm5 0.22983 (hard 0.01799: the walls left and right of the view, dark in the
+    // reference, drawn lit).
+    for (const Case& c : {Case{"kaos2.glb", 0.00054, 0.0, 0}, Case{"oa_dm5.glb", 0.22983, 0.01799, 1}}) {
+        SCOPED_TRACE(c.level);
+        const geometry::Scene scene = testutil::levelWithLamp(c.level, 0);
+        const Rendered r = testutil::render(scene, "pdsm", 128, 72, 1,
+                                            {{"samples", "64"}, {"resolution", "256"}});
+        const Rendered hard = testutil::render(scene, "hard", 128, 72, 1);
+        const Rendered ref = testutil::render(scene, "raytrace", 128, 72, 256);
+        const Diff d = diff(r, ref), dh = diff(hard, ref);
+        const double outside = testutil::counter(r.stats, "pdsm_pixels_outside");
+        std::printf("  %s camera 0 128x72 vs raytrace N = 256: pdsm mean %.5f (%zu of %zu off by "
+                    "> 0.05; %.0f receivers outside the clipped deep map), hard %.5f\n",
+                    c.level, d.mean, d.off, d.pixels, outside, dh.mean);
+        EXPECT_EQ(testutil::counter(r.stats, "pdsm_clipped"), 1.0);
+        EXPECT_LT(d.mean, c.mean + 0.001);
+        EXPECT_LT(dh.mean, c.hard + 0.001);
+        EXPECT_GE(outside, static_cast<double>(c.outsideAtLeast));
+    }
+}
+
+TEST_F(PdsmMethod, DeepMapIsReusedUntilTheLightMoves) {
+    const auto scene = geometry::loadScene(testutil::dataPath("sphere.json"));
+    testutil::SceneRenderer sr(scene);
+    gpu::RenderSettings s = testutil::frameSettings("pdsm", 64, 64);
+    s.parameters = {{"samples", "32"}, {"resolution", "128"}};
+    const gpu::FrameStats first = sr.renderer.renderFrame(s);
+    const geometry::FloatImage v1 = sr.renderer.visibility();
+    const gpu::FrameStats second = sr.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(first, "pdsm_cached"), 0.0);
+    EXPECT_EQ(testutil::counter(second, "pdsm_cached"), 1.0);
+    EXPECT_TRUE(sameImage(sr.renderer.visibility(), v1));
+    geometry::RectLight moved = scene.light;
+    moved.center.x += 0.5f;
+    s.light = moved;
+    const gpu::FrameStats third = sr.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(third, "pdsm_cached"), 0.0);
+    EXPECT_FALSE(sameImage(sr.renderer.visibility(), v1));
+}
+
+TEST_F(PdsmMethod, OwnPlaneBoundsTheWallBesideTheLight) {
+    geometry::Scene scene = testutil::wallBesideLight();
+    geometry::validateScene(scene);
+    const Rendered r = testutil::render(scene, "pdsm", 96, 96, 1,
+                                        {{"samples", "64"}, {"resolution", "256"}});
+    const testutil::WallFront w = testutil::wallFront(scene, r.visibility, r.position);
+    std::printf("  wall beside the light, 96²: %zu wall pixels, largest |V - front share| %.4f, "
+                "%zu off by > 0.01\n",
+                w.pixels, w.worst, w.off);
+    EXPECT_GT(w.pixels, 300u);
+    EXPECT_LE(w.off, w.pixels / 50);
+}
+
+TEST_F(PdsmMethod, CastersReachingTheLightsPlaneAreCountedAsClipped) {
+    auto scene = geometry::loadScene(testutil::dataPath("sphere.json"));
+    scene.objects[0].method = geometry::ShadowMethod::None; // the floor only receives
+    gpu::RenderSettings s = testutil::frameSettings("pdsm", 48, 48);
+    s.parameters = {{"samples", "16"}, {"resolution", "128"}};
+    testutil::SceneRenderer above(scene);
+    EXPECT_EQ(testutil::counter(above.renderer.renderFrame(s), "pdsm_clipped"), 0.0);
+    geometry::RectLight level = scene.light;
+    level.center = {0.0f, 1.0f, -1.5f};
+    level.u = {0.3f, 0.0f, 0.0f};
+    level.v = {0.0f, 0.0f, 0.3f};
+    s.light = level;
+    testutil::SceneRenderer beside(scene);
+    const gpu::FrameStats st = beside.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(st, "pdsm_clipped"), 1.0);
+    std::printf("  light level with the sphere: %g receivers outside the clipped deep map\n",
+                testutil::counter(st, "pdsm_pixels_outside"));
+}
+
+TEST_F(PdsmMethod, TooMuchMapMemoryIsRefusedWithTheFigure) {
+    const auto scene = geometry::loadScene(testutil::dataPath("sphere.json"));
+    try {
+        testutil::render(scene, "pdsm", 32, 32, 1, {{"samples", "256"}, {"resolution", "1024"}});
+        FAIL() << "not refused";
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("1024 MiB of sample maps"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_THROW(testutil::render(scene, "pdsm", 32, 32, 1, {{"tolerance", "0.001"}}),
+                 geometry::InputError);
+}
+
+} // namespace
