@@ -51,7 +51,7 @@ void main() {
     }
     vec3 P = position.xyz;
     vec3 N = texelFetch(tNormal, px, 0).xyz;
-    vec3 c = frame.lightCenter.xyz;
+    vec3 c = pdsm.centre.xyz; // the map's light (the frame's, but while the next is built)
 #ifdef OWN_PLANE
     float front = horizonFraction(P, N);
 #else

@@ -238,7 +238,7 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
 PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
 
 // The pdsm method's deep map (geometry/shadow/PenumbraDeepShadowMap.h PdsmGrid), from the
-// light's centre (frame.lightCenter).
+// light's centre it was built for.
 PENUMBRA_UBO_BEGIN(PdsmUniforms, BINDING_PDSM_UBO)
     vec4 eu;     // xyz: the map's first lateral axis, w: 1 if it holds casters (0: V = 1)
     vec4 ev;     // xyz: its second lateral axis, w: 1 if clipped (receivers outside it counted)
@@ -247,6 +247,9 @@ PENUMBRA_UBO_BEGIN(PdsmUniforms, BINDING_PDSM_UBO)
     // x: resolution R, y: sFar, z: the receiver offset's grazing part in deep-map texels (bias),
     // w: a texel's world size per unit of depth (the extent's larger side over R)
     vec4 params;
+    // xyz: the light's centre the map was built from (the frame's light while a moved light's
+    // map is being built in the background)
+    vec4 centre;
 PENUMBRA_UBO_END(PdsmUniforms, pdsm)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented

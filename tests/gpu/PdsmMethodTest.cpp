@@ -3,7 +3,8 @@
 //   (geometry::evaluatePdsm) gives, on random compressed staircases;
 // - on data scenes it errs against `reference` by its measured error (the maps' texels, the
 //   compression's tolerance and k samples), with few pixels off by more than 0.05;
-// - the deep map is built once and reused until the light moves;
+// - the deep map is built once and reused until the light moves; in the viewer's frames the
+//   next one is built in the background while the last one is used;
 // - the receiver's own plane bounds V (plane=on) on a wall beside the light;
 // - a deep map that cannot hold every receiver (casters reaching the light's plane) says so, and
 //   counts the receivers it does not hold;
@@ -284,6 +285,45 @@ TEST_F(PdsmMethod, DeepMapIsReusedUntilTheLightMoves) {
     const gpu::FrameStats third = sr.renderer.renderFrame(s);
     EXPECT_EQ(testutil::counter(third, "pdsm_cached"), 0.0);
     EXPECT_FALSE(sameImage(sr.renderer.visibility(), v1));
+}
+
+// The viewer's frames (waitForGpu = false): a moved light's deep map is merged on a CPU thread
+// while the frames keep the last one; once it is ready the frames use it, and it equals the map
+// a headless frame builds for that light.
+TEST_F(PdsmMethod, ViewerFramesKeepTheLastMapWhileTheNextIsBuilt) {
+    const auto scene = geometry::loadScene(testutil::dataPath("sphere.json"));
+    testutil::SceneRenderer sr(scene);
+    gpu::RenderSettings s = testutil::frameSettings("pdsm", 64, 64);
+    s.parameters = {{"samples", "64"}, {"resolution", "256"}};
+    s.waitForGpu = false;
+    sr.renderer.renderFrame(s); // the first map: built before the frame's lookup
+    const geometry::FloatImage before = sr.renderer.visibility();
+    geometry::RectLight moved = scene.light;
+    moved.center.x += 0.5f;
+    s.light = moved;
+    const gpu::FrameStats next = sr.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(next, "pdsm_building"), 1.0);
+    const geometry::FloatImage during = sr.renderer.visibility();
+    int frames = 1;
+    gpu::FrameStats st = next;
+    while (testutil::counter(st, "pdsm_building") == 1.0 && frames < 10000) {
+        st = sr.renderer.renderFrame(s);
+        ++frames;
+    }
+    std::printf("  the moved light's map was ready after %d frames\n", frames);
+    ASSERT_EQ(testutil::counter(st, "pdsm_building"), 0.0);
+    s.waitForGpu = true;
+    testutil::SceneRenderer headless(scene);
+    headless.renderer.renderFrame(s);
+    EXPECT_TRUE(sameImage(sr.renderer.visibility(), headless.renderer.visibility()));
+    EXPECT_FALSE(sameImage(sr.renderer.visibility(), before));
+    // Meanwhile the last map's shadows (only the own-plane share follows the moved light).
+    const double toBefore = diff({during, {}, {}, {}}, {before, {}, {}, {}}).mean;
+    const double toAfter =
+        diff({during, {}, {}, {}}, {sr.renderer.visibility(), {}, {}, {}}).mean;
+    std::printf("  while building: mean |dV| %.5f to the last map's frame, %.5f to the next's\n",
+                toBefore, toAfter);
+    EXPECT_LT(toBefore, 0.25 * toAfter);
 }
 
 TEST_F(PdsmMethod, OwnPlaneBoundsTheWallBesideTheLight) {

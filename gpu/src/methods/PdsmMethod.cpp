@@ -93,6 +93,7 @@ public:
         const glm::vec2 side = g.hi - g.lo;
         u.params = glm::vec4(static_cast<float>(g.resolution), g.sFar, mOptions.normalOffset,
                              std::max(side.x, side.y) / static_cast<float>(g.resolution));
+        u.centre = glm::vec4(g.centre, 1.0f);
         mUniforms.upload(&u, sizeof(u));
         const std::uint32_t zero = 0;
         glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
