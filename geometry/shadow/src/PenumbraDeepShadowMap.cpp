@@ -251,8 +251,12 @@ std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmSt
             // Both sides of the step within eps of the line.
             add(x, std::max(s.before, s.after) - eps, std::min(s.before, s.after) + eps);
         } else {
-            // A step: the segment ends at x near `before`, the next starts at `after`.
-            add(x, s.before - eps, s.before + eps);
+            // A step: the segment ends at x on `before` exactly, the next starts at `after`.
+            // (Every receiver lies just before such a step, the surface it lies on, and reads
+            // the value there: ending anywhere within the bound darkened every surface by up to
+            // the bound, kaos2's first spawn view by 0.0026 mean at 0.008 where it has no
+            // shadow.)
+            add(x, s.before, s.before);
             flush();
             out.push_back({s.code, s.after});
             oy = s.after;

@@ -77,10 +77,11 @@ struct PdsmPoint {
 // The compression's tolerance is a bound on |dV|. A run of one-sample steps (1 / k each) can be
 // cut through by a line only where the bound is above 1 / (2 k) plus the 8-bit values' half
 // step (0.5 / 255); below that every step is kept as a step (two points). The method's default,
-// 0.004, keeps every step for k <= 128 and just cuts through single steps at k = 256: on
-// data/plates-three.json the mean error against `reference` N = 1024 was the same at 0.004 and
-// 0.008 (0.0026, 0.0027; 73 and 19 points per stored texel) and 0.0032 at 0.016, and at k = 64
-// the bound of one sample's step (0.0176) cost the sphere 0.010 where 0.004 cost 0.004.
+// 0.004, just cuts through single steps at k = 256 and keeps every step at k <= 128. At 256²
+// against `reference` N = 1024 (docs/bench-pdsm.md), data/plates-three.json errs by 0.0020 at
+// 0.003 and 0.004, 0.0021 at 0.008, 0.0026 at 0.016 and 0.0041 at 0.032, with 155, 72, 18, 7
+// and 5 points per stored texel; the sphere 0.0007, 0.0007, 0.0008, 0.0011, 0.0019;
+// spheres-nine 0.0027 at 0.004 and 0.0029 at 0.008, the demo 0.0011 and 0.0021.
 
 // The piecewise-linear function within `tolerance` of the staircase that starts at `start`
 // (V at t = 0) and steps at `steps` (codes strictly increasing, in (0, 65535]), values
