@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# pdsm benchmark (docs/methods/pdsm.md): on every view of the wedge benches (scripts/wedge-scenes.sh:
+# the data/ scenes, the stability suite's hard cases, two levels' first spawn views with the
+# viewer's lamp) at 256x256, against `reference` N = 1024 of the same view: pdsm's error (and
+# sample-maps' with the same 256 samples and wedges-bitmask's beside it), its frame over hard's
+# (ROUNDS alternating runs, each the median of 5 frames after the first, which builds the deep
+# map), its precompute, memory and function lengths. Then the tolerance and the samples swept
+# on two scenes. Writes docs/bench-pdsm.md.
+# Usage: bash scripts/bench-pdsm.sh   (build first; OUT defaults to out/bench-pdsm, ROUNDS to 3)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+render=build/bin/penumbra-render
+root=${OUT:-out/bench-pdsm}
+rounds=${ROUNDS:-3}
+size=${SIZE:-256x256}
+source scripts/wedge-scenes.sh
+mkdir -p "$root"
+rows=()
+for entry in "${wedge_views[@]}"; do
+    wedge_view "$entry"
+    o="$root/${name// /-}"
+    rows+=("$o|$name")
+    echo "== $name" >&2
+    [ -f "$o/reference/visibility.pfm" ] ||
+        "$render" --scene "$scene" "${camera[@]}" --method reference --samples 1024 --size "$size" \
+            --out "$o/reference" --quiet
+    ref=(--compare "$o/reference/visibility.pfm")
+    for run in $(seq "$rounds"); do
+        "$render" --scene "$scene" "${camera[@]}" --method hard --frames 6 --size "$size" \
+            --out "$o/hard-$run" --quiet
+        "$render" --scene "$scene" "${camera[@]}" --method pdsm --frames 6 --size "$size" \
+            --out "$o/pdsm-$run" "${ref[@]}" --quiet
+    done
+    "$render" --scene "$scene" "${camera[@]}" --method sample-maps --param samples=256 \
+        --size "$size" --out "$o/sample-maps" "${ref[@]}" --quiet
+    "$render" --scene "$scene" "${camera[@]}" --method wedges-bitmask --size "$size" \
+        --out "$o/wedges-bitmask" "${ref[@]}" --quiet
+done
+sweeps=()
+for s in plates-three sphere; do
+    o="$root/$s"
+    for p in tolerance=0.003 tolerance=0.008 tolerance=0.016 tolerance=0.032 samples=16 \
+        samples=64; do
+        "$render" --scene "data/$s.json" --method pdsm --param "$p" --size "$size" \
+            --out "$o/pdsm-$p" --compare "$o/reference/visibility.pfm" --quiet
+        sweeps+=("$o|$s|$p")
+    done
+done
+cpu=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
+/usr/bin/python3 - "$rounds" "$cpu" "${rows[@]}" -- "${sweeps[@]}" > docs/bench-pdsm.md <<'PY'
+import json, statistics, sys
+rounds, cpu = int(sys.argv[1]), sys.argv[2]
+args = sys.argv[3:]
+cut = args.index("--")
+rows, sweeps = args[:cut], args[cut + 1:]
+def rep(path):
+    with open(path + "/report.json") as f:
+        return json.load(f)
+def err(r):
+    e = r["error"]
+    return f"{e['mean_abs_err']:.4f} ({e['bad_pixel_pct']:.1f})"
+first = rep(rows[0].split("|")[0] + "/pdsm-1")
+print("<!-- written by scripts/bench-pdsm.sh; do not edit by hand -->")
+print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², tolerance 0.004) at "
+      f"256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
+      f"beside `sample-maps` with the same 256 samples and `wedges-bitmask`'s default. Frame: "
+      f"pdsm's over `hard`'s, the median of {rounds} alternating runs, each the median of 6 frames "
+      f"(the first builds the deep map). Precompute: the sample maps drawn and read back, merged "
+      f"on the CPU (all cores) and uploaded, in the first frame. GL_RENDERER "
+      f"{first['gl_renderer']}, CPU {cpu}.")
+print()
+print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard | precompute s | "
+      "deep map MiB | points per texel (mean, longest) | clipped (receivers outside) |")
+print("|---|---|---|---|---|---|---|---|---|")
+for row in rows:
+    o, name = row.split("|")
+    p = rep(o + "/pdsm-1")
+    c = p["counters"]
+    ratios = [rep(f"{o}/pdsm-{r}")["frame_ms"] / rep(f"{o}/hard-{r}")["frame_ms"]
+              for r in range(1, rounds + 1)]
+    clipped = f"yes ({int(c['pdsm_pixels_outside'])})" if c["pdsm_clipped"] else "no"
+    print(f"| {name} | {err(p)} | {err(rep(o + '/sample-maps'))} | "
+          f"{err(rep(o + '/wedges-bitmask'))} | {statistics.median(ratios):.2f}× | "
+          f"{c['pdsm_precompute_ms'] / 1000:.1f} | {c['pdsm_bytes'] / 2**20:.1f} | "
+          f"{c['pdsm_mean_function']:.0f}, {int(c['pdsm_longest_function'])} | {clipped} |")
+print()
+print("**Parameters** (one run each, the same reference):")
+print()
+print("| scene | parameter | mean error (% > 0.05) | deep map MiB | points per texel | "
+      "largest stored deviation | precompute s |")
+print("|---|---|---|---|---|---|---|")
+for s in sweeps:
+    o, scene, p = s.split("|")
+    for label, path in ([("default", o + "/pdsm-1")] if p == "tolerance=0.003" else []) + \
+            [(p, f"{o}/pdsm-{p}")]:
+        r = rep(path)
+        c = r["counters"]
+        print(f"| {scene} | {label} | {err(r)} | {c['pdsm_bytes'] / 2**20:.1f} | "
+              f"{c['pdsm_mean_function']:.0f} | {c['pdsm_max_deviation']:.4f} | "
+              f"{c['pdsm_precompute_ms'] / 1000:.1f} |")
+PY
+cat docs/bench-pdsm.md
