@@ -21,7 +21,6 @@
 #include <functional>
 #include <future>
 #include <memory>
-#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,7 +30,7 @@ namespace gpu {
 namespace {
 
 // The sample maps are read back into CPU memory for the merge: k R^2 floats, refused past this.
-constexpr std::size_t kMaxMapBytes = std::size_t(256) << 20;
+constexpr std::size_t kMaxReadBackBytes = std::size_t(256) << 20;
 // The sample maps' slope-scaled depth offset in texels (SampleMapPass::draw): the deep map's
 // construction reads one texel per map, whose stored depth is the surface's at the texel's
 // centre.
@@ -51,12 +50,12 @@ public:
         const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
                                static_cast<std::size_t>(mOptions.resolution);
         const std::size_t bytes = static_cast<std::size_t>(mOptions.samples) * r2 * 4;
-        if (bytes > kMaxMapBytes)
+        if (bytes > kMaxReadBackBytes)
             throw geometry::InputError(
                 "pdsm: samples=" + std::to_string(mOptions.samples) + " at resolution=" +
                 std::to_string(mOptions.resolution) + " reads back " +
                 std::to_string(bytes >> 20) + " MiB of sample maps to build the deep map, over " +
-                "the " + std::to_string(kMaxMapBytes >> 20) + " MiB limit; lower one of them");
+                "the " + std::to_string(kMaxReadBackBytes >> 20) + " MiB limit; lower one of them");
         mMaps.emplace(r.shaders, std::min(kMapsPerBatch, mOptions.samples), mOptions.resolution,
                       "pdsm-sample-maps");
         mIndex = Texture({.width = mOptions.resolution,
