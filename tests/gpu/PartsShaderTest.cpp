@@ -3,6 +3,7 @@
 // compiled as C++ (geometry/shadow/Parts.h) up to the driver's rounding (fused multiply-adds, its own division).
 #include "TestRandom.h"
 #include "GlTestEnv.h"
+#include "ScratchDir.h"
 
 #include <geometry/shadow/Coverage.h>
 #include <geometry/shadow/Parts.h>
@@ -10,44 +11,17 @@
 #include <gpu/gl/ShaderLoader.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace {
 
-namespace fs = std::filesystem;
 using glm::dvec3;
 using glm::vec3;
 using glm::vec4;
-
-// The compute shader as a file (the loader resolves `#include "lib/..."` in the shaders/ root).
-class ScratchFile {
-public:
-    ScratchFile(const std::string& name, const std::string& text) {
-        static std::atomic<int> counter{0};
-        mDir = fs::temp_directory_path() / ("penumbra-parts-shader-" + std::to_string(::getpid()) +
-                                            "-" + std::to_string(counter++));
-        fs::create_directories(mDir);
-        std::ofstream(mDir / name) << text;
-        mPath = (mDir / name).string();
-    }
-    ~ScratchFile() {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
-    }
-    const std::string& path() const { return mPath; }
-
-private:
-    fs::path mDir;
-    std::string mPath;
-};
 
 // vec4s per item: coverage, bounds[4], (windings[q], 0) for q = 0..3.
 constexpr int kStride = 9;
@@ -115,10 +89,11 @@ PartsInput randomInput(Rng& rng, double& magnification) {
 class PartsShaderTest : public GlTest {};
 
 TEST_F(PartsShaderTest, ComputeMatchesTheCppBuild) {
-    ScratchFile file("parts.comp", kPartsComp);
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
-        loader.load({.stages = {{GL_COMPUTE_SHADER, file.path()}}, .label = "parts-check"});
+        loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("parts.comp", kPartsComp)}},
+                     .label = "parts-check"});
     ASSERT_TRUE(program);
 
     Rng rng(0x5a17);
@@ -245,10 +220,11 @@ void main() {
 )";
 
 TEST_F(PartsShaderTest, PartSetComputeMatchesTheCppBuildForEveryR) {
-    ScratchFile file("part-set.comp", kPartSetComp);
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
-        loader.load({.stages = {{GL_COMPUTE_SHADER, file.path()}}, .label = "part-set-check"});
+        loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("part-set.comp", kPartSetComp)}},
+                     .label = "part-set-check"});
     ASSERT_TRUE(program);
 
     Rng rng(0x5e75);

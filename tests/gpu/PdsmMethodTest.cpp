@@ -10,6 +10,7 @@
 //   counts the receivers it does not hold;
 // - memory-hungry parameters are refused with the figure.
 #include "GlTestEnv.h"
+#include "ScratchDir.h"
 #include "RenderTestUtil.h"
 
 #include <geometry/core/Error.h>
@@ -21,46 +22,17 @@
 #include "engine/ShaderBindings.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace {
 
-namespace fs = std::filesystem;
 using testutil::Rendered;
 
 class PdsmMethod : public GlTest {};
-
-// The compute shader as a file in a scratch directory (the loader resolves `lib/...` includes in
-// the shaders/ root).
-class ScratchShader {
-public:
-    explicit ScratchShader(const std::string& text) {
-        static std::atomic<int> counter{0};
-        mDir = fs::temp_directory_path() /
-               ("penumbra-pdsm-shader-" + std::to_string(::getpid()) + "-" +
-                std::to_string(counter++));
-        fs::create_directories(mDir);
-        mPath = (mDir / "pdsm-check.comp").string();
-        std::ofstream(mPath) << text;
-    }
-    ~ScratchShader() {
-        std::error_code ec;
-        fs::remove_all(mDir, ec);
-    }
-    const std::string& path() const { return mPath; }
-
-private:
-    fs::path mDir;
-    std::string mPath;
-};
 
 const char* kCheckComp = R"(#include "lib/Bindings.h"
 #include "lib/Pdsm.glsl"
@@ -132,10 +104,11 @@ TEST_F(PdsmMethod, FunctionReadEqualsTheCpuModel) {
             texels.emplace_back(texel % 32, texel / 32);
         }
     }
-    ScratchShader file(kCheckComp);
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
-        loader.load({.stages = {{GL_COMPUTE_SHADER, file.path()}}, .label = "pdsm-check"});
+        loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("pdsm-check.comp", kCheckComp)}},
+                     .label = "pdsm-check"});
     ASSERT_TRUE(program);
     std::vector<std::uint32_t> words = map.data;
     gpu::Buffer data({.size = words.size() * 4, .data = words.data(), .label = "pdsm-data"});
@@ -173,23 +146,11 @@ TEST_F(PdsmMethod, FunctionReadEqualsTheCpuModel) {
     EXPECT_EQ(off, 0u);      // the same statements: equal up to the driver's division
 }
 
-// Mean |dV| and pixels off by > 0.05 where both have a surface.
-struct Diff {
-    double mean = 0.0;
-    std::size_t off = 0, pixels = 0;
-};
+using Diff = testutil::VisibilityDiff;
 
+// Mean |dV| and pixels off by > 0.05 where both have a surface.
 Diff diff(const Rendered& a, const Rendered& b) {
-    Diff d;
-    for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
-        const float x = a.visibility.data[i], y = b.visibility.data[i];
-        if (!std::isfinite(x) || !std::isfinite(y)) continue;
-        d.mean += std::abs(x - y);
-        d.off += std::abs(x - y) > 0.05f;
-        ++d.pixels;
-    }
-    if (d.pixels) d.mean /= static_cast<double>(d.pixels);
-    return d;
+    return testutil::visibilityDiff(a.visibility, b.visibility, 0.05f);
 }
 
 TEST_F(PdsmMethod, AgainstTheReferenceOnDataScenes) {
@@ -318,9 +279,9 @@ TEST_F(PdsmMethod, ViewerFramesKeepTheLastMapWhileTheNextIsBuilt) {
     EXPECT_TRUE(sameImage(sr.renderer.visibility(), headless.renderer.visibility()));
     EXPECT_FALSE(sameImage(sr.renderer.visibility(), before));
     // Meanwhile the last map's shadows (only the own-plane share follows the moved light).
-    const double toBefore = diff({during, {}, {}, {}}, {before, {}, {}, {}}).mean;
+    const double toBefore = testutil::visibilityDiff(during, before, 0.05f).mean;
     const double toAfter =
-        diff({during, {}, {}, {}}, {sr.renderer.visibility(), {}, {}, {}}).mean;
+        testutil::visibilityDiff(during, sr.renderer.visibility(), 0.05f).mean;
     std::printf("  while building: mean |dV| %.5f to the last map's frame, %.5f to the next's\n",
                 toBefore, toAfter);
     EXPECT_LT(toBefore, 0.25 * toAfter);

@@ -155,6 +155,26 @@ inline geometry::Scene levelWithLamp(const std::string& level, int camera) {
     return scene;
 }
 
+// Mean |dV| and pixels off by more than `tol`, over the pixels where both have a surface.
+struct VisibilityDiff {
+    double mean = 0.0;
+    std::size_t off = 0, pixels = 0;
+};
+
+inline VisibilityDiff visibilityDiff(const geometry::FloatImage& a, const geometry::FloatImage& b,
+                                     float tol) {
+    VisibilityDiff d;
+    for (std::size_t i = 0; i < a.data.size() && i < b.data.size(); ++i) {
+        const float x = a.data[i], y = b.data[i];
+        if (!std::isfinite(x) || !std::isfinite(y)) continue;
+        d.mean += std::abs(x - y);
+        d.off += std::abs(x - y) > tol;
+        ++d.pixels;
+    }
+    if (d.pixels) d.mean /= static_cast<double>(d.pixels);
+    return d;
+}
+
 // The value of a method's counter in a frame's stats; a failure if it has none.
 inline double counter(const gpu::FrameStats& stats, const std::string& name) {
     for (const auto& c : stats.counters)

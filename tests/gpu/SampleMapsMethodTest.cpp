@@ -27,23 +27,10 @@ using testutil::Rendered;
 
 class SampleMapsMethod : public GlTest {};
 
-// Mean |dV| and pixels off by > `tol` over the pixels where both have a surface.
-struct Diff {
-    double mean = 0.0;
-    std::size_t off = 0, pixels = 0;
-};
+using Diff = testutil::VisibilityDiff;
 
 Diff diff(const Rendered& a, const Rendered& b, float tol) {
-    Diff d;
-    for (std::size_t i = 0; i < a.visibility.data.size(); ++i) {
-        const float x = a.visibility.data[i], y = b.visibility.data[i];
-        if (!std::isfinite(x) || !std::isfinite(y)) continue;
-        d.mean += std::abs(x - y);
-        d.off += std::abs(x - y) > tol;
-        ++d.pixels;
-    }
-    if (d.pixels) d.mean /= static_cast<double>(d.pixels);
-    return d;
+    return testutil::visibilityDiff(a.visibility, b.visibility, tol);
 }
 
 TEST_F(SampleMapsMethod, EqualsTheReferenceOfTheSameSamplesOnOpaqueScenes) {

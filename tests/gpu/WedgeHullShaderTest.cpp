@@ -9,6 +9,7 @@
 #include "TestRandom.h"
 
 #include "GlTestEnv.h"
+#include "ScratchDir.h"
 
 #include <geometry/shadow/Coverage.h>
 #include <geometry/shadow/Wedge.h>
@@ -20,45 +21,17 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace {
 
-namespace fs = std::filesystem;
 using glm::dvec3;
 using glm::vec3;
 using glm::vec4;
-
-// A scratch directory for test shaders, removed afterwards. The loader's root stays the real
-// shaders/ directory: a stage given by absolute path still resolves `#include "lib/..."` there.
-class ScratchDir {
-public:
-    ScratchDir() {
-        static std::atomic<int> counter{0};
-        mPath = fs::temp_directory_path() / ("penumbra-hull-shader-" + std::to_string(::getpid()) +
-                                             "-" + std::to_string(counter++));
-        fs::create_directories(mPath);
-    }
-    ~ScratchDir() {
-        std::error_code ec;
-        fs::remove_all(mPath, ec);
-    }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(mPath / name) << text;
-        return (mPath / name).string();
-    }
-
-private:
-    fs::path mPath;
-};
 
 // How a renderer would use the libraries: one draw of 24 vertices per edge, the edges pulled
 // from a buffer, the planes passed flat to the fragment shader.
@@ -207,7 +180,7 @@ double planeExcess(const vec4* planes, const dvec3& p) {
 class WedgeHullShaderTest : public GlTest {};
 
 TEST_F(WedgeHullShaderTest, VertexPullingAndCoverageShadersCompileAndLink) {
-    ScratchDir dir;
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
         loader.load({.stages = {{GL_VERTEX_SHADER, dir.write("pull.vert", kPullVert)},
@@ -219,7 +192,7 @@ TEST_F(WedgeHullShaderTest, VertexPullingAndCoverageShadersCompileAndLink) {
 }
 
 TEST_F(WedgeHullShaderTest, ComputeMatchesTheCppBuild) {
-    ScratchDir dir;
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
         loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("check.comp", kCheckComp)}},
@@ -366,7 +339,7 @@ void main() {
 )";
 
 TEST_F(WedgeHullShaderTest, NarrowedComputeMatchesTheCppBuild) {
-    ScratchDir dir;
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
         loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("narrow.comp", kNarrowedComp)}},
@@ -483,7 +456,7 @@ void main() {
 )";
 
 TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
-    ScratchDir dir;
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
         loader.load({.stages = {{GL_COMPUTE_SHADER, dir.write("cone.comp", kConeComp)}},
@@ -557,7 +530,7 @@ TEST_F(WedgeHullShaderTest, SilhouetteConesMatchTheCppBuild) {
 }
 
 TEST_F(WedgeHullShaderTest, BackFacesCoverEachViewRayThroughTheHullOnce) {
-    ScratchDir dir;
+    testutil::ScratchDir dir;
     gpu::ShaderLoader loader(gpu::defaultShaderDir());
     gpu::Program program =
         loader.load({.stages = {{GL_VERTEX_SHADER, dir.write("pull.vert", kPullVert)},
