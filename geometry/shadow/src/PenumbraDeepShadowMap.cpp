@@ -355,13 +355,6 @@ float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMap
 
 } // namespace
 
-float pdsmStaircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
-                    int i, int j, float depthBias, std::vector<PdsmStep>& steps) {
-    int blocks = 0;
-    const std::vector<float> blockMax = blockMaxima(maps, frame.views.size(), blocks);
-    return staircase(frame, grid, maps, blockMax, blocks, i, j, depthBias, steps);
-}
-
 Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
                const PdsmBuildSettings& settings) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -94,8 +94,12 @@ public:
                              std::max(side.x, side.y) / static_cast<float>(g.resolution));
         u.centre = glm::vec4(g.centre, 1.0f);
         mUniforms.upload(&u, sizeof(u));
+        // The lookup counts receivers outside the map only where it is clipped (elsewhere none
+        // can be hidden there): only then is the counter cleared and read back, a wait on the
+        // GPU in the viewer's frames.
         const std::uint32_t zero = 0;
-        glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        if (g.clipped)
+            glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         {
             ScopedPass pass(&ctx.timers, "pdsm-lookup");
             glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_PDSM_UBO, mUniforms.id());
@@ -107,8 +111,10 @@ public:
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
         std::uint32_t stats[PDSM_STAT_COUNT] = {};
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
-        glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
+        if (g.clipped) {
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
+            glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
+        }
         const geometry::PdsmStats& s = mMap.stats;
         ctx.addCounter("pdsm_cached", cached ? 1.0 : 0.0);
         ctx.addCounter("pdsm_building", mPending ? 1.0 : 0.0);

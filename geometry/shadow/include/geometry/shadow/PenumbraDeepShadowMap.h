@@ -142,10 +142,6 @@ struct Pdsm {
     }
 };
 
-// The staircase of deep-map texel (i, j): V at t = 0 and its steps (codes strictly increasing).
-float pdsmStaircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
-                    int i, int j, float depthBias, std::vector<PdsmStep>& steps);
-
 Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
                const PdsmBuildSettings& settings);
 
