@@ -149,8 +149,27 @@ float shortOfTarget(float eps, float length) {
 // offset resolves anyway; the surface's own plane is decided exactly by facesSample().
 float nearLimit(float eps, float length) { return length > 0.0f ? eps / length : 0.0f; }
 
+// A query's context: Embree's, and where the alpha filter records what the transmittance rule
+// needs (the filters get the address of `rtc`, the first member).
+struct CrossedSurface {
+    unsigned geom = 0, prim = 0;
+    float t = 0.0f, alpha = 0.0f;
+    glm::vec3 normal{0.0f};
+};
+struct QueryContext {
+    RTCIntersectContext rtc;
+    // Transmittance rule: per ray id of the query, the translucent surfaces it crossed (each
+    // once: with RTC_BUILD_QUALITY_HIGH a filter may see one triangle twice). nullptr: the
+    // alpha test.
+    std::vector<CrossedSurface>* crossed = nullptr;
+
+    QueryContext() {
+        rtcInitIntersectContext(&rtc);
+    }
+};
+
 // Runs fn(begin, end, context) over [0, count) in chunks on `threads` threads; each thread owns
-// its RTCIntersectContext (Embree contexts are not shared between concurrent queries).
+// its context (Embree contexts are not shared between concurrent queries).
 template <class Fn>
 void parallelChunks(std::size_t count, int threads, Fn&& fn) {
     unsigned hw =
@@ -160,9 +179,8 @@ void parallelChunks(std::size_t count, int threads, Fn&& fn) {
     const auto workers = static_cast<unsigned>(std::min<std::size_t>(hw, chunks));
     std::atomic<std::size_t> next{0};
     auto work = [&] {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        QueryContext context;
+        context.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         for (;;) {
             const std::size_t begin = next.fetch_add(kChunk);
             if (begin >= count) break;
@@ -211,11 +229,14 @@ bool facesSample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& y) {
     return glm::dot(n, y - p) > 0.0f || !(glm::dot(n, n) > 0.0f);
 }
 
-int countUnoccluded(RTCScene scene, RTCIntersectContext& context, const RectLight& light,
+// The light the rays of one point let through, summed over the samples, kPacket rays per
+// rtcOccluded call: 1 per unoccluded ray (the alpha test), or the product of (1 - alpha) over
+// the translucent surfaces it crosses (the transmittance rule: context.crossed set).
+float sumUnoccluded(RTCScene scene, QueryContext& context, const RectLight& light,
                     const glm::vec3& point, const glm::vec3& normal, const glm::vec3& origin,
                     const std::vector<glm::vec2>& base, const glm::vec2& shift, float eps) {
     const int samples = static_cast<int>(base.size());
-    int unoccluded = 0;
+    float unoccluded = 0.0f;
     for (int k0 = 0; k0 < samples; k0 += kPacket) {
         RayPacket packet;
         alignas(64) int valid[kPacket];
@@ -239,25 +260,56 @@ int countUnoccluded(RTCScene scene, RTCIntersectContext& context, const RectLigh
             packet.mask[j] = 0xFFFFFFFFu;
             packet.id[j] = static_cast<unsigned>(j);
             packet.flags[j] = 0;
+            if (context.crossed) context.crossed[j].clear();
         }
-        rtcOccluded8(valid, scene, &context, &packet);
+        rtcOccluded8(valid, scene, &context.rtc, &packet);
         for (int j = 0; j < kPacket; ++j) {
             // Embree sets tfar to -inf for an occluded ray.
-            if (valid[j] && packet.tfar[j] >= 0.0f) ++unoccluded;
+            if (!valid[j] || !(packet.tfar[j] >= 0.0f)) continue;
+            float through = 1.0f;
+            if (context.crossed)
+                for (const CrossedSurface& c : context.crossed[j]) through *= 1.0f - c.alpha;
+            unoccluded += through;
         }
     }
     return unoccluded;
 }
 
-// Embree filter of alpha-masked geometry (occlusion and intersection queries alike): a hit on a
-// point whose alpha is below the material's cutoff is no hit, and the ray goes on.
+// Embree filter of alpha-masked geometry (occlusion and intersection queries alike). The alpha
+// test: a hit on a point whose alpha is below the material's cutoff is no hit, and the ray goes
+// on. The transmittance rule (the query's context records crossings): a hit of alpha below 1 is
+// recorded once with its distance and alpha, and the ray goes on; an opaque one stands.
 void alphaFilter(const RTCFilterFunctionNArguments* args) {
     const auto* mesh = static_cast<const MeshData*>(args->geometryUserPtr);
+    // Every query of this file passes a QueryContext, whose first member is Embree's context.
+    const auto* query = reinterpret_cast<const QueryContext*>(args->context);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
         const glm::vec2 bary(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-        if (!surfaceOccludes(*mesh, prim, bary)) args->valid[i] = 0;
+        if (!query->crossed) {
+            if (!surfaceOccludes(*mesh, prim, bary)) args->valid[i] = 0;
+            continue;
+        }
+        const float alpha = surfaceOpacity(*mesh, prim, bary);
+        if (alpha >= 1.0f) continue; // opaque there: the hit stands
+        args->valid[i] = 0;
+        if (!(alpha > 0.0f)) continue; // wholly transparent
+        std::vector<CrossedSurface>& list = query->crossed[RTCRayN_id(args->ray, args->N, i)];
+        const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
+        // The filter runs with the ray's tfar set to the hit's distance.
+        const float t = RTCRayN_tfar(args->ray, args->N, i);
+        // One crossing per surface: a triangle seen twice, or two triangles of one mesh at one
+        // distance (a ray through their shared edge hits both; watertight, as it must be).
+        const bool seen = std::any_of(list.begin(), list.end(), [&](const CrossedSurface& c) {
+            return c.geom == geom &&
+                   (c.prim == prim || std::abs(c.t - t) <= 1e-6f * std::max(std::abs(t), 1.0f));
+        });
+        if (!seen)
+            list.push_back({geom, prim, t, alpha,
+                            glm::vec3(RTCHitN_Ng_x(args->hit, args->N, i),
+                                      RTCHitN_Ng_y(args->hit, args->N, i),
+                                      RTCHitN_Ng_z(args->hit, args->N, i))});
     }
 }
 
@@ -279,6 +331,21 @@ RTCRay makeRay(const glm::vec3& origin, const glm::vec3& target, float eps) {
 } // namespace
 
 RayTracer::RayTracer(const Scene& scene) : mImpl(std::make_unique<Impl>()) {
+    std::vector<std::size_t> casting;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i)
+        if (scene.objects[i].method != ShadowMethod::None) casting.push_back(i);
+    build(scene, casting);
+}
+
+RayTracer::RayTracer(const Scene& scene, std::span<const std::size_t> objects)
+    : mImpl(std::make_unique<Impl>()) {
+    for (const std::size_t i : objects)
+        if (i >= scene.objects.size())
+            throw std::invalid_argument("RayTracer: object index out of range");
+    build(scene, objects);
+}
+
+void RayTracer::build(const Scene& scene, std::span<const std::size_t> objects) {
     Impl& impl = *mImpl;
     impl.device = rtcNewDevice(nullptr);
     if (!impl.device) {
@@ -307,8 +374,8 @@ RayTracer::RayTracer(const Scene& scene) : mImpl(std::make_unique<Impl>()) {
         if (d > 0.0f && std::isfinite(d)) impl.diagonal = d;
     }
 
-    for (const SceneObject& object : scene.objects) {
-        if (object.method == ShadowMethod::None) continue;
+    for (const std::size_t index : objects) {
+        const SceneObject& object = scene.objects[index];
         const MeshData& mesh = object.mesh;
         if (mesh.triangles.empty() || mesh.positions.empty()) continue;
         for (const glm::uvec3& tri : mesh.triangles) {
@@ -365,7 +432,9 @@ void RayTracer::visibility(const RectLight& light, std::span<const glm::vec3> po
     RTCScene scene = mImpl->scene;
 
     parallelChunks(points.size(), settings.threads,
-                   [&](std::size_t begin, std::size_t end, RTCIntersectContext& context) {
+                   [&](std::size_t begin, std::size_t end, QueryContext& context) {
+        std::vector<CrossedSurface> crossed[kPacket];
+        context.crossed = settings.transmittance ? crossed : nullptr;
         for (std::size_t i = begin; i < end; ++i) {
             if (!isFinite(points[i])) {
                 out[i] = std::numeric_limits<float>::quiet_NaN();
@@ -376,9 +445,9 @@ void RayTracer::visibility(const RectLight& light, std::span<const glm::vec3> po
             // random vector on the torus [-1,1)^2. Still one sample per (shifted) stratum, but
             // neighbouring points no longer share their error, so there is no banding.
             const glm::vec2 shift = rotationFor(settings.seed, i);
-            const int unoccluded = countUnoccluded(scene, context, light, points[i], normals[i],
+            const float unoccluded = sumUnoccluded(scene, context, light, points[i], normals[i],
                                                    origin, base, shift, eps);
-            out[i] = static_cast<float>(unoccluded) * invSamples;
+            out[i] = unoccluded * invSamples;
         }
     });
     mImpl->check("visibility");
@@ -391,7 +460,7 @@ void RayTracer::hardVisibility(const glm::vec3& lightPoint, std::span<const glm:
     const float eps = mImpl->offsetDistance(settings);
     RTCScene scene = mImpl->scene;
     parallelChunks(points.size(), settings.threads,
-                   [&](std::size_t begin, std::size_t end, RTCIntersectContext& context) {
+                   [&](std::size_t begin, std::size_t end, QueryContext& context) {
         for (std::size_t i = begin; i < end; ++i) {
             if (!isFinite(points[i])) {
                 out[i] = std::numeric_limits<float>::quiet_NaN();
@@ -402,7 +471,7 @@ void RayTracer::hardVisibility(const glm::vec3& lightPoint, std::span<const glm:
                 continue;
             }
             RTCRay ray = makeRay(offsetOrigin(points[i], normals[i], eps), lightPoint, eps);
-            rtcOccluded1(scene, &context, &ray);
+            rtcOccluded1(scene, &context.rtc, &ray);
             out[i] = ray.tfar >= 0.0f ? 1.0f : 0.0f;
         }
     });
@@ -412,8 +481,7 @@ void RayTracer::hardVisibility(const glm::vec3& lightPoint, std::span<const glm:
 bool RayTracer::intersect(const glm::vec3& origin, const glm::vec3& dir, float& t,
                           glm::vec3& normal) const {
     if (!isFinite(origin) || !isFinite(dir) || dir == glm::vec3(0.0f)) return false;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    QueryContext context;
     RTCRayHit rh{};
     rh.ray.org_x = origin.x;
     rh.ray.org_y = origin.y;
@@ -426,12 +494,44 @@ bool RayTracer::intersect(const glm::vec3& origin, const glm::vec3& dir, float& 
     rh.ray.mask = 0xFFFFFFFFu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(mImpl->scene, &context, &rh);
+    rtcIntersect1(mImpl->scene, &context.rtc, &rh);
     mImpl->check("intersect");
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     t = rh.ray.tfar; // in units of |dir|
     normal = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     return true;
+}
+
+void RayTracer::surfacesAlong(const glm::vec3& origin, const glm::vec3& dir, float tnear,
+                              float tfar, std::vector<SurfaceHit>& out) const {
+    out.clear();
+    if (!isFinite(origin) || !isFinite(dir) || dir == glm::vec3(0.0f) || !(tfar > tnear)) return;
+    std::vector<CrossedSurface> crossed;
+    QueryContext context;
+    context.crossed = &crossed;
+    RTCRayHit rh{};
+    rh.ray.org_x = origin.x;
+    rh.ray.org_y = origin.y;
+    rh.ray.org_z = origin.z;
+    rh.ray.dir_x = dir.x;
+    rh.ray.dir_y = dir.y;
+    rh.ray.dir_z = dir.z;
+    rh.ray.tnear = std::max(tnear, 0.0f);
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    // The nearest opaque hit (the filter lets none of the others stand) and, recorded on the
+    // way, the translucent ones: those nearer than it are crossed.
+    rtcIntersect1(mImpl->scene, &context.rtc, &rh);
+    const bool opaque = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    const float end = opaque ? rh.ray.tfar : tfar;
+    for (const CrossedSurface& c : crossed)
+        if (c.t < end) out.push_back({c.t, c.alpha, c.normal});
+    std::sort(out.begin(), out.end(),
+              [](const SurfaceHit& a, const SurfaceHit& b) { return a.t < b.t; });
+    if (opaque) out.push_back({end, 1.0f, glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)});
 }
 
 } // namespace geometry

@@ -110,4 +110,12 @@ bool surfaceOccludes(const MeshData& mesh, std::uint32_t triangle, glm::vec2 bar
     return surfaceAlpha(mesh, triangle, barycentric) >= effectiveAlphaCutoff(mesh.materials[m]);
 }
 
+float surfaceOpacity(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric) {
+    if (triangle >= mesh.triangleMaterial.size()) return 1.0f;
+    const std::uint32_t m = mesh.triangleMaterial[triangle];
+    if (m >= mesh.materials.size() || !isAlphaMasked(mesh.materials[m])) return 1.0f;
+    const float alpha = surfaceAlpha(mesh, triangle, barycentric);
+    return std::isfinite(alpha) ? std::clamp(alpha, 0.0f, 1.0f) : 1.0f;
+}
+
 } // namespace geometry

@@ -199,3 +199,100 @@ TEST(AlphaMaskTest, TexturedLevelLoadsAsOpaqueAndAlphaTestedParts) {
     // The untextured file has no alpha-tested material: one object, as before.
     EXPECT_EQ(geometry::loadScene(file.parent_path().parent_path() / "kaos2.glb").objects.size(), 1u);
 }
+
+namespace {
+
+// A floor under two untextured translucent cards (BLEND, alpha from the base-colour factor) at
+// heights 2 and 3 that cover everything the light sees of the floor's middle, and an opaque
+// material in the lower card's mesh beside it (its factor alpha must not count).
+geometry::Scene translucentCards(float lowerAlpha, float upperAlpha) {
+    geometry::Scene scene;
+    scene.light.center = {0.0f, 6.0f, 0.0f};
+    scene.light.u = {0.5f, 0.0f, 0.0f};
+    scene.light.v = {0.0f, 0.0f, 0.5f};
+    geometry::MeshData floor;
+    floor.positions = {{-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}};
+    floor.triangles = {{0, 1, 2}, {0, 2, 3}};
+    scene.objects.push_back({"floor", geometry::ShadowMethod::Auto, floor});
+    const auto card = [](float y, float alpha, bool opaqueSide) {
+        geometry::MeshData m;
+        m.positions = {{-5, y, -5}, {5, y, -5}, {5, y, 5}, {-5, y, 5}};
+        m.triangles = {{0, 1, 2}, {0, 2, 3}};
+        geometry::Material blend;
+        blend.alphaMode = geometry::AlphaMode::Blend;
+        blend.baseColor.a = alpha;
+        m.materials = {blend};
+        m.triangleMaterial = {0, 0};
+        if (opaqueSide) { // a card of an opaque material at x in [5.2, 6.2], factor alpha 0.3
+            geometry::Material opaque;
+            opaque.baseColor.a = 0.3f;
+            m.materials.push_back(opaque);
+            m.positions.insert(m.positions.end(),
+                               {{5.2f, y, -1}, {6.2f, y, -1}, {6.2f, y, 1}, {5.2f, y, 1}});
+            m.triangles.insert(m.triangles.end(), {{4, 5, 6}, {4, 6, 7}});
+            m.triangleMaterial.insert(m.triangleMaterial.end(), {1, 1});
+        }
+        return m;
+    };
+    scene.objects.push_back({"lower", geometry::ShadowMethod::Auto, card(2.0f, lowerAlpha, true)});
+    scene.objects.push_back({"upper", geometry::ShadowMethod::Auto, card(3.0f, upperAlpha, false)});
+    return scene;
+}
+
+} // namespace
+
+TEST(AlphaMaskTest, TransmittanceRuleMultipliesOneMinusAlphaAlongEachRay) {
+    const geometry::Scene scene = translucentCards(0.5f, 0.25f);
+    const geometry::RayTracer tracer(scene);
+    const std::vector<glm::vec3> points = {{0.0f, 0.0f, 0.0f},  // under both cards
+                                           {8.5f, 0.0f, 0.0f},  // the opaque part hides
+                                           {0.0f, 2.5f, 0.0f}}; // between the cards
+    const std::vector<glm::vec3> normals(points.size(), glm::vec3(0.0f, 1.0f, 0.0f));
+    geometry::RayTraceSettings settings;
+    settings.samples = 64;
+    std::vector<float> tested(points.size()), transmitted(points.size());
+    tracer.visibility(scene.light, points, normals, settings, tested);
+    settings.transmittance = true;
+    tracer.visibility(scene.light, points, normals, settings, transmitted);
+    // The alpha test: BLEND cuts at 0.5, so the lower card (0.5) hides the light, the upper
+    // (0.25) lets all of it through.
+    EXPECT_EQ(tested[0], 0.0f);
+    EXPECT_EQ(tested[2], 1.0f);
+    // Transmittance: (1 - 0.5)(1 - 0.25) under both, 0.75 under the upper one only; an opaque
+    // material hides whatever its factor alpha says.
+    EXPECT_NEAR(transmitted[0], 0.375f, 1e-5f);
+    EXPECT_EQ(transmitted[1], 0.0f);
+    EXPECT_EQ(tested[1], 0.0f);
+    EXPECT_NEAR(transmitted[2], 0.75f, 1e-5f);
+}
+
+TEST(AlphaMaskTest, SurfacesAlongARayInOrderToTheFirstOpaqueOne) {
+    const geometry::Scene scene = translucentCards(0.5f, 0.25f);
+    const geometry::RayTracer tracer(scene);
+    std::vector<geometry::SurfaceHit> hits;
+    // Down the cards' shared diagonal: both triangles of each card report the crossing, which
+    // is one.
+    tracer.surfacesAlong({0.0f, 6.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 0.0f, 100.0f, hits);
+    ASSERT_EQ(hits.size(), 3u);
+    EXPECT_NEAR(hits[0].t, 3.0f, 1e-4f);
+    EXPECT_FLOAT_EQ(hits[0].alpha, 0.25f);
+    EXPECT_NEAR(hits[1].t, 4.0f, 1e-4f);
+    EXPECT_FLOAT_EQ(hits[1].alpha, 0.5f);
+    EXPECT_NEAR(hits[2].t, 6.0f, 1e-4f); // the floor
+    EXPECT_EQ(hits[2].alpha, 1.0f);
+    EXPECT_GT(std::abs(hits[2].normal.y), 0.0f);
+    // Within tfar only; a ray through the opaque part ends there.
+    tracer.surfacesAlong({0.0f, 6.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 0.0f, 3.5f, hits);
+    ASSERT_EQ(hits.size(), 1u);
+    tracer.surfacesAlong({5.7f, 6.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 0.0f, 100.0f, hits);
+    ASSERT_EQ(hits.size(), 1u);
+    EXPECT_NEAR(hits[0].t, 4.0f, 1e-4f);
+    EXPECT_EQ(hits[0].alpha, 1.0f);
+    // The tracer of some objects only: without the floor the ray leaves after the cards.
+    const std::size_t cards[] = {1, 2};
+    const geometry::RayTracer cardsOnly(scene, cards);
+    cardsOnly.surfacesAlong({0.0f, 6.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 0.0f, 100.0f, hits);
+    EXPECT_EQ(hits.size(), 2u);
+    const std::size_t bad[] = {7};
+    EXPECT_THROW(geometry::RayTracer(scene, bad), std::invalid_argument);
+}

@@ -51,6 +51,15 @@ struct Aabb {
     glm::vec3 extent() const { return max - min; }
 };
 
+// A surface a ray crosses: its distance along the ray (in units of the ray's direction) and its
+// opacity under the transmittance rule (geometry/scene/AlphaMask.h surfaceAlpha: 1 for opaque
+// materials, the fractional alpha of MASK and BLEND ones), and the surface's plane.
+struct SurfaceHit {
+    float t = 0.0f;
+    float alpha = 1.0f;
+    glm::vec3 normal{0.0f}; // the triangle's geometric normal (not normalised)
+};
+
 // How an object casts shadows (scene JSON "method").
 enum class ShadowMethod { Auto, Wedges, Occlusion, None };
 

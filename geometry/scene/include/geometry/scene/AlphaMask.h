@@ -30,6 +30,10 @@ float sampleAlpha(const TextureImage& image, glm::vec2 uv);
 // material's KHR_texture_transform); 1 for a triangle
 // without a material.
 float surfaceAlpha(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
+// The point's opacity under the transmittance rule (a ray passing it keeps 1 - opacity of its
+// light; raytrace transmittance=on and deep-sm): 1 for an opaque material (glTF OPAQUE ignores
+// alpha) or a triangle without one, the alpha clamped to [0, 1] for MASK and BLEND, no cutoff.
+float surfaceOpacity(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
 // Whether that point occludes (alpha >= the material's effective cutoff).
 bool surfaceOccludes(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
 
