@@ -150,14 +150,16 @@ int run(const Options& opt) {
             std::fprintf(stderr, "%s  reference: %d/%d light samples%s", tty ? "\r" : "", done,
                          total, tty && done < total ? "" : "\n");
         };
-    if (!opt.quiet && method.name == "pdsm")
-        settings.progress = [tty = isatty(fileno(stderr)) != 0, last = -1](int done,
-                                                                             int total) mutable {
-            // The deep map's rows as they are merged: every tenth when logged, all on a terminal.
+    if (!opt.quiet && (method.name == "pdsm" || method.name == "deep-sm"))
+        settings.progress = [tty = isatty(fileno(stderr)) != 0, last = -1,
+                             what = method.name == "pdsm" ? "pdsm: deep map"
+                                                          : "deep-sm: deep maps"](
+                                int done, int total) mutable {
+            // The deep map's rows as they are built: every tenth when logged, all on a terminal.
             const int tenth = total > 0 ? 10 * done / total : 10;
             if (!tty && tenth == last) return;
             last = tenth;
-            std::fprintf(stderr, "%s  pdsm: deep map %d/%d rows%s", tty ? "\r" : "", done, total,
+            std::fprintf(stderr, "%s  %s %d/%d rows%s", tty ? "\r" : "", what, done, total,
                          tty && done < total ? "" : "\n");
         };
 

@@ -32,6 +32,12 @@
 // within zNear of the light's centre (in no face) get V = 1, and those a caster could reach are
 // counted.
 //
+// DEEP_SHADOW_MAP (the deep-sm method, geometry/shadow/DeepShadowMap.h): the faces' maps are
+// deep shadow maps. Where pcss asks whether a texel's surface is in front of P (1 or 0), deep-sm
+// reads the texel's transmittance T along its ray at P's (offset) plane and takes its opacity
+// 1 - T: the blocker search weights each texel's nearest depth by it, the filter sums T. The
+// same frame, patterns, offsets and horizon as pcss's.
+//
 // OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
 // not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are
 // written, and counted; the others keep the occlusion textures' V.
@@ -43,7 +49,13 @@
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
+#ifdef DEEP_SHADOW_MAP
+#include "lib/Pdsm.glsl"
+// per face and texel: first group of points, point count | nearest depth code << 16
+layout(binding = TEXUNIT_DEEP_SM_INDEX) uniform usampler2DArray tDeepIndex;
+#else
 layout(binding = TEXUNIT_PCSS) uniform sampler2DArray tShadow; // per face zNear / z; 0: nothing
+#endif
 
 layout(std430, binding = BINDING_PCSS_STATS) buffer PcssStats {
     uint outside;  // pixels in no face
@@ -112,6 +124,10 @@ vec3 planeIn(Receiver r, int g) {
 // face, P's plane there, and the factor from that face's depths to P's face's.
 struct Texels {
     vec4 d;      // textureGather order: (0, 1), (1, 1), (1, 0), (0, 0); 0: nothing
+#ifdef DEEP_SHADOW_MAP
+    uvec4 first, counts; // deep: the texels' index entries (counts: count | nearest << 16)
+    vec2 range;          // deep: the face's zc and sFar
+#endif
     vec2 m0, m1; // centres of column / row 0 and of column / row 1, in the face's m
     vec4 weight; // bilinear
     vec3 plane;  // P's plane in the face's coordinates
@@ -139,20 +155,47 @@ Texels texelsAround(Receiver r, vec2 m) {
     vec2 f = t - base;
     // Gathered at the four texels' shared corner, so that no rounding can pick other ones. A
     // face whose map is not drawn holds nothing.
+#ifdef DEEP_SHADOW_MAP
+    // d from each texel's nearest code t: s = zc / z = 1 - t (1 - sFar), d = zNear s / zc.
+    vec3 at = vec3((base + 1.0) * pcss.params.w, float(g));
+    bool built = pcss.faceDeep[g].z != 0.0;
+    x.first = built ? textureGather(tDeepIndex, at, 0) : uvec4(0u);
+    x.counts = built ? textureGather(tDeepIndex, at, 1) : uvec4(0u);
+    x.range = pcss.faceDeep[g].xy;
+    vec4 nearT = vec4(x.counts >> 16u) / PDSM_DEPTH_CODES;
+    x.d = mix(vec4(0.0),
+              pcss.normal.w * (1.0 - nearT * (1.0 - x.range.y)) / x.range.x,
+              vec4(notEqual(x.counts & 0xFFFFu, uvec4(0u))));
+#else
     x.d = pcss.faceB1[g].w >= 2.0
               ? textureGather(tShadow, vec3((base + 1.0) * pcss.params.w, float(g)))
               : vec4(0.0);
+#endif
     x.m0 = lo + (base + 0.5) * pcss.params.w / inv;
     x.m1 = lo + (base + 1.5) * pcss.params.w / inv;
     x.weight = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
     return x;
 }
 
-// 1 where the texel's surface is in front of P.
+// 1 where the texel's surface is in front of P (deep: the opacity in front of P).
 vec4 inFront(Texels x) {
     vec4 plane = vec4(planeDepth(x.plane, vec2(x.m0.x, x.m1.y)), planeDepth(x.plane, x.m1),
                       planeDepth(x.plane, vec2(x.m1.x, x.m0.y)), planeDepth(x.plane, x.m0));
+#ifdef DEEP_SHADOW_MAP
+    // The plane's depth code along each texel's ray, moved by DEPTH_BIAS towards the light:
+    // s = zc / z = zc d / zNear (d = 0, no plane in front of the light: past every depth).
+    vec4 t = (1.0 - x.range.x * plane * (1.0 + DEPTH_BIAS) / pcss.normal.w) / (1.0 - x.range.y);
+    vec4 opacity = vec4(0.0);
+    for (int k = 0; k < 4; ++k) {
+        uint count = x.counts[k] & 0xFFFFu;
+        float nearT = float(x.counts[k] >> 16u) / PDSM_DEPTH_CODES;
+        if (count != 0u && t[k] >= nearT)
+            opacity[k] = 1.0 - pdsmFunction(x.first[k], count, t[k]);
+    }
+    return opacity;
+#else
     return vec4(greaterThan(x.d, plane * (1.0 + DEPTH_BIAS)));
+#endif
 }
 
 // Whether the segment a + t d, t in [0, 1], meets the box [lo, hi] (slabs; invD = 1 / d per

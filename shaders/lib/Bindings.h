@@ -151,7 +151,10 @@
 #define TEXUNIT_WEDGE_TILE_RECORDS 26 // wedges-bitmask evaluate=tiles: the TileWedges as RGBA32F texels
 #define TEXUNIT_WEDGE_TILE_LISTS 27   // the same: the tiles' heads and lists as R32UI texels
 #define TEXUNIT_PDSM_INDEX 28 // pdsm: per deep-map texel (first point, point count), RG32UI
-#define TEXUNIT_PDSM_DATA 29  // pdsm: the points, four per RGB32UI buffer texel (shared/Pdsm.h)
+#define TEXUNIT_PDSM_DATA 29  // pdsm: the points, four per RGB32UI buffer texel (shared/Pdsm.h);
+                              // deep-sm: its points, the same way
+#define TEXUNIT_DEEP_SM_INDEX 30 // deep-sm: per face (layer) and texel (first group, count |
+                                 // nearest depth code << 16), RG32UI
 
 #define PCSS_MAX_SAMPLES 64 // pcss: blocker-search and filter samples per pixel, at most
 #define PCSS_REACH_BOXES 16 // pcss: boxes around the casters for the reach test
@@ -215,6 +218,9 @@ PENUMBRA_UBO_BEGIN(PcssUniforms, BINDING_PCSS_UBO)
     // to any light point that meets a caster (PcssShadow::execute).
     vec4 reach[2 * PCSS_REACH_BOXES];
     vec4 params2;
+    // deep-sm (DEEP_SHADOW_MAP): per face x: zc, the depth of code t = 0, y: sFar (t = 1 at
+    // depth zc / sFar), z: 1 if its deep map is built (geometry::DeepShadowFace)
+    vec4 faceDeep[6];
 PENUMBRA_UBO_END(PcssUniforms, pcss)
 
 // The sample-maps method's frame (geometry/shadow/SampleMapFrame.h); its views are in
@@ -294,7 +300,7 @@ static_assert(sizeof(GpuGroup) == 48, "GpuGroup must match std430");
 static_assert(sizeof(FrameUniforms) == 64 + 8 * 16, "FrameUniforms must match std140");
 static_assert(sizeof(OcclusionUniforms) == 64 + 3 * 16, "OcclusionUniforms must match std140");
 static_assert(sizeof(SampleMapUniforms) == 11 * 16, "SampleMapUniforms must match std140");
-static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 6 + 4 + PCSS_MAX_SAMPLES + 2 * PCSS_REACH_BOXES + 1) * 16,
+static_assert(sizeof(PcssUniforms) == 6 * 64 + (6 * 7 + 4 + PCSS_MAX_SAMPLES + 2 * PCSS_REACH_BOXES + 1) * 16,
               "PcssUniforms must match std140");
 } // namespace gpu::shader
 #endif

@@ -194,10 +194,11 @@ TEST_F(EdgeCases, LightFarLargerThanTheScene) {
     // sides and the floor beside it lit (V ~ 1) where the reference says ~0.5. Occlusion and
     // pcss get the sides (horizon term) but not the floor. sample-maps 599: most light samples
     // see the crate beyond its maps' 71.6-degree cap, so the crate is missing from their maps
-    // (counted as sample_maps_clipped); pdsm, built from such maps, 599 too.
+    // (counted as sample_maps_clipped); pdsm, built from such maps, 599 too; deep-sm, pcss's
+    // lookup over deep maps, 838.
     checkAgainst("light 1000 wide vs reference", frames, frames.at("reference").visibility,
                  {{"hard", 1050}, {"wedges-additive", 1000}, {"wedges-blend", 1000},
-                  {"wedges-multiply", 1000}, {"wedges-bitmask", 1000}, {"auto", 1000}, {"occlusion", 900}, {"pcss", 920},
+                  {"wedges-multiply", 1000}, {"wedges-bitmask", 1000}, {"auto", 1000}, {"occlusion", 900}, {"pcss", 920}, {"deep-sm", 920},
                   {"sample-maps", 660}, {"pdsm", 660},
                   {"raytrace", 220}},
                  0);
@@ -223,9 +224,11 @@ TEST_F(EdgeCases, LightInsideAClosedRoom) {
     const auto frames = renderAll(scene);
     // Measured (of 4096): wedge methods and auto 2, hard 261 (no penumbra), occlusion 252, pcss
     // 172, raytrace (16 samples) 16, pdsm 30 (the room's walls around the lamp lie beyond its
-    // one frustum along the light's normal: drawn lit, counted as pdsm_pixels_outside).
+    // one frustum along the light's normal: drawn lit, counted as pdsm_pixels_outside), deep-sm
+    // 140 (pcss's cube of faces, its texels the mean of 3 x 3 rays).
     checkAgainst("room, light inside vs reference", frames, frames.at("reference").visibility,
-                 {{"hard", 320}, {"occlusion", 310}, {"pcss", 220}, {"raytrace", 40}, {"pdsm", 40}},
+                 {{"hard", 320}, {"occlusion", 310}, {"pcss", 220}, {"raytrace", 40}, {"pdsm", 40},
+                  {"deep-sm", 180}},
                  8);
 }
 
@@ -243,8 +246,10 @@ TEST_F(EdgeCases, LightInsideAClosedOccluder) {
     // fail: their slices lie between the light and the receivers, and the half of the shell
     // above the light's plane is in none of them, so a bright ring shows on the floor.
     // Additive adds the crate's penumbra back inside the shell's umbra (its overlap leak).
+    // deep-sm 42: the crate's faces beside the floor read pcss's lookup (V about 0.08 there in
+    // pcss too) a little over 0.1 from deep maps.
     checkAgainst("light inside a closed sphere", frames, dark,
-                 {{"occlusion", 1700}, {"wedges-additive", 200}}, 4);
+                 {{"occlusion", 1700}, {"wedges-additive", 200}, {"deep-sm", 50}}, 4);
 }
 
 // The light's plane cuts an occluder: a tall pillar beside the light reaches above it. Only its
@@ -260,10 +265,12 @@ TEST_F(EdgeCases, LightPlaneCutsAnOccluder) {
     // side maps, 749 with them before the bias was sized by the maps' finer texels and every
     // blocked pixel filtered), occlusion 258 (181 before it shadowed the pillar's part above the light's
     // plane, which its slices cannot hold, from pcss's maps: there it now has pcss's error),
-    // raytrace (16 samples) 88.
+    // raytrace (16 samples) 88, deep-sm 747 (pcss's lookup).
     checkAgainst("pillar through the light's plane vs reference", frames,
                  frames.at("reference").visibility,
-                 {{"hard", 650}, {"occlusion", 280}, {"pcss", 800}, {"raytrace", 120}}, 160);
+                 {{"hard", 650}, {"occlusion", 280}, {"pcss", 800}, {"deep-sm", 800},
+                  {"raytrace", 120}},
+                 160);
 }
 
 // A crate with duplicate triangles, a zero-area (collinear) triangle and a zero-length edge (two

@@ -473,13 +473,13 @@ void packPdsmPoints(std::span<const std::uint32_t> points, std::uint32_t* words)
     }
 }
 
-float evaluatePdsm(const Pdsm& map, int i, int j, float t) {
-    // The lookup's statements (pdsm-lookup.frag pdsmFunction), a group of four points per read.
-    const std::size_t at = 2 * (static_cast<std::size_t>(j) * map.grid.resolution + i);
-    const std::uint32_t first = map.index[at], count = map.index[at + 1];
+float evaluatePdsmFunction(std::span<const std::uint32_t> data, std::uint32_t first,
+                           std::uint32_t count, float t) {
+    // The lookup's statements (shaders/lib/Pdsm.glsl pdsmFunction), a group of four points per
+    // read.
     if (count == 0) return 1.0f;
     const auto group = [&](std::uint32_t g) {
-        const std::uint32_t* w = map.data.data() + 3 * static_cast<std::size_t>(first + g);
+        const std::uint32_t* w = data.data() + 3 * static_cast<std::size_t>(first + g);
         return glm::uvec3(w[0], w[1], w[2]);
     };
     // The last group whose first point lies at or before t (the first group if none does).
@@ -497,6 +497,11 @@ float evaluatePdsm(const Pdsm& map, int i, int j, float t) {
     const std::uint32_t next = lo + 1 < (count + 3) / 4 ? lo + 1 : lo;
     const glm::uvec3 wn = group(next);
     return shader::pdsmGroupValue(w.x, w.y, w.z, inGroup, wn.x, wn.y, wn.z, next != lo, t);
+}
+
+float evaluatePdsm(const Pdsm& map, int i, int j, float t) {
+    const std::size_t at = 2 * (static_cast<std::size_t>(j) * map.grid.resolution + i);
+    return evaluatePdsmFunction(map.data, map.index[at], map.index[at + 1], t);
 }
 
 } // namespace geometry

@@ -247,6 +247,28 @@ Texture::Texture(const TextureDesc& desc)
     label(GL_TEXTURE, id, desc.label);
 }
 
+void BufferTexture::upload(const void* data, std::size_t bytes, GLenum format,
+                           std::size_t texelBytes, const char* label) {
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    if (texelBytes == 0 || bytes / texelBytes > static_cast<std::size_t>(maxTexels))
+        throw GlError(describe("BufferTexture", label ? label : "") + ": " +
+                      std::to_string(texelBytes ? bytes / texelBytes : 0) +
+                      " texels, more than GL_MAX_TEXTURE_BUFFER_SIZE = " +
+                      std::to_string(maxTexels));
+    const std::vector<std::byte> zero(texelBytes);
+    mBuffer = Buffer({.size = bytes ? bytes : texelBytes,
+                      .data = bytes ? data : zero.data(),
+                      .flags = 0,
+                      .label = label});
+    if (!mTexture) {
+        GLuint id = 0;
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
+        mTexture = Handle<Deleter>(id);
+    }
+    glTextureBuffer(mTexture.id(), format, mBuffer.id());
+}
+
 void Texture::read(GLenum format, GLenum type, std::vector<std::byte>& out) const {
     if (mLayers > 0) throw std::logic_error("Texture::read: not for array textures");
     std::size_t bpp = pixelBytes(format, type);

@@ -67,6 +67,20 @@ struct PcssOptions {
 };
 PcssOptions pcssOptions(std::span<const ParameterValue> given);
 
+// deep-sm: deep shadow maps (Lokovic & Veach 2000) in pcss's frame and lookup.
+struct DeepSmOptions {
+    PcssOptions lookup;    // resolution (of each face's deep map), samples, bias, horizon
+    int supersample = 0;   // S: S x S rays per texel
+    float tolerance = 0.0f; // the compression's bound on |dT|
+};
+DeepSmOptions deepSmOptions(std::span<const ParameterValue> given);
+
+// raytrace.
+struct RaytraceOptions {
+    bool transmittance = false; // the product of (1 - alpha) along each ray (RayTraceSettings)
+};
+RaytraceOptions raytraceOptions(std::span<const ParameterValue> given);
+
 // sample-maps: one shadow map per light sample.
 struct SampleMapsOptions {
     int samples = 0;          // light samples N, one map each

@@ -164,6 +164,42 @@ constexpr MethodParameter kPdsmParameters[] = {
      "counts it); off: only the deep map"},
 };
 
+// deep-sm (Lokovic & Veach 2000): pcss's faces as deep shadow maps of transmittance.
+constexpr std::string_view kDeepSmResolution[] = {"128", "256", "512", "1024"};
+constexpr std::string_view kDeepSmSupersample[] = {"1", "2", "3", "4"};
+constexpr std::string_view kDeepSmTolerance[] = {"0.004", "0.008", "0.016", "0.032"};
+constexpr MethodParameter kDeepSmParameters[] = {
+    {"resolution", kDeepSmResolution, "512",
+     "side of each face's deep map in texels (the faces of pcss's cube around the light)"},
+    {"supersample", kDeepSmSupersample, "3",
+     "S: S x S rays per texel from the light's centre through its area, their transmittance "
+     "averaged (pixel-area filtering; 1: one ray through the texel's centre, a depth map's "
+     "sample)"},
+    {"tolerance", kDeepSmTolerance, "0.004",
+     "the compression's guaranteed bound on |T stored - T of the texel's rays| at every depth, "
+     "8-bit values included: more stores fewer points"},
+    {"blocker_samples", kPcssSamples, "16",
+     "samples of the blocker search (each reads 2 x 2 texels, weighted by their opacity at the "
+     "receiver; a fixed stratified pattern)"},
+    {"pcf_samples", kPcssSamples, "32",
+     "samples of the filter over the light (each 2 x 2 texels' transmittance at the receiver, "
+     "bilinear; a fixed pattern)"},
+    {"bias", kPcssBias, "1.5",
+     "the receiver's plane moved this many map texels (their world size at the receiver) "
+     "towards the light before the transmittance is read, as pcss's depth bias"},
+    {"horizon", kPcssHorizon, "on",
+     "V times the fraction of the light in front of the surface (as pcss's)"},
+};
+
+// raytrace: the alpha rule.
+constexpr std::string_view kRaytraceTransmittance[] = {"off", "on"};
+constexpr MethodParameter kRaytraceParameters[] = {
+    {"transmittance", kRaytraceTransmittance, "off",
+     "off: alpha-tested (MASK, and BLEND at 0.5) surfaces hide a ray where their alpha reaches "
+     "the cutoff; on: every surface lets 1 - alpha through, the ray carrying the product (the "
+     "rule deep-sm computes: translucent flames and glass, soft leaf edges)"},
+};
+
 // auto: which wedge method serves the objects it gives to wedges.
 constexpr std::string_view kAutoWedges[] = {"bitmask", "blend", "additive", "multiply"};
 constexpr std::string_view kAutoAlpha[] = {"sample-maps", "pcss", "occlusion"};
@@ -177,12 +213,12 @@ constexpr MethodParameter kAutoParameters[] = {
      "pcss), pcss's shadow maps or occlusion textures (each with its default parameters)"},
 };
 
-const std::array<MethodInfo, 12> kMethods = {{
+const std::array<MethodInfo, 13> kMethods = {{
     {"hard", "z-fail stencil shadow volumes from the light centre", false, createHardMethod},
     {"reference", "average of N hard-shadow passes from stratified light points (GPU)", true,
      createReferenceMethod},
     {"raytrace", "N stratified Embree rays per pixel to the light (CPU)", true,
-     createRaytraceMethod, {}, true},
+     createRaytraceMethod, kRaytraceParameters, true},
     {"wedges-additive", "penumbra wedges, coverage summed (Assarsson & Akenine-Moller 2003)",
      false, createAdditiveWedgesMethod},
     {"wedges-blend", "per-silhouette visibility buffers blended (Forest et al. 2006)", false,
@@ -202,6 +238,10 @@ const std::array<MethodInfo, 12> kMethods = {{
     {"pdsm", "penumbra deep shadow maps (St-Amour et al. 2005): k sample shadow maps merged "
      "into one map of compressed visibility functions along depth, precomputed per light; "
      "honours alpha-tested casters", false, createPdsmMethod, kPdsmParameters, true},
+    {"deep-sm", "deep shadow maps (Lokovic & Veach 2000): per texel of maps from the light's "
+     "centre, the transmittance along depth from S x S rays (partial coverage and alpha), "
+     "compressed; filtered over the light as pcss; honours alpha and translucency", false,
+     createDeepSmMethod, kDeepSmParameters, true},
     {"auto", "per-object choice (wedges or occlusion textures), composed in one frame", false,
      createAutoMethod, kAutoParameters, true},
 }};
@@ -381,6 +421,22 @@ PdsmOptions pdsmOptions(std::span<const ParameterValue> given) {
             .tolerance = std::stof(std::string(parameterValue(r, "tolerance"))),
             .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
             .ownPlane = parameterValue(r, "plane") == "on"};
+}
+
+DeepSmOptions deepSmOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("deep-sm"), given);
+    return {.lookup = {.resolution = intValue(r, "resolution"),
+                       .blockerSamples = intValue(r, "blocker_samples"),
+                       .pcfSamples = intValue(r, "pcf_samples"),
+                       .bias = std::string(parameterValue(r, "bias")),
+                       .horizon = parameterValue(r, "horizon") == "on"},
+            .supersample = intValue(r, "supersample"),
+            .tolerance = std::stof(std::string(parameterValue(r, "tolerance")))};
+}
+
+RaytraceOptions raytraceOptions(std::span<const ParameterValue> given) {
+    const std::vector<ParameterValue> r = resolveParameters(findMethod("raytrace"), given);
+    return {.transmittance = parameterValue(r, "transmittance") == "on"};
 }
 
 AutoOptions autoOptions(std::span<const ParameterValue> given) {

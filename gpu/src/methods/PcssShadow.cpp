@@ -3,7 +3,10 @@
 
 #include "engine/ShaderBindings.h"
 
+#include <geometry/core/Error.h>
 #include <geometry/core/Sampling.h>
+#include <geometry/reference/RayTracer.h>
+#include <geometry/shadow/DeepShadowMap.h>
 
 #include <cmath>
 #include <string>
@@ -17,8 +20,10 @@ namespace {
 constexpr std::uint32_t kFilterPatternSeed = 0x5CC5u;
 constexpr std::uint32_t kSearchPatternSeed = 0xB10Cu;
 
-std::vector<std::string> lookupDefines(const PcssOptions& o, PcssShadow::Pixels pixels) {
+std::vector<std::string> lookupDefines(const PcssOptions& o, PcssShadow::Pixels pixels,
+                                       bool deep = false) {
     std::vector<std::string> d = {"NORMAL_OFFSET " + o.bias};
+    if (deep) d.push_back("DEEP_SHADOW_MAP");
     if (o.horizon) d.push_back("HORIZON");
     if (pixels == PcssShadow::Pixels::OutsideOcclusion) d.push_back("OUTSIDE_OCCLUSION");
     return d;
@@ -26,24 +31,43 @@ std::vector<std::string> lookupDefines(const PcssOptions& o, PcssShadow::Pixels 
 
 } // namespace
 
+// deep-sm's part: its options, the casters' tracer, the map and its textures.
+struct PcssShadow::Deep {
+    DeepSmOptions options;
+    const geometry::Scene* scene = nullptr;
+    std::unique_ptr<geometry::RayTracer> tracer;
+    std::vector<std::size_t> tracerObjects; // the objects it holds
+    geometry::DeepShadowMap map;
+    Texture index; // a layer per face: first group, count | nearest code << 16 (RG32UI)
+    BufferTexture data;
+    double tracerMs = 0.0, buildMs = 0.0, uploadMs = 0.0;
+};
+
+PcssShadow::~PcssShadow() = default;
+
 PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels)
+    : PcssShadow(r, o, pixels, false) {}
+
+PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels, bool deep)
     : mPixels(pixels), mResolution(o.resolution), mSearchSamples(o.blockerSamples),
       mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
-      mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o, pixels)),
+      mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o, pixels, deep)),
       mUniforms({.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}),
       mStats({.size = 2 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
     // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
-    // kernels reaching past the map find no blockers there.
-    mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
-                     .width = mResolution,
-                     .height = mResolution,
-                     .layers = geometry::kPcssFaces,
-                     .format = GL_DEPTH_COMPONENT32F,
-                     .wrap = GL_CLAMP_TO_BORDER,
-                     .label = "pcss-shadow-maps"});
-    for (int face = 0; face < geometry::kPcssFaces; ++face)
-        mFaceFbo[face] = Framebuffer(
-            {.attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, face}}, .label = "pcss-face"});
+    // kernels reaching past the map find no blockers there. (deep-sm's maps are its own.)
+    if (!deep) {
+        mMaps = Texture({.target = GL_TEXTURE_2D_ARRAY,
+                         .width = mResolution,
+                         .height = mResolution,
+                         .layers = geometry::kPcssFaces,
+                         .format = GL_DEPTH_COMPONENT32F,
+                         .wrap = GL_CLAMP_TO_BORDER,
+                         .label = "pcss-shadow-maps"});
+        for (int face = 0; face < geometry::kPcssFaces; ++face)
+            mFaceFbo[face] = Framebuffer(
+                {.attachments = {{GL_DEPTH_ATTACHMENT, &mMaps, 0, face}}, .label = "pcss-face"});
+    }
     const std::vector<glm::vec2> filter =
         geometry::scrambledNet(mFilterSamples, kFilterPatternSeed);
     const std::vector<glm::vec2> search =
@@ -51,6 +75,21 @@ PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pi
     for (int i = 0; i < PCSS_MAX_SAMPLES; ++i)
         mPattern[i] = glm::vec4(i < mFilterSamples ? filter[i] : glm::vec2(0.0f),
                                 i < mSearchSamples ? search[i] : glm::vec2(0.0f));
+}
+
+PcssShadow::PcssShadow(const MethodResources& r, const DeepSmOptions& deep)
+    : PcssShadow(r, deep.lookup, Pixels::All, true) {
+    mDeep = std::make_unique<Deep>();
+    mDeep->options = deep;
+    mDeep->scene = &r.scene;
+    mDeep->index = Texture({.target = GL_TEXTURE_2D_ARRAY,
+                            .width = mResolution,
+                            .height = mResolution,
+                            .layers = geometry::kPcssFaces,
+                            .format = GL_RG32UI,
+                            .label = "deep-sm-index"});
+    const std::uint32_t none[3] = {0, 0, 0};
+    mDeep->data.upload(none, 0, GL_RGB32UI, sizeof(none), "deep-sm-data");
 }
 
 void PcssShadow::execute(const FrameContext& ctx) {
@@ -68,6 +107,10 @@ void PcssShadow::execute(const FrameContext& ctx) {
         u.extent[face] = glm::vec4(s.lo, 1.0f / (s.hi - s.lo));
         u.lightU[face] = glm::vec4(lu, 0.0f);
         u.lightV[face] = glm::vec4(lv, 0.0f);
+        if (mDeep) {
+            const geometry::DeepShadowFace& d = mDeep->map.faces[static_cast<std::size_t>(face)];
+            u.faceDeep[face] = glm::vec4(d.zc, d.sFar, d.built ? 1.0f : 0.0f, 0.0f);
+        }
     }
     u.basisU = glm::vec4(f.eu, f.maxTan);
     int maps = 0, sideMaps = 0;
@@ -98,7 +141,15 @@ void PcssShadow::execute(const FrameContext& ctx) {
     // The maps depend on the light and the casters only: while neither changes (a still
     // light; the scene is fixed for the renderer's life) the last frame's are this frame's.
     const bool cached = mMapsDrawn;
-    if (!cached) {
+    if (!cached && mDeep) {
+        buildDeep(ctx); // the faces' deep maps (CPU), and this frame's uniforms again
+        for (int face = 0; face < geometry::kPcssFaces; ++face) {
+            const geometry::DeepShadowFace& d = mDeep->map.faces[static_cast<std::size_t>(face)];
+            u.faceDeep[face] = glm::vec4(d.zc, d.sFar, d.built ? 1.0f : 0.0f, 0.0f);
+        }
+        mUniforms.upload(&u, sizeof(u));
+        mMapsDrawn = true;
+    } else if (!cached) {
         ScopedPass pass(&ctx.timers, "pcss-shadow");
         for (int face = 0; face < geometry::kPcssFaces; ++face)
             if (drawn(face))
@@ -109,10 +160,17 @@ void PcssShadow::execute(const FrameContext& ctx) {
     const std::uint32_t zero = 0;
     glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     {
-        ScopedPass pass(&ctx.timers, mPixels == Pixels::All ? "pcss-lookup" : "occlusion-outside");
+        ScopedPass pass(&ctx.timers, mDeep                     ? "deep-sm-lookup"
+                                     : mPixels == Pixels::All ? "pcss-lookup"
+                                                              : "occlusion-outside");
         glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
         glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
-        glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
+        if (mDeep) {
+            glBindTextureUnit(TEXUNIT_DEEP_SM_INDEX, mDeep->index.id());
+            glBindTextureUnit(TEXUNIT_PDSM_DATA, mDeep->data.id());
+        } else {
+            glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
+        }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
         mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
     }
@@ -120,6 +178,10 @@ void PcssShadow::execute(const FrameContext& ctx) {
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
     glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
 
+    if (mDeep) {
+        deepCounters(ctx, cached, stats[0]);
+        return;
+    }
     if (mPixels == Pixels::OutsideOcclusion) {
         ctx.addCounter("occlusion_pixels_outside", stats[1]);
         ctx.addCounter("occlusion_outside_maps", maps);
@@ -154,6 +216,76 @@ void PcssShadow::updateFrame(const FrameContext& ctx) {
     mSubset = std::move(subset);
     mFitted = true;
     ctx.addCpuTime("pcss-fit", msSince(t0));
+}
+
+void PcssShadow::buildDeep(const FrameContext& ctx) {
+    Deep& d = *mDeep;
+    if (!d.tracer || d.tracerObjects != mObjects) {
+        const auto t0 = Clock::now();
+        d.tracer.reset();
+        d.tracer = std::make_unique<geometry::RayTracer>(ctx.scene, mObjects);
+        d.tracerObjects = mObjects;
+        d.tracerMs = msSince(t0);
+        ctx.addCpuTime("deep-sm-tracer", d.tracerMs);
+    }
+    geometry::Aabb receivers;
+    for (const geometry::SceneObject& o : ctx.scene.objects) receivers.extend(o.mesh.bounds());
+    geometry::DeepShadowSettings settings{.resolution = mResolution,
+                                          .supersample = d.options.supersample,
+                                          .tolerance = d.options.tolerance};
+    if (ctx.settings.waitForGpu) settings.progress = ctx.settings.progress;
+    const geometry::RayTracer& tracer = *d.tracer;
+    const geometry::SurfaceQuery query = [&tracer](const glm::vec3& origin, const glm::vec3& dir,
+                                                   float tfar,
+                                                   std::vector<geometry::SurfaceHit>& out) {
+        tracer.surfacesAlong(origin, dir, 0.0f, tfar, out);
+    };
+    d.map = geometry::buildDeepShadowMap(mFrame, receivers, query, settings);
+    d.buildMs = d.map.stats.buildMs;
+    ctx.addCpuTime("deep-sm-build", d.buildMs);
+
+    const auto t0 = Clock::now();
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    if (d.map.data.size() / 3 > static_cast<std::size_t>(maxTexels))
+        throw geometry::InputError(
+            "deep-sm: the deep maps hold " + std::to_string(d.map.stats.points) +
+            " points, more than one buffer texture of GL_MAX_TEXTURE_BUFFER_SIZE = " +
+            std::to_string(maxTexels) + " texels of four holds; raise tolerance or lower " +
+            "resolution or supersample");
+    glTextureSubImage3D(d.index.id(), 0, 0, 0, 0, mResolution, mResolution, geometry::kPcssFaces,
+                        GL_RG_INTEGER, GL_UNSIGNED_INT, d.map.index.data());
+    d.data.upload(d.map.data.data(), d.map.data.size() * sizeof(std::uint32_t), GL_RGB32UI,
+                  3 * sizeof(std::uint32_t), "deep-sm-data");
+    d.uploadMs = msSince(t0);
+}
+
+void PcssShadow::deepCounters(const FrameContext& ctx, bool cached,
+                              std::uint32_t outside) const {
+    const Deep& d = *mDeep;
+    const geometry::DeepShadowStats& s = d.map.stats;
+    int faces = 0;
+    for (const geometry::DeepShadowFace& f : d.map.faces) faces += f.built ? 1 : 0;
+    ctx.addCounter("deep_sm_resolution", mResolution);
+    ctx.addCounter("deep_sm_supersample", d.options.supersample);
+    ctx.addCounter("deep_sm_tolerance", d.options.tolerance);
+    ctx.addCounter("deep_sm_faces", faces);
+    ctx.addCounter("deep_sm_cached", cached ? 1.0 : 0.0);
+    ctx.addCounter("deep_sm_rays", static_cast<double>(s.rays));
+    ctx.addCounter("deep_sm_crossings_per_ray",
+                   s.rays ? static_cast<double>(s.crossings) / static_cast<double>(s.rays) : 0.0);
+    ctx.addCounter("deep_sm_points", static_cast<double>(s.points));
+    ctx.addCounter("deep_sm_texels_stored", s.texelsStored);
+    ctx.addCounter("deep_sm_longest_function", s.longest);
+    ctx.addCounter("deep_sm_mean_function",
+                   s.texelsStored ? static_cast<double>(s.points) / s.texelsStored : 0.0);
+    ctx.addCounter("deep_sm_max_deviation", s.maxDeviation);
+    ctx.addCounter("deep_sm_bytes", static_cast<double>(d.map.bytes()));
+    ctx.addCounter("deep_sm_tracer_ms", d.tracerMs);
+    ctx.addCounter("deep_sm_build_ms", d.buildMs);
+    ctx.addCounter("deep_sm_precompute_ms", d.tracerMs + d.buildMs + d.uploadMs);
+    ctx.addCounter("deep_sm_pixels_outside", outside);
+    ctx.addCounter("deep_sm_casters", static_cast<double>(mObjects.size()));
 }
 
 } // namespace gpu

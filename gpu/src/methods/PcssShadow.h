@@ -1,4 +1,5 @@
-// The pcss method's shadow maps and lookup (Fernando 2005), as one piece the methods share:
+// The pcss method's shadow maps and lookup (Fernando 2005), as one piece the methods share
+// (pcss; occlusion's fallback; deep-sm, whose maps are deep shadow maps, below):
 // - frame (CPU, geometry::fitPcssFrame, redone when the light or the casters change, and the
 //   maps with it: a still light reuses them, counted as pcss_maps_cached): the faces
 //   of a cube around the light's centre that have receivers: along ±n fitted to the receivers
@@ -18,6 +19,11 @@
 // box could reach them, are counted
 // (`pcss_pixels_outside`). The occlusion method owns one for the receivers its slicing frustum
 // cannot cover (Pixels::OutsideOcclusion).
+// With DeepSmOptions (the deep-sm method, Lokovic & Veach 2000), the faces' maps are deep shadow
+// maps (geometry/shadow/DeepShadowMap.h), built on the CPU by tracing the casters
+// (geometry::RayTracer::surfacesAlong, the transmittance rule) when the frame is fitted again,
+// and the lookup (pcss-lookup.frag with DEEP_SHADOW_MAP) reads each texel's transmittance at the
+// receiver's plane where pcss compares depths.
 #pragma once
 
 #include "engine/Method.h"
@@ -29,6 +35,7 @@
 #include <geometry/shadow/PcssFrame.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace gpu {
@@ -41,6 +48,9 @@ public:
     enum class Pixels { All, OutsideOcclusion };
 
     PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels = Pixels::All);
+    // deep-sm: the same frame and lookup over deep shadow maps.
+    explicit PcssShadow(const MethodResources& r, const DeepSmOptions& deep);
+    ~PcssShadow();
 
     // Fits the frame and draws the maps if the light or the casters changed (else the last
     // frame's maps are reused: they do not depend on the camera), and writes V of the pixels
@@ -49,11 +59,17 @@ public:
     void execute(const FrameContext& ctx);
 
 private:
+    PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels, bool deep);
     // A face's map is drawn when casters reach into its frustum and receivers lie in it or in
     // a face beside it (geometry::PcssFace::drawn).
     bool drawn(int face) const { return mFrame.faces[face].drawn; }
     void updateFrame(const FrameContext& ctx);
+    // deep-sm: traces and uploads the deep map of the frame's faces.
+    void buildDeep(const FrameContext& ctx);
+    void deepCounters(const FrameContext& ctx, bool cached, std::uint32_t outside) const;
 
+    struct Deep; // deep-sm's options, tracer, map and its textures
+    std::unique_ptr<Deep> mDeep;
     Pixels mPixels;
     int mResolution, mSearchSamples, mFilterSamples;
     PcssShadowPass mShadowPass;

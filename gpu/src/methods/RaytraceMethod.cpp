@@ -1,6 +1,9 @@
 // raytrace: the G-buffer positions read back and traced on the CPU with Embree (N stratified
-// rays per pixel to the light; geometry/reference/RayTracer.h), written into V.
+// rays per pixel to the light; geometry/reference/RayTracer.h), written into V. transmittance=on:
+// each ray carries the product of (1 - alpha) of the surfaces it crosses (the deep-sm method's
+// rule; off, the default, alpha-tests them).
 #include "engine/Method.h"
+#include "engine/MethodOptions.h"
 
 #include <geometry/reference/RayTracer.h>
 
@@ -12,7 +15,8 @@ namespace {
 
 class RaytraceMethod final : public VisibilityMethod {
 public:
-    explicit RaytraceMethod(const MethodResources& r) : mScene(r.scene) {}
+    explicit RaytraceMethod(const MethodResources& r)
+        : mScene(r.scene), mOptions(raytraceOptions(r.parameters)) {}
 
     // CPU memory of a frame: positions and normals read back (RGBA32F each), points and normals
     // (3 floats each), V (1 float).
@@ -43,6 +47,7 @@ public:
         geometry::RayTraceSettings rt;
         rt.samples = ctx.settings.samples;
         rt.seed = ctx.settings.seed;
+        rt.transmittance = mOptions.transmittance;
         mTracer->visibility(ctx.light, points, normals, rt, v);
         ctx.addCpuTime("raytrace", msSince(t0));
         glTextureSubImage2D(t.visibility.id(), 0, 0, 0, t.width, t.height, GL_RED, GL_FLOAT,
@@ -51,6 +56,7 @@ public:
 
 private:
     const geometry::Scene& mScene;
+    RaytraceOptions mOptions;
     std::unique_ptr<geometry::RayTracer> mTracer; // built on the first frame (BVH over all)
 };
 

@@ -149,6 +149,11 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
 // (zeroed, 3 ceil(n / 4) of them).
 void packPdsmPoints(std::span<const std::uint32_t> points, std::uint32_t* words);
 
+// The function of `count` points from group `first` of `data` at depth code t, as the lookups
+// read it (shaders/lib/Pdsm.glsl pdsmFunction; 1 for no points).
+float evaluatePdsmFunction(std::span<const std::uint32_t> data, std::uint32_t first,
+                           std::uint32_t count, float t);
+
 // V of texel (i, j) at depth code t, as the lookup reads it.
 float evaluatePdsm(const Pdsm& map, int i, int j, float t);
 

@@ -109,6 +109,24 @@ private:
     GLenum mFormat = 0;
 };
 
+// A buffer texture (GL_TEXTURE_BUFFER) over a buffer of its own. upload() replaces the buffer
+// with `bytes` of `data` (none: one texel of zeros, so that a texture is bound either way) and
+// views it as texels of `format`; throws GlError past GL_MAX_TEXTURE_BUFFER_SIZE texels.
+class BufferTexture {
+public:
+    BufferTexture() = default;
+    void upload(const void* data, std::size_t bytes, GLenum format, std::size_t texelBytes,
+                const char* label);
+    GLuint id() const { return mTexture.id(); }
+
+private:
+    struct Deleter {
+        void operator()(GLuint id) const { glDeleteTextures(1, &id); }
+    };
+    Buffer mBuffer;
+    Handle<Deleter> mTexture;
+};
+
 struct FramebufferAttachment {
     GLenum attachment = GL_COLOR_ATTACHMENT0; // or GL_DEPTH_STENCIL_ATTACHMENT, ...
     const Texture* texture = nullptr;
