@@ -76,7 +76,7 @@ public:
     explicit AutoMethod(const MethodResources& r)
         : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(autoOptions(r.parameters).wedgeMethod),
           mAlphaPath(alphaPath(autoOptions(r.parameters).alphaMethod)),
-          mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState) {
+          mProduct(r.shaders, "auto-compose") {
         mWedges = createByName(r, mWedgeMethodName);
     }
 
@@ -86,8 +86,7 @@ public:
     AutoMethod(const MethodResources& r, const MethodInfo& primary)
         : mResources{r.shaders, r.scene, {}}, mWedgeMethodName(primary.name),
           mAlphaPath(alphaPath(autoOptions({}).alphaMethod)),
-          mMultiply(r.shaders, "blend-multiply.frag", "auto-compose", kMultiplyState),
-          mPrimaryAsked(true) {
+          mProduct(r.shaders, "auto-compose"), mPrimaryAsked(true) {
         mWedges = primary.create(r);
     }
 
@@ -98,14 +97,13 @@ public:
         for (auto& variant : mPathMethods)
             for (auto& m : variant)
                 if (m) m->resize(width, height);
-        mSaved = Texture({.width = width, .height = height, .format = GL_R32F,
-                          .label = "auto-wedge-visibility"});
+        mProduct.resize(width, height);
     }
 
     std::size_t targetBytesPerPixel() const override {
-        // mSaved (R32F) and the methods'; shadow maps and occlusion textures do not scale with
+        // The saved V (R32F) and the methods'; shadow maps and occlusion textures do not scale with
         // the image.
-        std::size_t bytes = 4 + mWedges->targetBytesPerPixel();
+        std::size_t bytes = VisibilityProduct::kBytesPerPixel + mWedges->targetBytesPerPixel();
         for (const auto& variant : mPathMethods)
             for (const auto& m : variant)
                 if (m) bytes += m->targetBytesPerPixel();
@@ -142,7 +140,6 @@ public:
         mWedgeCasters = casters[static_cast<int>(geometry::ShadowPath::Wedges)];
         // V = the product of the paths' V: the first path writes V, each later one is run on
         // a cleared target and multiplied with what came before.
-        const Targets& t = ctx.targets;
         // The receiver's own plane is counted once: by the wedge path where it counts it for
         // every receiver (wedges-bitmask's potential silhouettes; reference), else by each path.
         const bool planeCounted = !casters[0].empty() && mWedges->countsOwnPlane();
@@ -153,20 +150,9 @@ public:
             VisibilityMethod& method =
                 p == 0 ? *mWedges
                        : pathMethod(ctx, static_cast<geometry::ShadowPath>(p), !planeCounted);
-            if (!first) {
-                ScopedPass pass(&ctx.timers, "compose");
-                glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(),
-                                   GL_TEXTURE_2D, 0, 0, 0, 0, t.width, t.height, 1);
-                const float zero = 0.0f; // methods start from V = 0 (gpu/src/engine/Method.h)
-                glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
-            }
+            if (!first) mProduct.beforeFactor(ctx);
             method.execute(subContext(ctx, casters[p]));
-            if (!first) {
-                ScopedPass pass(&ctx.timers, "compose");
-                glBindTextureUnit(TEXUNIT_SILHOUETTE, mSaved.id());
-                mMultiply.execute(t.visibilityFbo, t.width, t.height, kMultiplyState,
-                                  [] { glUniform1f(0, 0.0f); }); // blend-multiply: clamp(0 + V)
-            }
+            if (!first) mProduct.afterFactor(ctx);
             first = false;
         }
     }
@@ -271,8 +257,7 @@ private:
     std::unique_ptr<VisibilityMethod> mWedges;
     // [without, with the own-plane term][Occlusion, Pcss, SampleMaps]; [.][0] unused.
     std::unique_ptr<VisibilityMethod> mPathMethods[2][kPaths];
-    FullscreenPass mMultiply;
-    Texture mSaved;
+    VisibilityProduct mProduct;
     int mWidth = 0, mHeight = 0;
     std::vector<geometry::ShadowPathChoice> mChoices; // per caster
     std::vector<std::uint32_t> mWedgeCasters;         // this frame's, for the debug views

@@ -1,6 +1,7 @@
 #include "methods/MethodUtil.h"
 
 #include "engine/DebugViews.h"
+#include "engine/ShaderBindings.h"
 
 #include "passes/FullscreenPass.h"
 #include "passes/StencilVolumePass.h"
@@ -8,6 +9,31 @@
 #include "passes/WedgePass.h"
 
 namespace gpu {
+
+VisibilityProduct::VisibilityProduct(const ShaderLoader& shaders, const char* label)
+    : mMultiply(shaders, "blend-multiply.frag", label, kMultiplyState) {}
+
+void VisibilityProduct::resize(int width, int height) {
+    mSaved = Texture({.width = width, .height = height, .format = GL_R32F,
+                      .label = "composed-visibility"});
+}
+
+void VisibilityProduct::beforeFactor(const FrameContext& ctx) {
+    ScopedPass pass(&ctx.timers, "compose");
+    const Targets& t = ctx.targets;
+    glCopyImageSubData(t.visibility.id(), GL_TEXTURE_2D, 0, 0, 0, 0, mSaved.id(), GL_TEXTURE_2D,
+                       0, 0, 0, 0, t.width, t.height, 1);
+    const float zero = 0.0f;
+    glClearTexImage(t.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
+}
+
+void VisibilityProduct::afterFactor(const FrameContext& ctx) {
+    ScopedPass pass(&ctx.timers, "compose");
+    const Targets& t = ctx.targets;
+    glBindTextureUnit(TEXUNIT_SILHOUETTE, mSaved.id());
+    mMultiply.execute(t.visibilityFbo, t.width, t.height, kMultiplyState,
+                      [] { glUniform1f(0, 0.0f); }); // blend-multiply: clamp(0 + V)
+}
 
 void clearStencil(const Targets& t) {
     applyState(PipelineState{}); // all stencil bits writable, no scissor

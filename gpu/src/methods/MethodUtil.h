@@ -4,6 +4,7 @@
 #include "engine/CasterSet.h"
 #include "engine/Method.h"
 #include "engine/Targets.h"
+#include "passes/FullscreenPass.h"
 
 #include <gpu/gl/State.h>
 
@@ -19,6 +20,24 @@ constexpr PipelineState kMultiplyState{
     .blend = true,
     .blendSrc = GL_DST_COLOR,
     .blendDst = GL_ZERO,
+};
+
+// V as the product of the V of several methods in one frame (auto's paths; pdsm's static and
+// dynamic casters): the first method writes V; before each later one V is saved and the target
+// cleared (methods start from V = 0, engine/Method.h), after it the saved V multiplies in. The
+// passes are timed as "compose".
+class VisibilityProduct {
+public:
+    VisibilityProduct(const ShaderLoader& shaders, const char* label);
+    void resize(int width, int height);
+    void beforeFactor(const FrameContext& ctx); // saves V, clears the target
+    void afterFactor(const FrameContext& ctx);  // V = saved V * V
+    // Its target memory per pixel (the saved V, R32F).
+    static constexpr std::size_t kBytesPerPixel = 4;
+
+private:
+    FullscreenPass mMultiply;
+    Texture mSaved;
 };
 
 // Zeroes the stencil counts (with the write mask a volume pass would leave on).
