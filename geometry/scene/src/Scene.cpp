@@ -5,7 +5,9 @@
 //   camera   required: eye, target          optional: up = [0,1,0], fov_y_deg = 50
 //   light    required: center, u, v
 //   objects  required, non-empty array; each object has "type" and optionally "name",
-//            "method" (auto | wedges | occlusion | none, default auto), plus per type:
+//            "method" (auto | wedges | occlusion | none, default auto), "static" (true |
+//            false, default true: false keeps it out of what a method precomputes for the
+//            static casters, pdsm's deep map), plus per type:
 //     gltf   required: file              optional: translate = [0,0,0], rotate_deg = [0,0,0],
 //                                                  scale = 1 (number or [x,y,z], all > 0)
 //     box    required: center, size (all > 0)   optional: rotate_deg = [0,0,0] (about center)
@@ -418,6 +420,10 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         }
     }
     if (auto it = j.find("name"); it != j.end()) obj.name = string(*it, key("name"));
+    if (auto it = j.find("static"); it != j.end()) {
+        if (!it->is_boolean()) fail(key("static"), "expected true or false, got " + it->dump());
+        obj.isStatic = it->get<bool>();
+    }
 
     // Shape constructors validate too; their errors get this object's key path in front.
     auto build = [&](auto&& make) {
@@ -429,7 +435,7 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
     };
 
     if (type == "gltf") {
-        checkKeys(j, path, {"type", "name", "method", "file", "translate", "rotate_deg", "scale"});
+        checkKeys(j, path, {"type", "name", "method", "static", "file", "translate", "rotate_deg", "scale"});
         const std::string file = string(require(j, path, "file"), key("file"));
         if (file.empty()) fail(key("file"), "must not be empty");
         std::filesystem::path resolved(file);
@@ -464,7 +470,7 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
 
         if (obj.name.empty()) obj.name = resolved.filename().string();
     } else if (type == "box") {
-        checkKeys(j, path, {"type", "name", "method", "center", "size", "rotate_deg"});
+        checkKeys(j, path, {"type", "name", "method", "static", "center", "size", "rotate_deg"});
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
         const glm::vec3 size = vec3(require(j, path, "size"), key("size"));
         if (!(size.x > 0.0f && size.y > 0.0f && size.z > 0.0f)) {
@@ -474,13 +480,13 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         obj.mesh = build([&] { return makeBox(c, size); });
         rotateAbout(obj.mesh, c, r);
     } else if (type == "quad") {
-        checkKeys(j, path, {"type", "name", "method", "center", "u", "v"});
+        checkKeys(j, path, {"type", "name", "method", "static", "center", "u", "v"});
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
         const glm::vec3 u = vec3(require(j, path, "u"), key("u"));
         const glm::vec3 v = vec3(require(j, path, "v"), key("v"));
         obj.mesh = build([&] { return makeQuad(c, u, v); });
     } else if (type == "sphere") {
-        checkKeys(j, path, {"type", "name", "method", "center", "radius", "segments"});
+        checkKeys(j, path, {"type", "name", "method", "static", "center", "radius", "segments"});
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
         const double radius = number(require(j, path, "radius"), key("radius"));
         if (!(radius > 0.0)) fail(key("radius"), "must be > 0, got " + std::to_string(radius));
@@ -494,7 +500,7 @@ SceneObject SceneParser::parseObject(const Json& j, std::size_t index) const {
         obj.mesh = build([&] { return makeSphere(c, float(radius), segments); });
     } else if (type == "torus") {
         checkKeys(j, path,
-                  {"type", "name", "method", "center", "major_radius", "minor_radius",
+                  {"type", "name", "method", "static", "center", "major_radius", "minor_radius",
                    "major_segments", "minor_segments", "rotate_deg"});
         const glm::vec3 c = vec3(require(j, path, "center"), key("center"));
         const double major = number(require(j, path, "major_radius"), key("major_radius"));
@@ -590,6 +596,7 @@ std::vector<SceneObject> splitByAlphaTest(SceneObject object) {
         SceneObject o;
         o.name = alpha ? object.name + kAlphaTestedSuffix : object.name;
         o.method = object.method;
+        o.isStatic = object.isStatic;
         o.mesh.name = mesh.name;
         // The materials its triangles use, and their textures, renumbered in first use.
         std::vector<std::uint32_t> materialIndex(mesh.materials.size(), UINT32_MAX);

@@ -6,9 +6,14 @@
 // frame, one lookup per pixel (shaders/pdsm-lookup.frag). While the light, the casters and the
 // seed stay, the deep map is reused (pdsm_cached); a change builds it again: before the frame's
 // lookup headless, on a CPU thread in the viewer (the frames keep the last map meanwhile).
+// Objects the scene marks dynamic ("static": false) are not in the deep map: `auto` shadows them
+// each frame (its wedge path, or its alpha path for alpha-tested ones) and V = V_dynamic ·
+// V_pdsm (methods/MethodUtil.h VisibilityProduct), as the slides insert dynamic objects; the
+// receiver's own plane is then counted by auto's path only.
 #include "engine/Method.h"
 #include "engine/MethodOptions.h"
 #include "engine/ShaderBindings.h"
+#include "methods/MethodUtil.h"
 #include "passes/FullscreenPass.h"
 #include "passes/SampleMapPass.h"
 
@@ -41,10 +46,12 @@ constexpr int kMapsPerBatch = 16;
 class PdsmMethod final : public VisibilityMethod {
 public:
     explicit PdsmMethod(const MethodResources& r)
-        : mOptions(pdsmOptions(r.parameters)),
+        : mResources{r.shaders, r.scene, {}}, mOptions(pdsmOptions(r.parameters)),
           mLookup(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
                   mOptions.ownPlane ? std::vector<std::string>{"OWN_PLANE"}
                                     : std::vector<std::string>{}),
+          mLookupWithoutPlane(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}),
+          mProduct(r.shaders, "pdsm-compose"),
           mUniforms({.size = sizeof(shader::PdsmUniforms), .label = "pdsm-uniforms"}),
           mStats({.size = PDSM_STAT_COUNT * sizeof(std::uint32_t), .label = "pdsm-stats"}) {
         const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
@@ -64,7 +71,48 @@ public:
                           .label = "pdsm-index"});
     }
 
+    void resize(int width, int height) override {
+        mWidth = width;
+        mHeight = height;
+        mProduct.resize(width, height);
+        if (mDynamic) mDynamic->resize(width, height);
+    }
+
+    std::size_t targetBytesPerPixel() const override {
+        return VisibilityProduct::kBytesPerPixel + (mDynamic ? mDynamic->targetBytesPerPixel() : 0);
+    }
+
     void execute(const FrameContext& ctx) override {
+        // The static casters go into the deep map, the dynamic ones to auto's paths.
+        std::vector<std::uint32_t> staticCasters, dynamicCasters;
+        for (const std::uint32_t c : ctx.casterSubset)
+            (ctx.scene.objects[ctx.casters.sceneObject(c)].isStatic ? staticCasters
+                                                                     : dynamicCasters)
+                .push_back(c);
+        ctx.addCounter("pdsm_dynamic_objects", static_cast<double>(dynamicCasters.size()));
+        FrameContext own = ctx;
+        own.casterSubset = staticCasters;
+        if (dynamicCasters.empty()) {
+            executeDeep(own, mLookup);
+            return;
+        }
+        if (!mDynamic) {
+            const MethodInfo& info = findMethod("auto");
+            mDynamic = info.create(
+                MethodResources{mResources.shaders, mResources.scene, resolveParameters(info, {})});
+            mDynamic->resize(mWidth, mHeight);
+        }
+        FrameContext dynamic = ctx;
+        dynamic.casterSubset = dynamicCasters;
+        mDynamic->execute(dynamic); // counts the receiver's own plane
+        mProduct.beforeFactor(ctx);
+        executeDeep(own, mLookupWithoutPlane);
+        mProduct.afterFactor(ctx);
+    }
+
+private:
+    // The deep map of ctx.casterSubset (built or reused) and its lookup into V.
+    void executeDeep(const FrameContext& ctx, const FullscreenPass& lookup) {
         // A background build that finished replaces the map (the viewer: see below).
         if (mPending && mPending->result.wait_for(std::chrono::seconds(0)) ==
                             std::future_status::ready)
@@ -108,7 +156,7 @@ public:
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
             glBindTextureUnit(TEXUNIT_PDSM_INDEX, mIndex.id());
             glBindTextureUnit(TEXUNIT_PDSM_DATA, mDataTexels.id());
-            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
+            lookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
         std::uint32_t stats[PDSM_STAT_COUNT] = {};
         if (g.clipped) {
@@ -139,7 +187,6 @@ public:
         ctx.addCounter("pdsm_casters", static_cast<double>(mSetup.objects.size()));
     }
 
-private:
     // A deep map being merged on a CPU thread, with what it was built for.
     struct Pending {
         std::future<geometry::Pdsm> result;
@@ -260,8 +307,12 @@ private:
         void operator()(GLuint id) const { glDeleteTextures(1, &id); }
     };
 
+    MethodResources mResources; // shaders and scene, for the dynamic objects' method
     PdsmOptions mOptions;
-    FullscreenPass mLookup;
+    FullscreenPass mLookup, mLookupWithoutPlane;
+    VisibilityProduct mProduct;
+    std::unique_ptr<VisibilityMethod> mDynamic; // auto, on the dynamic objects
+    int mWidth = 0, mHeight = 0;
     Buffer mUniforms, mStats, mData;
     Texture mIndex;
     Handle<TextureDeleter> mDataTexels;

@@ -99,7 +99,8 @@ TEST_F(SceneTest, ValidSceneWithEveryObjectType) {
       "objects": [
         {"type": "gltf", "file": "models/tri.gltf", "translate": [10, 0, 0],
          "rotate_deg": [0, 0, 90], "scale": 2, "method": "wedges"},
-        {"type": "box", "center": [0, 1, 0], "size": [1, 0.2, 1], "name": "table"},
+        {"type": "box", "center": [0, 1, 0], "size": [1, 0.2, 1], "name": "table",
+         "static": false},
         {"type": "quad", "center": [0, 2, 0], "u": [0.5, 0, 0], "v": [0, 0, 0.5],
          "method": "none"},
         {"type": "sphere", "center": [2, 1, 0], "radius": 0.5, "segments": 16,
@@ -126,6 +127,9 @@ TEST_F(SceneTest, ValidSceneWithEveryObjectType) {
 
     EXPECT_EQ(s.objects[1].name, "table");
     EXPECT_EQ(s.objects[1].method, geometry::ShadowMethod::Auto);
+    EXPECT_FALSE(s.objects[1].isStatic);
+    EXPECT_TRUE(s.objects[0].isStatic); // the default
+    EXPECT_TRUE(s.objects[2].isStatic);
     EXPECT_EQ(s.objects[1].mesh.triangles.size(), 12u);
     EXPECT_EQ(s.objects[2].method, geometry::ShadowMethod::None);
     EXPECT_EQ(s.objects[2].name, "objects[2] (quad)");
@@ -322,6 +326,13 @@ TEST_F(SceneTest, BadMethodName) {
                 {"objects[0].method", "magic"});
     expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "method": 1})"),
                 {"objects[0].method"});
+}
+
+TEST_F(SceneTest, BadStaticFlag) {
+    expectError(scene(R"({"type": "box", "center": [0,1,0], "size": [1,1,1], "static": "no"})"),
+                {"objects[0].static", "expected true or false", "\"no\""});
+    expectError(scene(R"({"type": "sphere", "center": [0,1,0], "radius": 1, "static": 0})"),
+                {"objects[0].static"});
 }
 
 TEST_F(SceneTest, InvalidCameraAndSizes) {

@@ -19,6 +19,10 @@ struct SceneObject {
     std::string name;                          // "objects[3] (box)" or the glTF file name
     ShadowMethod method = ShadowMethod::Auto;  // "method" key
     MeshData mesh;                             // world space, all transforms applied
+    // "static" key (default true; glTF levels are static): false keeps the object out of what a
+    // method precomputes for the static casters (pdsm's deep map), which then shadows it each
+    // frame by another path and composes the two.
+    bool isStatic = true;
 };
 
 // A camera the scene file offers (a glTF camera node: its name, or "camera N").
