@@ -247,6 +247,11 @@ int run(const Options& opt) {
             warnings.push_back("sample-maps: casters reach the light's plane or lie beyond the "
                                "maps' 71.6-degree frustum (sample_maps_clipped); what they hide "
                                "from the samples that cannot see them is drawn lit");
+        if (c.name == "linear_light_sm_clipped" && c.value > 0.0)
+            warnings.push_back("linear-light-sm: casters reach the light's plane or lie beyond "
+                               "the end points' maps' 71.6-degree frustum "
+                               "(linear_light_sm_clipped); what they hide from the end points "
+                               "that cannot see them is drawn lit");
         if (c.name == "pdsm_clipped" && c.value > 0.0)
             warnings.push_back("pdsm: casters reach the light's plane or lie beyond the maps' "
                                "71.6-degree frustum (pdsm_clipped); what they hide from the "

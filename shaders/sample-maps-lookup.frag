@@ -29,6 +29,11 @@
 // such test, so one read of that texel skips them. Exact up to the maps' rasterisation: a
 // sliver that covers a texel centre of map i but none of map k's within the margin is missed
 // (tests/gpu/SampleMapsMethodTest.cpp counts differing pixels). Counted: SAMPLE_MAP_STAT_*.
+// LINEAR_LIGHTS (linear-light-sm, Heidrich, Brabec & Seidel 2000): the samples are the end
+// points of parallel linear lights, two per light (2k and 2k + 1), and each counts with its
+// weight: twice its skin layer's value at P's texel (linear-light-skin.frag: the visibility ramp
+// where only this end point sees P) or, without a skin there, 1 (the paper's 0.5 per end point:
+// both end points seeing P make 1). V = the mean over the linear lights.
 // A receiver outside the frame's reach (geometry::inReach, the same test: from the light's
 // centre, the casters' extent widened by the light's half extent times the spread of 1 / z
 // between the receiver and the casters) is lit from every sample in front of its plane: only
@@ -38,6 +43,9 @@
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 layout(binding = TEXUNIT_SAMPLE_MAPS) uniform sampler2DArray tMaps; // zNear / z; 0: nothing
+#ifdef LINEAR_LIGHTS
+layout(binding = TEXUNIT_LINEAR_SKINS) uniform sampler2DArray tSkins; // ramp; > 1.5: no skin
+#endif
 
 #ifdef EARLY_OUT
 layout(binding = TEXUNIT_SAMPLE_MAP_NBUFFER) uniform sampler2DArray tNBuffer; // layer = level
@@ -258,7 +266,20 @@ void main() {
         vec2 f = t - base;
         vec4 d = textureGather(tMaps, vec3((base + 1.0) / R, float(i)));
         vec4 w = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
+#ifdef LINEAR_LIGHTS
+        // The skin's ramp at the same 2 x 2 texels, each seen texel weighted by its own.
+        vec4 skin = textureGather(tSkins, vec3((base + 1.0) / R, float(i)));
+        vec4 weight = mix(vec4(1.0), 2.0 * skin, vec4(lessThan(skin, vec4(1.5))));
+        lit += dot(w * weight, vec4(lessThanEqual(d, vec4((zNear / z) * (1.0 + DEPTH_BIAS)))));
+#else
         lit += dot(w, vec4(lessThanEqual(d, vec4((zNear / z) * (1.0 + DEPTH_BIAS)))));
+#endif
     }
+#ifdef LINEAR_LIGHTS
+    // The end points' weights need not sum to at most 1 per linear light (a skin's ramp where
+    // both end points see P): V held in [0, 1].
+    oVisibility = clamp(lit / float(samples), 0.0, 1.0);
+#else
     oVisibility = lit / float(samples);
+#endif
 }

@@ -115,6 +115,15 @@
 #define UNIFORM_PREFILTER_STEP 5 // occlusion prefilter, sample-maps N-buffer: int (level, SAT pass)
 #define UNIFORM_PCSS_SIDE 6      // pcss-shadow.vert: int, the face drawn (PcssFrame::faces)
 #define UNIFORM_SAMPLE_MAP_VIEW 7 // pcss-shadow.vert with SAMPLE_MAP: mat4 (locations 7..10)
+// linear-light-skin.vert: the target map's projection (mat4, 11..14), the source map's layer and
+// the target's (ivec2, 15), the source view's origin (vec3, 16) and extent lo, hi (vec4, 17),
+// the maps' axes eu, ev, n (vec3, 18..20), zNear, zFar, R, the discontinuity ratio (vec4, 21)
+#define UNIFORM_SKIN_TARGET_VIEW 11
+#define UNIFORM_SKIN_LAYERS 15
+#define UNIFORM_SKIN_ORIGIN 16
+#define UNIFORM_SKIN_EXTENT 17
+#define UNIFORM_SKIN_AXES 18
+#define UNIFORM_SKIN_PARAMS 21
 
 // GpuWedge::kind
 #define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)
@@ -153,6 +162,8 @@
 #define TEXUNIT_PDSM_INDEX 28 // pdsm: per deep-map texel (first point, point count), RG32UI
 #define TEXUNIT_PDSM_DATA 29  // pdsm: the points, four per RGB32UI buffer texel (shared/Pdsm.h);
                               // deep-sm: its points, the same way
+#define TEXUNIT_LINEAR_SKINS 31 // linear-light-sm: per end point's map, the skins' visibility
+                               // ramp (R32F array; above 1.5: no skin)
 #define TEXUNIT_DEEP_SM_INDEX 30 // deep-sm: per face (layer) and texel (first group, count |
                                  // nearest depth code << 16), RG32UI
 

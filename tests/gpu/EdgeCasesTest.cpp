@@ -173,9 +173,9 @@ TEST_F(EdgeCases, TinyLightConvergesToHard) {
     const auto frames = renderAll(scene);
     // Measured: 0 for all but occlusion 30 (its texel grid along the shadow's edge), pcss 1,
     // sample-maps 5 (its 512² maps' texels along the shadow's edge) and pdsm 11 (its 256² maps'
-    // and deep map's texels there).
+    // and deep map's texels there), linear-light-sm 5 (its end points' maps' texels).
     checkAgainst("light 2e-6 wide vs hard", frames, frames.at("hard").visibility,
-                 {{"occlusion", 40}, {"sample-maps", 8}, {"pdsm", 14}}, 4);
+                 {{"occlusion", 40}, {"sample-maps", 8}, {"pdsm", 14}, {"linear-light-sm", 8}}, 4);
 }
 
 // A light far larger than the scene (1000 x 1000, 50 above): the crate's shadow is faint and
@@ -195,10 +195,11 @@ TEST_F(EdgeCases, LightFarLargerThanTheScene) {
     // pcss get the sides (horizon term) but not the floor. sample-maps 599: most light samples
     // see the crate beyond its maps' 71.6-degree cap, so the crate is missing from their maps
     // (counted as sample_maps_clipped); pdsm, built from such maps, 599 too; deep-sm, pcss's
-    // lookup over deep maps, 838.
+    // lookup over deep maps, 838; linear-light-sm 786 (its end points' maps are clipped as
+    // sample-maps' are, and two points per linear light see even less of the crate).
     checkAgainst("light 1000 wide vs reference", frames, frames.at("reference").visibility,
                  {{"hard", 1050}, {"wedges-additive", 1000}, {"wedges-blend", 1000},
-                  {"wedges-multiply", 1000}, {"wedges-bitmask", 1000}, {"auto", 1000}, {"occlusion", 900}, {"pcss", 920}, {"deep-sm", 920},
+                  {"wedges-multiply", 1000}, {"wedges-bitmask", 1000}, {"auto", 1000}, {"occlusion", 900}, {"pcss", 920}, {"deep-sm", 920}, {"linear-light-sm", 850},
                   {"sample-maps", 660}, {"pdsm", 660},
                   {"raytrace", 220}},
                  0);
@@ -225,10 +226,12 @@ TEST_F(EdgeCases, LightInsideAClosedRoom) {
     // Measured (of 4096): wedge methods and auto 2, hard 261 (no penumbra), occlusion 252, pcss
     // 172, raytrace (16 samples) 16, pdsm 30 (the room's walls around the lamp lie beyond its
     // one frustum along the light's normal: drawn lit, counted as pdsm_pixels_outside), deep-sm
-    // 140 (pcss's cube of faces, its texels the mean of 3 x 3 rays).
+    // 140 (pcss's cube of faces, its texels the mean of 3 x 3 rays), linear-light-sm 403 (two
+    // maps per linear light: their acne on the walls the lamp grazes is not averaged away, 660
+    // at bias 0.5; and the penumbra across the linear lights comes in steps).
     checkAgainst("room, light inside vs reference", frames, frames.at("reference").visibility,
                  {{"hard", 320}, {"occlusion", 310}, {"pcss", 220}, {"raytrace", 40}, {"pdsm", 40},
-                  {"deep-sm", 180}},
+                  {"deep-sm", 180}, {"linear-light-sm", 450}},
                  8);
 }
 
@@ -265,7 +268,7 @@ TEST_F(EdgeCases, LightPlaneCutsAnOccluder) {
     // side maps, 749 with them before the bias was sized by the maps' finer texels and every
     // blocked pixel filtered), occlusion 258 (181 before it shadowed the pillar's part above the light's
     // plane, which its slices cannot hold, from pcss's maps: there it now has pcss's error),
-    // raytrace (16 samples) 88, deep-sm 747 (pcss's lookup).
+    // raytrace (16 samples) 88, deep-sm 747 (pcss's lookup), linear-light-sm 56.
     checkAgainst("pillar through the light's plane vs reference", frames,
                  frames.at("reference").visibility,
                  {{"hard", 650}, {"occlusion", 280}, {"pcss", 800}, {"deep-sm", 800},
@@ -313,9 +316,12 @@ TEST_F(EdgeCases, MillionTriangleMesh) {
     const auto frames = renderAll(scene, 4);
     // Measured (of 2269): wedges-additive, -blend and -multiply 45, wedges-bitmask and auto 1
     // (its tiled frame past the loop budget: rasterised), hard 122, occlusion 92, pcss 57,
-    // raytrace (4 samples here) 89.
+    // raytrace (4 samples here) 89, linear-light-sm 64 (its end points' maps' texels along
+    // the facets' terminators).
     checkAgainst("10^6-triangle sphere vs reference", frames, frames.at("reference").visibility,
-                 {{"hard", 150}, {"occlusion", 120}, {"pcss", 80}, {"raytrace", 120}}, 60);
+                 {{"hard", 150}, {"occlusion", 120}, {"pcss", 80}, {"raytrace", 120},
+                  {"linear-light-sm", 80}},
+                 60);
 }
 
 } // namespace

@@ -102,6 +102,7 @@ std::unique_ptr<VisibilityMethod> createOcclusionMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createPcssMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createSampleMapsMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createPdsmMethod(const MethodResources&);
+std::unique_ptr<VisibilityMethod> createLinearLightSmMethod(const MethodResources&);
 std::unique_ptr<VisibilityMethod> createDeepSmMethod(const MethodResources&);
 
 } // namespace gpu

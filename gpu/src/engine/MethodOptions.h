@@ -91,6 +91,16 @@ struct SampleMapsOptions {
 };
 SampleMapsOptions sampleMapsOptions(std::span<const ParameterValue> given);
 
+// linear-light-sm: soft shadow maps for linear lights (Heidrich, Brabec & Seidel 2000), the
+// rectangle as parallel linear lights; sample-maps' maps and lookup for their end points.
+struct LinearLightSmOptions {
+    int lights = 0;            // linear lights along the light's longer axis
+    int resolution = 0;        // side of each end point's map
+    float normalOffset = 0.0f; // as sample-maps' bias
+    bool ownPlane = true;
+};
+LinearLightSmOptions linearLightSmOptions(std::span<const ParameterValue> given);
+
 // pdsm: penumbra deep shadow maps (St-Amour et al. 2005).
 struct PdsmOptions {
     int samples = 0;         // light samples k, one shadow map each, merged into the deep map

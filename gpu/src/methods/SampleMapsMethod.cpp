@@ -4,6 +4,13 @@
 // `raytrace` does with the same number of samples, up to the maps' resolution, at the price of N
 // shadow passes whenever the light or the casters change (a still light reuses the maps, counted
 // as sample_maps_cached). Samples: the reference's stratified pattern for N and --seed.
+//
+// linear-light-sm (Heidrich, Brabec & Seidel 2000) is the same maps and lookup for other samples:
+// the end points of K parallel linear lights along the light's longer axis (each from one edge of
+// the rectangle to the other, at stratified offsets across the shorter axis), and between the
+// maps and the lookup the skin pass (shaders/linear-light-skin.*): each end point's map's depth
+// discontinuities become skin polygons drawn into the other end point's view with a visibility
+// ramp, which the lookup uses as the end point's weight (LINEAR_LIGHTS).
 #include "engine/Method.h"
 #include "engine/MethodOptions.h"
 #include "engine/ShaderBindings.h"
@@ -19,6 +26,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gpu {
@@ -29,12 +37,35 @@ namespace {
 // out's N-buffer comes on top).
 constexpr std::size_t kMaxMapBytes = std::size_t(256) << 20;
 
+// A depth jump of more than this ratio between neighbouring texels of a map is an occluder's
+// edge (linear-light-skin.vert).
+constexpr float kSkinDiscontinuity = 1.02f;
+
+// The skins' blending: the darkest of overlapping skins (each pass writes its ramp where it lies
+// in front of the target map's surface).
+constexpr PipelineState kSkinState{
+    .blend = true, .blendSrc = GL_ONE, .blendDst = GL_ONE, .blendEquation = GL_MIN};
+
+SampleMapsOptions linearOptions(const LinearLightSmOptions& o) {
+    return {.samples = 2 * o.lights,
+            .resolution = o.resolution,
+            .normalOffset = o.normalOffset,
+            .ownPlane = o.ownPlane,
+            .earlyOut = false};
+}
+
 class SampleMapsMethod final : public VisibilityMethod {
 public:
     explicit SampleMapsMethod(const MethodResources& r)
-        : mOptions(sampleMapsOptions(r.parameters)),
-          mLookup(r.shaders, "sample-maps-lookup.frag", "sample-maps-lookup", PipelineState{},
-                  lookupDefines(mOptions)),
+        : SampleMapsMethod(r, sampleMapsOptions(r.parameters), 0) {}
+
+    // linear-light-sm: `lights` linear lights (0: sample-maps).
+    SampleMapsMethod(const MethodResources& r, const SampleMapsOptions& options, int lights)
+        : mOptions(options), mLights(lights),
+          mPrefix(lights ? "linear_light_sm" : "sample_maps"),
+          mLookup(r.shaders, "sample-maps-lookup.frag",
+                  lights ? "linear-light-sm-lookup" : "sample-maps-lookup", PipelineState{},
+                  lookupDefines(mOptions, lights)),
           mUniforms({.size = sizeof(shader::SampleMapUniforms), .label = "sample-map-uniforms"}),
           mStats({.size = SAMPLE_MAP_STAT_COUNT * sizeof(std::uint32_t),
                   .label = "sample-map-stats"}) {
@@ -63,6 +94,22 @@ public:
                 r.shaders.load({.stages = {{GL_COMPUTE_SHADER, "sample-maps-nbuffer.comp"}},
                                 .label = "sample-maps-nbuffer"});
         }
+        if (mLights) {
+            mSkins = Texture({.target = GL_TEXTURE_2D_ARRAY,
+                              .width = mOptions.resolution,
+                              .height = mOptions.resolution,
+                              .layers = mOptions.samples,
+                              .format = GL_R32F,
+                              .label = "linear-light-skins"});
+            for (int i = 0; i < mOptions.samples; ++i)
+                mSkinFbos.emplace_back(FramebufferDesc{
+                    .attachments = {{GL_COLOR_ATTACHMENT0, &mSkins, 0, i}},
+                    .label = "linear-light-skin"});
+            mSkinProgram = r.shaders.load({.stages = {{GL_VERTEX_SHADER, "linear-light-skin.vert"},
+                                                      {GL_FRAGMENT_SHADER, "linear-light-skin.frag"}},
+                                           .label = "linear-light-skin"});
+            mSkinVao = VertexArray("linear-light-skin");
+        }
     }
 
     void execute(const FrameContext& ctx) override {
@@ -87,16 +134,20 @@ public:
 
         const bool cached = mMapsDrawn;
         if (!cached && !f.empty) {
-            ScopedPass pass(&ctx.timers, "sample-maps-shadow");
+            ScopedPass pass(&ctx.timers, mLights ? "linear-light-sm-shadow" : "sample-maps-shadow");
             mMaps->draw(f, 0, f.views.size(), mObjects, ctx.sceneGeometry);
             if (earlyOut) buildNBuffer();
+        }
+        if (!cached && mLights) {
+            ScopedPass pass(&ctx.timers, "linear-light-sm-skins");
+            drawSkins();
         }
         mMapsDrawn = true;
         const std::uint32_t zero = 0;
         if (mOptions.earlyOut)
             glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         {
-            ScopedPass pass(&ctx.timers, "sample-maps-lookup");
+            ScopedPass pass(&ctx.timers, mLights ? "linear-light-sm-lookup" : "sample-maps-lookup");
             glBindTextureUnit(TEXUNIT_POSITION, ctx.targets.position.id());
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
             glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps->maps().id());
@@ -105,6 +156,7 @@ public:
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_STATS, mStats.id());
             }
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_VIEWS, mViews.id());
+            if (mLights) glBindTextureUnit(TEXUNIT_LINEAR_SKINS, mSkins.id());
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
         std::uint32_t stats[SAMPLE_MAP_STAT_COUNT] = {};
@@ -112,24 +164,75 @@ public:
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
             glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
         }
-        // Pixels in reach that read no map, and pixels that skipped some quadrants' maps.
-        ctx.addCounter("sample_maps_early_out_pixels", stats[SAMPLE_MAP_STAT_EMPTY]);
-        ctx.addCounter("sample_maps_quadrant_skip_pixels", stats[SAMPLE_MAP_STAT_QUADRANTS]);
-        ctx.addCounter("sample_maps", f.empty ? 0.0 : static_cast<double>(f.views.size()));
-        ctx.addCounter("sample_maps_resolution", mOptions.resolution);
-        ctx.addCounter("sample_maps_cached", cached ? 1.0 : 0.0);
+        const auto counter = [&](const char* name, double value) {
+            ctx.addCounter(mPrefix + name, value);
+        };
+        if (mLights) {
+            counter("_lights", mLights);
+        } else {
+            // Pixels in reach that read no map, and pixels that skipped some quadrants' maps.
+            counter("_early_out_pixels", stats[SAMPLE_MAP_STAT_EMPTY]);
+            counter("_quadrant_skip_pixels", stats[SAMPLE_MAP_STAT_QUADRANTS]);
+        }
+        counter(mLights ? "_maps" : "", f.empty ? 0.0 : static_cast<double>(f.views.size()));
+        counter("_resolution", mOptions.resolution);
+        counter("_cached", cached ? 1.0 : 0.0);
         // Casters reaching behind a light sample or past the maps' 71.6-degree cap: they are
         // missing from some maps (points they hide from those samples are drawn lit).
-        ctx.addCounter("sample_maps_clipped", f.clipped ? 1.0 : 0.0);
-        ctx.addCounter("sample_maps_casters", static_cast<double>(mObjects.size()));
+        counter("_clipped", f.clipped ? 1.0 : 0.0);
+        counter("_casters", static_cast<double>(mObjects.size()));
     }
 
 private:
-    static std::vector<std::string> lookupDefines(const SampleMapsOptions& o) {
+    static std::vector<std::string> lookupDefines(const SampleMapsOptions& o, int lights) {
         std::vector<std::string> d;
         if (o.ownPlane) d.emplace_back("OWN_PLANE");
         if (o.earlyOut) d.emplace_back("EARLY_OUT");
+        if (lights) d.emplace_back("LINEAR_LIGHTS");
         return d;
+    }
+
+    // linear-light-sm: the end points (s, t) of the linear lights along the light's longer
+    // axis, 2k and 2k + 1 for light k at the stratified offset (2k + 1) / K - 1 across.
+    std::vector<glm::vec2> endPoints(const geometry::RectLight& light) const {
+        const bool alongU = glm::length(light.u) >= glm::length(light.v);
+        std::vector<glm::vec2> points;
+        for (int k = 0; k < mLights; ++k) {
+            const float across = (2.0f * k + 1.0f) / static_cast<float>(mLights) - 1.0f;
+            for (const float along : {-1.0f, 1.0f})
+                points.push_back(alongU ? glm::vec2(along, across) : glm::vec2(across, along));
+        }
+        return points;
+    }
+
+    // The skins of each linear light's two maps, each drawn into the other's layer.
+    void drawSkins() const {
+        const float none = 2.0f;
+        glClearTexImage(mSkins.id(), 0, GL_RED, GL_FLOAT, &none);
+        if (mFrame.empty) return;
+        applyState(kSkinState);
+        glUseProgram(mSkinProgram.id());
+        glBindVertexArray(mSkinVao.id());
+        glBindTextureUnit(TEXUNIT_SAMPLE_MAPS, mMaps->maps().id());
+        const int R = mOptions.resolution;
+        glViewport(0, 0, R, R);
+        const glm::vec3 axes[3] = {mFrame.eu, mFrame.ev, mFrame.n};
+        glUniform3fv(UNIFORM_SKIN_AXES, 3, &axes[0][0]);
+        glUniform4f(UNIFORM_SKIN_PARAMS, mFrame.zNear, mFrame.zFar, static_cast<float>(R),
+                    kSkinDiscontinuity);
+        for (int k = 0; k < mLights; ++k)
+            for (const auto& [source, target] : {std::pair{2 * k, 2 * k + 1}, {2 * k + 1, 2 * k}}) {
+                const geometry::SampleMapView& v = mFrame.views[static_cast<std::size_t>(source)];
+                const glm::mat4 view = mFrame.projection(static_cast<std::size_t>(target));
+                glBindFramebuffer(GL_FRAMEBUFFER,
+                                  mSkinFbos[static_cast<std::size_t>(target)].id());
+                glUniformMatrix4fv(UNIFORM_SKIN_TARGET_VIEW, 1, GL_FALSE, &view[0][0]);
+                glUniform2i(UNIFORM_SKIN_LAYERS, source, target);
+                glUniform3fv(UNIFORM_SKIN_ORIGIN, 1, &v.origin[0]);
+                glUniform4f(UNIFORM_SKIN_EXTENT, v.lo.x, v.lo.y, v.hi.x, v.hi.y);
+                glDrawArrays(GL_TRIANGLES, 0, 6 * 2 * R * (R - 1));
+            }
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
     // Map mNearest's max N-buffer (shaders/sample-maps-nbuffer.comp), from the maps just drawn.
@@ -197,7 +300,9 @@ private:
         if (mFitted && ctx.light == mLight && subset == mSubset && seed == mSeed) return;
         const auto t0 = Clock::now();
         SampleMapSetup setup =
-            fitSampleMaps(ctx.scene, ctx.casters, subset, ctx.light, mOptions.samples, seed);
+            mLights ? fitSampleMaps(ctx.scene, ctx.casters, subset, ctx.light, endPoints(ctx.light))
+                    : fitSampleMaps(ctx.scene, ctx.casters, subset, ctx.light, mOptions.samples,
+                                    seed);
         mObjects = std::move(setup.objects);
         mFrame = std::move(setup.frame);
         std::vector<glm::vec4> views;
@@ -215,11 +320,18 @@ private:
         mSubset = std::move(subset);
         mSeed = seed;
         mFitted = true;
-        ctx.addCpuTime("sample-maps-fit", msSince(t0));
+        ctx.addCpuTime(mLights ? "linear-light-sm-fit" : "sample-maps-fit", msSince(t0));
     }
 
     SampleMapsOptions mOptions;
+    int mLights = 0;     // linear-light-sm: the linear lights (0: sample-maps)
+    std::string mPrefix; // of the counters
     FullscreenPass mLookup;
+    // linear-light-sm: per end point's map, the skins' ramp (R32F array, cleared to 2: none).
+    Texture mSkins;
+    std::vector<Framebuffer> mSkinFbos;
+    Program mSkinProgram;
+    VertexArray mSkinVao;
     Buffer mUniforms, mStats, mViews;
     std::optional<SampleMapPass> mMaps;
     // early_out=on: map mNearest's max N-buffer, one layer per level.
@@ -242,6 +354,11 @@ private:
 
 std::unique_ptr<VisibilityMethod> createSampleMapsMethod(const MethodResources& r) {
     return std::make_unique<SampleMapsMethod>(r);
+}
+
+std::unique_ptr<VisibilityMethod> createLinearLightSmMethod(const MethodResources& r) {
+    const LinearLightSmOptions o = linearLightSmOptions(r.parameters);
+    return std::make_unique<SampleMapsMethod>(r, linearOptions(o), o.lights);
 }
 
 } // namespace gpu

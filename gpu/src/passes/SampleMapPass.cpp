@@ -76,13 +76,19 @@ void SampleMapPass::draw(const geometry::SampleMapFrame& frame, std::size_t firs
 SampleMapSetup fitSampleMaps(const geometry::Scene& scene, const CasterSet& casters,
                              std::span<const std::uint32_t> casterSubset,
                              const geometry::RectLight& light, int samples, std::uint32_t seed) {
+    const std::vector<glm::vec2> points = geometry::stratifiedSquare(samples, seed);
+    return fitSampleMaps(scene, casters, casterSubset, light, points);
+}
+
+SampleMapSetup fitSampleMaps(const geometry::Scene& scene, const CasterSet& casters,
+                             std::span<const std::uint32_t> casterSubset,
+                             const geometry::RectLight& light, std::span<const glm::vec2> points) {
     SampleMapSetup s;
     for (const std::uint32_t c : casterSubset) {
         const std::size_t object = casters.sceneObject(c);
         s.objects.push_back(object);
         s.bounds.extend(scene.objects[object].mesh.bounds());
     }
-    const std::vector<glm::vec2> points = geometry::stratifiedSquare(samples, seed);
     s.frame = geometry::fitSampleMapFrame(light, points, s.bounds);
     return s;
 }

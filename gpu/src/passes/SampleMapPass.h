@@ -58,5 +58,9 @@ struct SampleMapSetup {
 SampleMapSetup fitSampleMaps(const geometry::Scene& scene, const CasterSet& casters,
                              std::span<const std::uint32_t> casterSubset,
                              const geometry::RectLight& light, int samples, std::uint32_t seed);
+// The same from the given points of the light ((s, t) in [-1, 1]^2 over its half axes).
+SampleMapSetup fitSampleMaps(const geometry::Scene& scene, const CasterSet& casters,
+                             std::span<const std::uint32_t> casterSubset,
+                             const geometry::RectLight& light, std::span<const glm::vec2> points);
 
 } // namespace gpu
