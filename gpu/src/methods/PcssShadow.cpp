@@ -34,7 +34,6 @@ std::vector<std::string> lookupDefines(const PcssOptions& o, PcssShadow::Pixels 
 // deep-sm's part: its options, the casters' tracer, the map and its textures.
 struct PcssShadow::Deep {
     DeepSmOptions options;
-    const geometry::Scene* scene = nullptr;
     std::unique_ptr<geometry::RayTracer> tracer;
     std::vector<std::size_t> tracerObjects; // the objects it holds
     geometry::DeepShadowMap map;
@@ -81,7 +80,6 @@ PcssShadow::PcssShadow(const MethodResources& r, const DeepSmOptions& deep)
     : PcssShadow(r, deep.lookup, Pixels::All, true) {
     mDeep = std::make_unique<Deep>();
     mDeep->options = deep;
-    mDeep->scene = &r.scene;
     mDeep->index = Texture({.target = GL_TEXTURE_2D_ARRAY,
                             .width = mResolution,
                             .height = mResolution,
