@@ -28,8 +28,17 @@ STYLE = {
     "wedges-bitmask": ("P", "#9467bd"),
     "occlusion": ("D", "#ff7f0e"),
     "pcss": ("X", "#8c564b"),
+    "sample-maps": ("p", "#17becf"),
+    "linear-light-sm": ("<", "#bcbd22"),
+    "pdsm": (">", "#1a55ff"),
+    "deep-sm": ("8", "#000075"),
     "auto": ("h", "#e377c2"),
 }
+# A method without a style of its own (a new one) gets one of these, by first appearance, so
+# that no two methods of a chart share a colour and marker.
+SPARE = [("o", "#aec7e8"), ("^", "#ffbb78"), ("v", "#98df8a"), ("D", "#ff9896"),
+         ("s", "#c5b0d5"), ("P", "#c49c94"), ("X", "#f7b6d2"), ("*", "#dbdb8d")]
+BASE = set(STYLE)
 ERROR_FLOOR = 1e-5  # a run scored against itself (error 0) is drawn here
 
 
@@ -89,7 +98,9 @@ def main():
                 skipped += 1
                 continue
             method = r["method"]
-            marker, colour = STYLE.get(method, ("o", "#17becf"))
+            if method not in STYLE:
+                STYLE[method] = SPARE[len([m for m in STYLE if m not in BASE]) % len(SPARE)]
+            marker, colour = STYLE[method]
             x = max(err, ERROR_FLOOR)
             handle = ax.scatter(x, ms, marker=marker, color=colour, s=46, zorder=3,
                                 edgecolors="white", linewidths=0.5)
