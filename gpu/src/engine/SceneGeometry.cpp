@@ -91,8 +91,9 @@ SceneGeometry::SceneGeometry(const geometry::Scene& scene) : mVao("scene") {
             mMaterials.push_back(g);
             if (m.alphaMode == geometry::AlphaMode::Blend)
                 std::fprintf(stderr,
-                             "warning: %s: material \"%s\" has alphaMode BLEND; shadows and the "
-                             "G-buffer test it as MASK at alpha 0.5\n",
+                             "warning: %s: material \"%s\" has alphaMode BLEND; the G-buffer "
+                             "and the shadows test it as MASK at alpha 0.5 (but deep-sm's and "
+                             "raytrace's with transmittance=on, which let 1 - alpha through)\n",
                              object.name.c_str(), m.name.c_str());
         }
 
