@@ -313,6 +313,24 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+// A ray with no hit yet, from origin along dir over [tnear, tfar] (units of |dir|).
+RTCRayHit makeRayHit(const glm::vec3& origin, const glm::vec3& dir, float tnear, float tfar) {
+    RTCRayHit rh{};
+    rh.ray.org_x = origin.x;
+    rh.ray.org_y = origin.y;
+    rh.ray.org_z = origin.z;
+    rh.ray.dir_x = dir.x;
+    rh.ray.dir_y = dir.y;
+    rh.ray.dir_z = dir.z;
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
 RTCRay makeRay(const glm::vec3& origin, const glm::vec3& target, float eps) {
     const glm::vec3 dir = target - origin;
     RTCRay ray{};
@@ -482,18 +500,7 @@ bool RayTracer::intersect(const glm::vec3& origin, const glm::vec3& dir, float& 
                           glm::vec3& normal) const {
     if (!isFinite(origin) || !isFinite(dir) || dir == glm::vec3(0.0f)) return false;
     QueryContext context;
-    RTCRayHit rh{};
-    rh.ray.org_x = origin.x;
-    rh.ray.org_y = origin.y;
-    rh.ray.org_z = origin.z;
-    rh.ray.dir_x = dir.x;
-    rh.ray.dir_y = dir.y;
-    rh.ray.dir_z = dir.z;
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = makeRayHit(origin, dir, 0.0f, std::numeric_limits<float>::infinity());
     rtcIntersect1(mImpl->scene, &context.rtc, &rh);
     mImpl->check("intersect");
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
@@ -509,19 +516,7 @@ void RayTracer::surfacesAlong(const glm::vec3& origin, const glm::vec3& dir, flo
     std::vector<CrossedSurface> crossed;
     QueryContext context;
     context.crossed = &crossed;
-    RTCRayHit rh{};
-    rh.ray.org_x = origin.x;
-    rh.ray.org_y = origin.y;
-    rh.ray.org_z = origin.z;
-    rh.ray.dir_x = dir.x;
-    rh.ray.dir_y = dir.y;
-    rh.ray.dir_z = dir.z;
-    rh.ray.tnear = std::max(tnear, 0.0f);
-    rh.ray.tfar = tfar;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = makeRayHit(origin, dir, std::max(tnear, 0.0f), tfar);
     // The nearest opaque hit (the filter lets none of the others stand) and, recorded on the
     // way, the translucent ones: those nearer than it are crossed.
     rtcIntersect1(mImpl->scene, &context.rtc, &rh);

@@ -225,17 +225,9 @@ DeepShadowMap buildDeepShadowMap(const PcssFrame& frame, const Aabb& receivers,
     std::uint32_t group = 0;
     for (int row = 0; row < rows; ++row) {
         const int face = faces[static_cast<std::size_t>(row / R)], j = row % R;
-        const std::vector<std::uint32_t>& points = rowPoints[static_cast<std::size_t>(row)];
-        std::size_t r = 0;
-        for (int i = 0; i < R; ++i) {
-            const std::size_t at = out.at(face, i, j);
-            const std::uint32_t count = deepPointCount(out.index[at + 1]);
-            out.index[at] = group;
-            packPdsmPoints(std::span<const std::uint32_t>(points).subspan(r, count),
-                           out.data.data() + 3 * static_cast<std::size_t>(group));
-            r += count;
-            group += (count + 3) / 4;
-        }
+        group = packPdsmRow(rowPoints[static_cast<std::size_t>(row)],
+                            out.index.data() + out.at(face, 0, j), R, 0xFFFFu, group,
+                            out.data.data());
     }
     out.stats.buildMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

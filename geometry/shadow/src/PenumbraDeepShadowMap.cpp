@@ -436,22 +436,26 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     if (groups > 0xFFFFFFFFull) throw std::length_error("pdsm: more than 2^32 point groups");
     out.data.assign(3 * groups, 0u);
     std::uint32_t group = 0;
-    for (int j = 0; j < R; ++j) {
-        const std::vector<std::uint32_t>& row = rowPoints[static_cast<std::size_t>(j)];
-        std::size_t r = 0;
-        for (int i = 0; i < R; ++i) {
-            const std::size_t at = 2 * (static_cast<std::size_t>(j) * R + i);
-            const std::uint32_t count = out.index[at + 1];
-            out.index[at] = group;
-            packPdsmPoints(std::span<const std::uint32_t>(row).subspan(r, count),
-                           out.data.data() + 3 * static_cast<std::size_t>(group));
-            r += count;
-            group += (count + 3) / 4;
-        }
-    }
+    for (int j = 0; j < R; ++j)
+        group = packPdsmRow(rowPoints[static_cast<std::size_t>(j)],
+                            out.index.data() + 2 * static_cast<std::size_t>(j) * R, R,
+                            0xFFFFFFFFu, group, out.data.data());
     out.stats.buildMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
+}
+
+std::uint32_t packPdsmRow(std::span<const std::uint32_t> points, std::uint32_t* index, int texels,
+                          std::uint32_t countMask, std::uint32_t group, std::uint32_t* data) {
+    std::size_t r = 0;
+    for (int i = 0; i < texels; ++i) {
+        const std::uint32_t count = index[2 * i + 1] & countMask;
+        index[2 * i] = group;
+        packPdsmPoints(points.subspan(r, count), data + 3 * static_cast<std::size_t>(group));
+        r += count;
+        group += (count + 3) / 4;
+    }
+    return group;
 }
 
 void packPdsmPoints(std::span<const std::uint32_t> points, std::uint32_t* words) {

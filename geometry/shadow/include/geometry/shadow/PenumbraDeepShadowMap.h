@@ -145,6 +145,13 @@ struct Pdsm {
 Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
                const PdsmBuildSettings& settings);
 
+// Lays out one row of `texels` texels: `index` holds two words per texel, the first group
+// (written here) and a word whose bits `countMask` are its point count (read); the row's points
+// (24 bits each, texel after texel) are packed into `data` from group `group`, each texel's from a
+// group's start. Returns the group after the row's.
+std::uint32_t packPdsmRow(std::span<const std::uint32_t> points, std::uint32_t* index, int texels,
+                          std::uint32_t countMask, std::uint32_t group, std::uint32_t* data);
+
 // Packs 24-bit points (depth code | value code << 16) four to three words from `words`
 // (zeroed, 3 ceil(n / 4) of them).
 void packPdsmPoints(std::span<const std::uint32_t> points, std::uint32_t* words);
