@@ -87,11 +87,28 @@ struct MapLayer {
     int R, blocks;
 };
 
-// Hidden intervals of t in [0, 1] along one line through one map (texel units, P(t) = p0 +
-// t (p1 - p0)), as events: code << 1 | 1 where one starts, code << 1 where one ends (none at
-// the line's end). A point of the line is hidden where its texel stores a value above
-// s (1 + bias), s = 1 - t (1 - sFar).
-void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, float sFar, float bias,
+// A texel ray's depth as one view sees it: the view's own reversed depth s_v = zNear_v / z_v
+// along the line through its map is affine in the walk's parameter u in [0, 1], from 1 (the
+// deep map's t = 0) to sFar_v (t = 1); and t of u. For a view in the light's plane (depth 0)
+// t = u; a view `depth` ahead of the centre along the map's axis sees the ray's point at
+// centre depth z at its own z - depth, so that 1 / (z - depth) is affine in u, not 1 / z.
+struct LineDepth {
+    float sFar = 0.0f;   // the view's s at u = 1
+    float depth = 0.0f;  // the view's origin's depth from the centre
+    float w0 = 0.0f, w1 = 0.0f; // 1 / (z - depth) at u = 0 and u = 1
+    float zNear = 0.0f, gridSFar = 0.0f; // the deep map's depth code
+    float t(float u) const {
+        if (depth == 0.0f) return u;
+        const float z = depth + 1.0f / (w0 + u * (w1 - w0));
+        return (1.0f - zNear / z) / (1.0f - gridSFar);
+    }
+};
+
+// Hidden intervals of u in [0, 1] along one line through one map (texel units, P(u) = p0 +
+// u (p1 - p0)), as events of the deep map's depth code: code << 1 | 1 where one starts,
+// code << 1 where one ends (none at the line's end). A point of the line is hidden where its
+// texel stores a value above s_v (1 + bias), s_v = 1 - u (1 - line.sFar).
+void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, const LineDepth& line, float bias,
              std::vector<std::uint32_t>& events) {
     const glm::vec2 d = p1 - p0;
     const int R = map.R;
@@ -108,7 +125,7 @@ void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, float sFar, float 
         tB = std::min(tB, t1);
     }
     if (!(tA < tB)) return;
-    const float depthSpan = 1.0f - sFar;
+    const float depthSpan = 1.0f - line.sFar;
     // t beyond which a stored value hides the line.
     const auto hiddenFrom = [&](float stored) {
         return (1.0f - stored / (1.0f + bias)) / depthSpan;
@@ -116,8 +133,8 @@ void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, float sFar, float 
     bool open = false;
     float openStart = 0.0f, openEnd = 0.0f;
     const auto emit = [&](float s, float e) {
-        events.push_back(depthCode(s) << 1 | 1u);
-        if (e < 1.0f) events.push_back(depthCode(e) << 1);
+        events.push_back(depthCode(line.t(s)) << 1 | 1u);
+        if (e < 1.0f) events.push_back(depthCode(line.t(e)) << 1);
     };
     const auto texel = [&](int x, int y, float t, float tExit) {
         const float stored = map.texels[static_cast<std::size_t>(y) * R + x];
@@ -329,12 +346,28 @@ float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMap
         const glm::vec3 o = v.origin - grid.centre;
         const glm::vec2 d(glm::dot(o, grid.eu), glm::dot(o, grid.ev));
         const glm::vec2 inv = 1.0f / (v.hi - v.lo);
-        // m - d s / zNear in map k, at s = 1 (t = 0) and s = sFar (t = 1), in texels.
-        const glm::vec2 p0 = (m - d / grid.zNear - v.lo) * inv * size;
-        const glm::vec2 p1 = (m - d * (grid.sFar / grid.zNear) - v.lo) * inv * size;
+        LineDepth line;
+        glm::vec2 p0, p1;
+        if (v.depth == 0.0f) {
+            // m - d s / zNear in map k, at s = 1 (t = 0) and s = sFar (t = 1), in texels.
+            p0 = (m - d / grid.zNear - v.lo) * inv * size;
+            p1 = (m - d * (grid.sFar / grid.zNear) - v.lo) * inv * size;
+            line.sFar = grid.sFar;
+        } else {
+            // From the view, the ray's point at centre depth z lies at m + (depth m - d) w,
+            // w = 1 / (z - depth): affine in w, from zNear (t = 0) to zNear / sFar (t = 1).
+            line.depth = v.depth;
+            line.w0 = 1.0f / (grid.zNear - v.depth);
+            line.w1 = 1.0f / (grid.zNear / grid.sFar - v.depth);
+            line.zNear = grid.zNear;
+            line.gridSFar = grid.sFar;
+            line.sFar = (grid.zNear - v.depth) * line.w1;
+            p0 = (m + (v.depth * m - d) * line.w0 - v.lo) * inv * size;
+            p1 = (m + (v.depth * m - d) * line.w1 - v.lo) * inv * size;
+        }
         const MapLayer layer{maps.texels.data() + k * layerSize, blockMax.data() + k * blockSize,
                              R, blocks};
-        walkMap(p0, p1, layer, grid.sFar, depthBias, events);
+        walkMap(p0, p1, layer, line, depthBias, events);
     }
     std::sort(events.begin(), events.end());
     const float n = static_cast<float>(frame.views.size());

@@ -35,6 +35,12 @@ struct SampleMapView {
     glm::vec2 st{0.0f};     // the sample in [-1, 1]^2 over the light's half axes
     glm::vec3 origin{0.0f}; // the sample point on the light
     glm::vec2 lo{0.0f}, hi{0.0f}; // the map's extent in m
+    // The origin's depth along n from the light's centre: 0 for samples of a map looking along
+    // the light's normal (every sample lies in the light's plane); a map looking along one of
+    // the light's lateral axes (pdsm's cube faces) sees its samples ahead of or behind the
+    // centre. The view's near plane lies at the frame's zNear from the centre, zNear - depth
+    // from its origin, and it stores (zNear - depth) / z of its own depth z.
+    float depth = 0.0f;
 };
 
 struct SampleMapFrame {
@@ -59,7 +65,8 @@ struct SampleMapFrame {
     bool clipped = false; // the box reached behind a sample or past the cap (see above)
 
     // World -> clip of view i's shadow pass, for glClipControl(LOWER_LEFT, ZERO_TO_ONE):
-    // x, y over [lo, hi], depth zNear / z (1 at zNear, 0 infinitely far; reversed).
+    // x, y over [lo, hi], depth zNear_i / z (1 at zNear_i = zNear - depth, 0 infinitely far;
+    // reversed).
     glm::mat4 projection(std::size_t i) const;
 };
 
