@@ -1,6 +1,7 @@
 // pdsm, lookup: V at each G-buffer point P from the penumbra deep shadow map
 // (geometry/shadow/PenumbraDeepShadowMap.h): P is projected from the light's centre into the
-// deep map, and the visibility functions of the 2 x 2 texels around its ray are read at P's
+// deep map (the one map, or its face's of the cube around the light, picked by pcss's rule:
+// geometry::PcssFrame::faceOf), and the visibility functions of the 2 x 2 texels around its ray are read at P's
 // depth code t (shared/Pdsm.h, the statements geometry::evaluatePdsm runs) and weighted
 // bilinearly, so that V changes continuously as P moves across texels.
 // - A surface does not hide its own points: the sample maps store every surface 1.5 texels of
@@ -27,7 +28,7 @@
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
-layout(binding = TEXUNIT_PDSM_INDEX) uniform usampler2D tIndex;  // first point, count
+layout(binding = TEXUNIT_PDSM_INDEX) uniform usampler2DArray tIndex; // first point, count
 
 layout(std430, binding = BINDING_PDSM_STATS) buffer PdsmStats {
     uint pdsmStats[PDSM_STAT_COUNT];
@@ -41,6 +42,18 @@ layout(location = 0) out float oVisibility;
 #ifndef OFFSET_FLOOR
 #define OFFSET_FLOOR 0.0
 #endif
+
+// The cube face whose map holds a point at toP from the centre (geometry::PcssFrame::faceOf),
+// -1 within the cube's zNear of the centre.
+int cubeFace(vec3 toP) {
+    float x = dot(toP, pdsm.basisU.xyz), y = dot(toP, pdsm.basisV.xyz);
+    float z = dot(toP, pdsm.normal.xyz);
+    float a = max(abs(x), abs(y));
+    if (a <= pdsm.cube.y * abs(z)) return abs(z) > pdsm.normal.w ? (z > 0.0 ? 0 : 1) : -1;
+    if (a <= pdsm.normal.w) return -1;
+    if (abs(x) >= abs(y)) return x >= 0.0 ? 2 : 3;
+    return y >= 0.0 ? 4 : 5;
+}
 
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
@@ -57,12 +70,20 @@ void main() {
 #else
     float front = 1.0;
 #endif
-    if (pdsm.eu.w == 0.0 || front == 0.0) {
+    if (pdsm.centre.w == 0.0 || front == 0.0) {
         oVisibility = front; // no casters, or the whole light behind P's plane
         return;
     }
-    vec3 eu = pdsm.eu.xyz, ev = pdsm.ev.xyz, n = pdsm.n.xyz;
-    float zNear = pdsm.n.w, R = pdsm.params.x;
+    int face = pdsm.cube.x != 0.0 ? cubeFace(P - c) : 0;
+    float layer = face >= 0 ? pdsm.faceB1[face].w : -1.0;
+    if (layer < 0.0) {
+        oVisibility = front; // at the centre, or a face with no receivers or no casters
+        return;
+    }
+    vec3 eu = pdsm.faceB1[face].xyz, ev = pdsm.faceB2[face].xyz, n = pdsm.faceAxis[face].xyz;
+    float zNear = pdsm.faceB2[face].w, sFar = pdsm.faceAxis[face].w, R = pdsm.cube.w;
+    vec4 extent = pdsm.faceExtent[face];
+    float texelSize = pdsm.faceTexel[face].x;
     // The offset, towards the side of P's plane that holds the light's centre.
     vec3 toCentre = c - P;
     float facing = dot(N, toCentre);
@@ -70,8 +91,8 @@ void main() {
     float cosA = abs(facing) / max(dist, 1e-30);
     float tanA = min(sqrt(max(1.0 - cosA * cosA, 0.0)) / max(cosA, 1e-6), 8.0);
     float zP = dot(P - c, n);
-    float offset = (facing >= 0.0 ? 1.0 : -1.0) * (OFFSET_FLOOR + pdsm.params.z * tanA) *
-                   pdsm.params.w * max(zP, 0.0);
+    float offset = (facing >= 0.0 ? 1.0 : -1.0) * (OFFSET_FLOOR + pdsm.cube.z * tanA) *
+                   texelSize * max(zP, 0.0);
     vec3 Q = P + offset * N;
     vec3 d = Q - c;
     float z = dot(d, n);
@@ -79,9 +100,9 @@ void main() {
         oVisibility = front; // nearer to the light than every caster
         return;
     }
-    vec2 uv = (vec2(dot(d, eu), dot(d, ev)) / z - pdsm.extent.xy) * pdsm.extent.zw;
+    vec2 uv = (vec2(dot(d, eu), dot(d, ev)) / z - extent.xy) * extent.zw;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
-        if (pdsm.ev.w != 0.0) atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
+        if (pdsm.basisU.w != 0.0) atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
         oVisibility = front;
         return;
     }
@@ -101,24 +122,24 @@ void main() {
     vec2 base = floor(x);
     vec2 f = x - base;
     vec2 gather = (base + 1.0) / R;
-    uvec4 firsts = textureGather(tIndex, gather, 0);
-    uvec4 counts = textureGather(tIndex, gather, 1);
+    uvec4 firsts = textureGather(tIndex, vec3(gather, layer), 0);
+    uvec4 counts = textureGather(tIndex, vec3(gather, layer), 1);
     vec4 w = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
     // The gathered texels' columns and rows (x: (i0, j1), y: (i1, j1), z: (i1, j0), w: (i0, j0)).
     vec4 ci = base.x + vec4(0.5, 1.5, 1.5, 0.5), cj = base.y + vec4(1.5, 1.5, 0.5, 0.5);
-    vec2 texelM = 1.0 / (R * pdsm.extent.zw); // a texel's size in m
+    vec2 texelM = 1.0 / (R * extent.zw); // a texel's size in m
     float planeD = dot(N, d);                  // the plane through Q: dot(N, X - c) = planeD
     vec3 Nm = vec3(dot(N, eu), dot(N, ev), dot(N, n));
-    float span = RECEIVER_PLANE_SPAN * pdsm.params.w * z;
+    float span = RECEIVER_PLANE_SPAN * texelSize * z;
     float v = 0.0;
     int texels = any(notEqual(counts, uvec4(0u))) ? 4 : 0;
     for (int k = 0; k < texels; ++k) {
         // Texel k's ray c + zk (m_k, 1) meets the plane at zk = planeD / dot(N, (m_k, 1)).
-        vec2 mk = pdsm.extent.xy + vec2(ci[k], cj[k]) * texelM;
+        vec2 mk = extent.xy + vec2(ci[k], cj[k]) * texelM;
         float along = dot(Nm, vec3(mk, 1.0));
         float zk = abs(along) > 1e-12 ? planeD / along : z;
         zk = clamp(zk > 0.0 ? zk : z, z - span, z + span);
-        float tk = pdsmDepthCode(max(min(zk, z), zNear), zNear, pdsm.params.y);
+        float tk = pdsmDepthCode(max(min(zk, z), zNear), zNear, sFar);
         v += w[k] * (counts[k] == 0u ? 1.0 : pdsmFunction(firsts[k], counts[k], tk));
     }
     if (texels == 0) v = 1.0;

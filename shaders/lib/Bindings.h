@@ -159,7 +159,7 @@
 #define TEXUNIT_SAMPLE_MAP_NBUFFER 25 // sample-maps early_out=on: the max N-buffer (layer = level)
 #define TEXUNIT_WEDGE_TILE_RECORDS 26 // wedges-bitmask evaluate=tiles: the TileWedges as RGBA32F texels
 #define TEXUNIT_WEDGE_TILE_LISTS 27   // the same: the tiles' heads and lists as R32UI texels
-#define TEXUNIT_PDSM_INDEX 28 // pdsm: per deep-map texel (first point, point count), RG32UI
+#define TEXUNIT_PDSM_INDEX 28 // pdsm: per deep-map texel (first point, point count), RG32UI, a layer per map
 #define TEXUNIT_PDSM_DATA 29  // pdsm: the points, four per RGB32UI buffer texel (shared/Pdsm.h);
                               // deep-sm: its points, the same way
 #define TEXUNIT_LINEAR_SKINS 31 // linear-light-sm: per end point's map, the skins' visibility
@@ -254,19 +254,26 @@ PENUMBRA_UBO_BEGIN(SampleMapUniforms, BINDING_SAMPLE_MAPS_UBO)
     vec4 emptyQuadrant[4];
 PENUMBRA_UBO_END(SampleMapUniforms, sampleMaps)
 
-// The pdsm method's deep map (geometry/shadow/PenumbraDeepShadowMap.h PdsmGrid), from the
-// light's centre it was built for.
+// The pdsm method's deep maps (geometry/shadow/PenumbraDeepShadowMap.h PdsmGrid), from the
+// light's centre they were built for: one map along the light's normal, or one per face of the
+// cube around the light (PdsmFace; faces numbered as pcss's, PcssFrame.h).
 PENUMBRA_UBO_BEGIN(PdsmUniforms, BINDING_PDSM_UBO)
-    vec4 eu;     // xyz: the map's first lateral axis, w: 1 if it holds casters (0: V = 1)
-    vec4 ev;     // xyz: its second lateral axis, w: 1 if clipped (receivers outside it counted)
-    vec4 n;      // xyz: its depth axis (the light's normal towards the casters), w: zNear
-    vec4 extent; // xy: lo in m = (x, y) / z, zw: 1 / (hi - lo)
-    // x: resolution R, y: sFar, z: the receiver offset's grazing part in deep-map texels (bias),
-    // w: a texel's world size per unit of depth (the extent's larger side over R)
-    vec4 params;
-    // xyz: the light's centre the map was built from (the frame's light while a moved light's
-    // map is being built in the background)
+    // xyz: the light's centre the maps were built from (the frame's light while a moved light's
+    // maps are being built in the background), w: 1 if a map holds casters (0: V = 1)
     vec4 centre;
+    // x: 1 for the cube (a receiver's face picked by pcss's rule), 0 for one map (face 0),
+    // y: the cube's front faces' cap tan, z: the receiver offset's grazing part in deep-map
+    // texels (bias), w: resolution R
+    vec4 cube;
+    vec4 basisU; // xyz: the light's eu (the cube's rule), w: 1 if clipped (receivers outside
+                 // a map counted)
+    vec4 basisV; // xyz: the light's ev
+    vec4 normal; // xyz: the light's normal, w: the cube's zNear (nearer to the centre: lit)
+    vec4 faceB1[6];     // xyz: face's first lateral axis, w: its layer of the index, -1: none
+    vec4 faceB2[6];     // xyz: its second lateral axis, w: zNear (its casters' least depth)
+    vec4 faceAxis[6];   // xyz: its depth axis, w: sFar
+    vec4 faceExtent[6]; // xy: lo in m = (x, y) / z, zw: 1 / (hi - lo)
+    vec4 faceTexel[6];  // x: a texel's world size per unit of depth (the larger side over R)
 PENUMBRA_UBO_END(PdsmUniforms, pdsm)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented

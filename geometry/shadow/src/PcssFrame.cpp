@@ -203,6 +203,25 @@ PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
     return f;
 }
 
+float casterNearInFrustum(const PcssFrame& f, int face, glm::vec2 lo, glm::vec2 hi, float zMin,
+                          const Scene& scene, std::span<const std::size_t> objects) {
+    PcssFace s = f.faces[face];
+    s.lo = lo;
+    s.hi = hi;
+    float nearest = 0.0f;
+    for (const std::size_t i : objects) {
+        const MeshData& mesh = scene.objects.at(i).mesh;
+        for (const glm::uvec3& tri : mesh.triangles) {
+            const Polygon p = clipToFrustum(local(f, face, mesh.positions[tri[0]],
+                                                  mesh.positions[tri[1]], mesh.positions[tri[2]]),
+                                            s, zMin);
+            for (int v = 0; v < p.count; ++v)
+                nearest = nearest == 0.0f ? p.p[v].z : std::min(nearest, p.p[v].z);
+        }
+    }
+    return nearest;
+}
+
 namespace {
 
 struct ClusterTriangle {

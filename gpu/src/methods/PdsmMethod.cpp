@@ -3,7 +3,10 @@
 // passes/SampleMapPass.h), read back a few at a time and merged on the CPU into one map from the
 // light's centre whose texels hold V along their ray as a compressed piecewise-linear function
 // (geometry/shadow/PenumbraDeepShadowMap.h: 16-bit depth, 8-bit value, a guaranteed bound); each
-// frame, one lookup per pixel (shaders/pdsm-lookup.frag). While the light, the casters and the
+// frame, one lookup per pixel (shaders/pdsm-lookup.frag). Where one map along the light's
+// normal cannot hold every receiver that may be hidden (a lamp in a room), a map per face of
+// the cube around the light (fitPdsmCube), each built as the one: its k maps drawn, read back
+// and merged in turn, so that one face's maps are in memory at a time. While the light, the casters and the
 // seed stay, the deep map is reused (pdsm_cached); a change builds it again: before the frame's
 // lookup headless, on a CPU thread in the viewer (the frames keep the last map meanwhile).
 // Objects the scene marks dynamic ("static": false) are not in the deep map: `auto` shadows them
@@ -65,10 +68,6 @@ public:
                 "the " + std::to_string(kMaxReadBackBytes >> 20) + " MiB limit; lower one of them");
         mMaps.emplace(r.shaders, std::min(kMapsPerBatch, mOptions.samples), mOptions.resolution,
                       "pdsm-sample-maps");
-        mIndex = Texture({.width = mOptions.resolution,
-                          .height = mOptions.resolution,
-                          .format = GL_RG32UI,
-                          .label = "pdsm-index"});
     }
 
     void resize(int width, int height) override {
@@ -111,42 +110,81 @@ public:
     }
 
 private:
-    // The deep map of ctx.casterSubset (built or reused) and its lookup into V.
+    // The deep maps of ctx.casterSubset (built or reused) and their lookup into V.
     void executeDeep(const FrameContext& ctx, const FullscreenPass& lookup) {
-        // A background build that finished replaces the map (the viewer: see below).
-        if (mPending && mPending->result.wait_for(std::chrono::seconds(0)) ==
-                            std::future_status::ready)
-            adopt(std::move(*mPending));
+        const bool cached = ensureMaps(ctx);
+        std::uint32_t outside = runLookup(ctx, lookup);
+        // One map that leaves receivers of this view outside it where they may be hidden (its
+        // frame clipped: a lamp in a room, casters at the light's plane): the cube from now on,
+        // built at once and the lookup run again headless, in the background in the viewer.
+        if (!mCube && outside > 0 && !mWantCube) {
+            mWantCube = true;
+            if (ctx.settings.waitForGpu || !mBuilt) {
+                ensureMaps(ctx);
+                outside = runLookup(ctx, lookup);
+            } else if (!mPending) {
+                mPending.emplace(start(ctx));
+            }
+        }
+        addCounters(ctx, cached, outside);
+    }
+
+    // Builds the maps where they are stale (see below); true when the last ones were reused.
+    bool ensureMaps(const FrameContext& ctx) {
+        // A background build that finished replaces the maps (the viewer: see below); one whose
+        // face is merged draws the next face's sample maps and merges them in turn.
+        if (mPending && advanceOrDrop(ctx, *mPending, false)) adopt(std::move(*mPending));
         const bool cached = !stale(ctx);
         if (!cached) {
-            // The first map, and every map of a headless frame, is built before the lookup;
-            // in the viewer (waitForGpu = false) a moved light's map is merged on a CPU thread
-            // while the frames keep the last one (pdsm_building, its rows done in percent).
+            // The first maps, and every map of a headless frame, are built before the lookup;
+            // in the viewer (waitForGpu = false) a moved light's maps are merged on a CPU thread
+            // while the frames keep the last ones (pdsm_building, its rows done in percent).
             if (!mBuilt || ctx.settings.waitForGpu) {
-                if (mPending) adopt(std::move(*mPending)); // waits for it
+                if (mPending) { // waits for it
+                    advanceOrDrop(ctx, *mPending, true);
+                    adopt(std::move(*mPending));
+                }
                 Pending next = start(ctx);
-                next.result.wait();
+                advance(ctx, next, true);
                 adopt(std::move(next));
             } else if (!mPending) {
                 mPending.emplace(start(ctx));
             }
         }
-        const geometry::PdsmGrid& g = mMap.grid;
+        return cached;
+    }
+
+    // The lookup into V; the receivers it finds outside the maps where they may be hidden.
+    std::uint32_t runLookup(const FrameContext& ctx, const FullscreenPass& lookup) {
+        const bool clipped = std::any_of(mFaces.begin(), mFaces.end(),
+                                         [](const geometry::Pdsm& m) { return m.grid.clipped; });
         shader::PdsmUniforms u{};
-        u.eu = glm::vec4(g.eu, g.empty ? 0.0f : 1.0f);
-        u.ev = glm::vec4(g.ev, g.clipped ? 1.0f : 0.0f);
-        u.n = glm::vec4(g.n, g.zNear);
-        u.extent = g.empty ? glm::vec4(0.0f) : glm::vec4(g.lo, 1.0f / (g.hi - g.lo));
-        const glm::vec2 side = g.hi - g.lo;
-        u.params = glm::vec4(static_cast<float>(g.resolution), g.sFar, mOptions.normalOffset,
-                             std::max(side.x, side.y) / static_cast<float>(g.resolution));
-        u.centre = glm::vec4(g.centre, 1.0f);
+        const bool anyCasters = std::any_of(mFaces.begin(), mFaces.end(),
+                                            [](const geometry::Pdsm& m) { return !m.grid.empty; });
+        u.centre = glm::vec4(mLight.center, anyCasters ? 1.0f : 0.0f);
+        u.cube = glm::vec4(mCube ? 1.0f : 0.0f, mCubeFrame.maxTan, mOptions.normalOffset,
+                           static_cast<float>(mOptions.resolution));
+        u.basisU = glm::vec4(mCubeFrame.eu, clipped ? 1.0f : 0.0f);
+        u.basisV = glm::vec4(mCubeFrame.ev, 0.0f);
+        u.normal = glm::vec4(mCubeFrame.normal, mCubeFrame.zNear);
+        for (int k = 0; k < geometry::kPcssFaces; ++k) u.faceB1[k].w = -1.0f;
+        for (std::size_t f = 0; f < mFaces.size(); ++f) {
+            const geometry::PdsmGrid& g = mFaces[f].grid;
+            if (g.empty) continue;
+            const int k = mFaceIds[f];
+            const glm::vec2 side = g.hi - g.lo;
+            u.faceB1[k] = glm::vec4(g.eu, static_cast<float>(f));
+            u.faceB2[k] = glm::vec4(g.ev, g.zNear);
+            u.faceAxis[k] = glm::vec4(g.n, g.sFar);
+            u.faceExtent[k] = glm::vec4(g.lo, 1.0f / side);
+            u.faceTexel[k] = glm::vec4(std::max(side.x, side.y) / static_cast<float>(g.resolution));
+        }
         mUniforms.upload(&u, sizeof(u));
         // The lookup counts receivers outside the map only where it is clipped (elsewhere none
         // can be hidden there): only then is the counter cleared and read back, a wait on the
         // GPU in the viewer's frames.
         const std::uint32_t zero = 0;
-        if (g.clipped)
+        if (clipped)
             glClearNamedBufferData(mStats.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         {
             ScopedPass pass(&ctx.timers, "pdsm-lookup");
@@ -159,16 +197,39 @@ private:
             lookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
         }
         std::uint32_t stats[PDSM_STAT_COUNT] = {};
-        if (g.clipped) {
+        if (clipped) {
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
             glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
         }
-        const geometry::PdsmStats& s = mMap.stats;
+        return stats[PDSM_STAT_OUTSIDE];
+    }
+
+    void addCounters(const FrameContext& ctx, bool cached, std::uint32_t outside) {
+        const bool clipped = std::any_of(mFaces.begin(), mFaces.end(),
+                                         [](const geometry::Pdsm& m) { return m.grid.clipped; });
+        const bool anyCasters = std::any_of(mFaces.begin(), mFaces.end(),
+                                            [](const geometry::Pdsm& m) { return !m.grid.empty; });
+        geometry::PdsmStats s;
+        std::size_t bytes = 0;
+        for (const geometry::Pdsm& m : mFaces) {
+            s.points += m.stats.points;
+            s.steps += m.stats.steps;
+            s.texelsStored += m.stats.texelsStored;
+            s.longest = std::max(s.longest, m.stats.longest);
+            s.maxDeviation = std::max(s.maxDeviation, m.stats.maxDeviation);
+            s.buildMs += m.stats.buildMs;
+            bytes += m.bytes();
+        }
         ctx.addCounter("pdsm_cached", cached ? 1.0 : 0.0);
         ctx.addCounter("pdsm_building", mPending ? 1.0 : 0.0);
         ctx.addCounter("pdsm_building_percent",
-                       mPending ? 100.0 * mPending->rows->load() / mOptions.resolution : 0.0);
-        ctx.addCounter("pdsm_samples", g.empty ? 0.0 : static_cast<double>(mOptions.samples));
+                       mPending ? 100.0 * mPending->rows->load() /
+                                      (mOptions.resolution *
+                                       std::max<std::size_t>(mPending->faces.size(), 1))
+                                : 0.0);
+        ctx.addCounter("pdsm_samples", anyCasters ? static_cast<double>(mOptions.samples) : 0.0);
+        ctx.addCounter("pdsm_faces", static_cast<double>(mFaces.size()));
+        ctx.addCounter("pdsm_cube", mCube ? 1.0 : 0.0);
         ctx.addCounter("pdsm_resolution", mOptions.resolution);
         ctx.addCounter("pdsm_tolerance", mOptions.tolerance);
         ctx.addCounter("pdsm_points", static_cast<double>(s.points));
@@ -178,36 +239,45 @@ private:
                        s.texelsStored ? static_cast<double>(s.points) / s.texelsStored : 0.0);
         ctx.addCounter("pdsm_steps", static_cast<double>(s.steps));
         ctx.addCounter("pdsm_max_deviation", s.maxDeviation);
-        ctx.addCounter("pdsm_bytes", static_cast<double>(mMap.bytes()));
+        ctx.addCounter("pdsm_bytes", static_cast<double>(bytes));
         ctx.addCounter("pdsm_maps_ms", mMapsMs);
         ctx.addCounter("pdsm_build_ms", s.buildMs);
         ctx.addCounter("pdsm_precompute_ms", mMapsMs + s.buildMs + mUploadMs);
-        ctx.addCounter("pdsm_clipped", g.clipped ? 1.0 : 0.0);
-        ctx.addCounter("pdsm_pixels_outside", stats[PDSM_STAT_OUTSIDE]);
+        ctx.addCounter("pdsm_clipped", clipped ? 1.0 : 0.0);
+        ctx.addCounter("pdsm_pixels_outside", outside);
         ctx.addCounter("pdsm_casters", static_cast<double>(mSetup.objects.size()));
     }
 
-    // A deep map being merged on a CPU thread, with what it was built for.
+    // Deep maps being built, with what they are built for: the faces' sample maps are drawn
+    // and read back one face at a time (on the GL thread), each face's merged on a CPU thread.
     struct Pending {
-        std::future<geometry::Pdsm> result;
-        std::shared_ptr<std::atomic<int>> rows; // rows merged so far
+        std::shared_ptr<std::atomic<int>> rows; // rows merged so far, over every face
         geometry::RectLight light;
         std::uint32_t seed = 0;
         std::vector<std::uint32_t> subset;
         SampleMapSetup setup;
+        bool cube = false;
+        bool frameClipped = false; // the one map's frame was clipped
+        geometry::PcssFrame cubeFrame;
+        std::vector<geometry::PdsmFace> faces;
+        std::size_t next = 0; // the next face whose maps to draw
+        std::future<geometry::Pdsm> current;
+        std::vector<geometry::Pdsm> built;
         double mapsMs = 0.0;
+        std::function<void(int, int)> report; // the headless progress
     };
 
     bool stale(const FrameContext& ctx) const {
         return !mBuilt || !(ctx.light == mLight) || ctx.settings.seed != mSeed ||
+               (mWantCube && !mCube && mFrameClipped) ||
                !std::equal(ctx.casterSubset.begin(), ctx.casterSubset.end(), mSubset.begin(),
                            mSubset.end());
     }
 
-    // Draws the sample maps of this frame's light and casters, reads them back, and starts
-    // merging them into the deep map on a CPU thread.
+    // Fits the maps of this frame's light and casters: one map along the light's normal where
+    // it holds every receiver that may be hidden, else a map per face of the cube; and starts
+    // the first face.
     Pending start(const FrameContext& ctx) {
-        const auto t0 = Clock::now();
         Pending p;
         p.light = ctx.light;
         p.seed = ctx.settings.seed;
@@ -215,11 +285,43 @@ private:
         p.setup = fitSampleMaps(ctx.scene, ctx.casters, p.subset, ctx.light, mOptions.samples,
                                 p.seed);
         geometry::jitterSampleMapGrids(p.setup.frame, mOptions.resolution);
-        const geometry::SampleMapFrame& f = p.setup.frame;
         geometry::Aabb scene;
         for (const geometry::SceneObject& o : ctx.scene.objects) scene.extend(o.mesh.bounds());
+        const geometry::SampleMapFrame& f = p.setup.frame;
         const geometry::PdsmGrid grid =
             geometry::fitPdsmGrid(f, ctx.light.center, scene, mOptions.resolution);
+        // One map along the light's normal where the casters lie in front of every sample
+        // within the maps' cap (the frame is not clipped): every receiver that may be hidden then
+        // lies where some sample's map holds the casters, about the map's extent (what lies
+        // past its cap is counted, pdsm_pixels_outside: none on the data/ scenes). Else (a lamp
+        // in a room, casters at the light's plane) the cube.
+        p.frameClipped = !f.empty && f.clipped;
+        if (!p.frameClipped || !mWantCube) {
+            p.faces.push_back({0, f, grid});
+        } else {
+            p.cube = true;
+            p.cubeFrame = geometry::fitPcssFrame(ctx.scene, ctx.light, p.setup.objects);
+            std::vector<glm::vec2> samples;
+            for (const geometry::SampleMapView& v : f.views) samples.push_back(v.st);
+            p.faces = geometry::fitPdsmCube(p.cubeFrame, ctx.light, samples, ctx.scene,
+                                            p.setup.objects, p.setup.bounds, scene,
+                                            mOptions.resolution);
+            for (geometry::PdsmFace& face : p.faces)
+                geometry::jitterSampleMapGrids(face.frame, mOptions.resolution);
+        }
+        p.rows = std::make_shared<std::atomic<int>>(0);
+        p.report = ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
+        drawNext(ctx, p);
+        return p;
+    }
+
+    // Draws the next face's sample maps, reads them back, and starts merging them into its
+    // deep map on a CPU thread.
+    void drawNext(const FrameContext& ctx, Pending& p) {
+        if (p.next >= p.faces.size()) return;
+        const auto t0 = Clock::now();
+        const geometry::PdsmFace& face = p.faces[p.next];
+        const geometry::SampleMapFrame& f = face.frame;
         const int R = mOptions.resolution;
         const std::size_t layer = static_cast<std::size_t>(R) * static_cast<std::size_t>(R);
         auto texels = std::make_shared<std::vector<float>>();
@@ -237,32 +339,58 @@ private:
                                      texels->data() + first * layer);
             }
         }
-        p.mapsMs = msSince(t0);
-        ctx.addCpuTime("pdsm-sample-maps", p.mapsMs);
-        p.rows = std::make_shared<std::atomic<int>>(0);
+        const double ms = msSince(t0);
+        p.mapsMs += ms;
+        ctx.addCpuTime("pdsm-sample-maps", ms);
         geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance};
-        const std::function<void(int, int)> report =
-            ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
-        settings.progress = [rows = p.rows, report](int done, int total) {
-            rows->store(done);
-            if (report) report(done, total);
+        const int before = static_cast<int>(p.next) * R;
+        const int total = static_cast<int>(p.faces.size()) * R;
+        settings.progress = [rows = p.rows, report = p.report, before, total](int done, int) {
+            rows->store(before + done);
+            if (report) report(before + done, total);
         };
         // The frame (and the maps' copy) live in the task; nothing of this frame is referenced.
-        p.result = std::async(std::launch::async,
-                              [frame = f, grid, texels, settings, R]() {
-                                  return geometry::buildPdsm(frame, grid, {R, *texels}, settings);
-                              });
-        return p;
+        p.current = std::async(std::launch::async,
+                               [frame = f, grid = face.grid, texels, settings, R]() {
+                                   return geometry::buildPdsm(frame, grid, {R, *texels},
+                                                              settings);
+                               });
+        ++p.next;
     }
 
-    // Takes a finished build's map (waiting for it) and uploads it.
-    void adopt(Pending&& p) {
+    // Takes each face's finished merge and starts the next face's; true when every face is
+    // merged. `wait`: waits for the merges (headless), else returns at one still running.
+    bool advance(const FrameContext& ctx, Pending& p, bool wait) {
+        for (;;) {
+            if (p.current.valid()) {
+                if (!wait && p.current.wait_for(std::chrono::seconds(0)) !=
+                                 std::future_status::ready)
+                    return false;
+                p.built.push_back(p.current.get());
+            }
+            if (p.next >= p.faces.size()) return true;
+            drawNext(ctx, p);
+        }
+    }
+
+    // advance() on mPending: a failed build is dropped, not tried again as it is.
+    bool advanceOrDrop(const FrameContext& ctx, Pending& p, bool wait) {
         try {
-            mMap = p.result.get();
+            return advance(ctx, p, wait);
         } catch (...) {
-            mPending.reset(); // (p may be it) a failed build is not tried again as it is
+            mPending.reset();
             throw;
         }
+    }
+
+    // Takes a finished build's maps and uploads them.
+    void adopt(Pending&& p) {
+        mFaces = std::move(p.built);
+        mFaceIds.clear();
+        for (const geometry::PdsmFace& f : p.faces) mFaceIds.push_back(f.face);
+        mCube = p.cube;
+        mFrameClipped = p.frameClipped;
+        mCubeFrame = p.cubeFrame;
         mLight = p.light;
         mSeed = p.seed;
         mSubset = std::move(p.subset);
@@ -277,22 +405,47 @@ private:
 
     void upload() {
         const int R = mOptions.resolution;
-        glTextureSubImage2D(mIndex.id(), 0, 0, 0, R, R, GL_RG_INTEGER, GL_UNSIGNED_INT,
-                            mMap.index.data());
+        const int layers = std::max(static_cast<int>(mFaces.size()), 1);
+        if (mIndexLayers != layers) {
+            mIndex = Texture({.target = GL_TEXTURE_2D_ARRAY,
+                              .width = R,
+                              .height = R,
+                              .layers = layers,
+                              .format = GL_RG32UI,
+                              .label = "pdsm-index"});
+            mIndexLayers = layers;
+        }
+        // The faces' points one after the other; each face's index shifted by the groups
+        // before it.
+        std::size_t words = 0, points = 0;
+        for (const geometry::Pdsm& m : mFaces) {
+            words += m.data.size();
+            points += m.stats.points;
+        }
         // A buffer texture holds GL_MAX_TEXTURE_BUFFER_SIZE texels of four points each.
         GLint maxTexels = 0;
         glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-        const std::size_t groups = mMap.data.size() / 3;
-        if (groups > static_cast<std::size_t>(maxTexels))
+        if (words / 3 > static_cast<std::size_t>(maxTexels))
             throw geometry::InputError(
-                "pdsm: the deep map holds " + std::to_string(mMap.stats.points) +
+                "pdsm: the deep maps hold " + std::to_string(points) +
                 " points, more than one buffer texture of GL_MAX_TEXTURE_BUFFER_SIZE = " +
                 std::to_string(maxTexels) + " texels of four holds; raise tolerance or lower " +
                 "resolution");
-        std::vector<std::uint32_t> words = mMap.data;
-        if (words.empty()) words.assign(3, 0u); // a texture is bound either way
-        mData = Buffer({.size = words.size() * sizeof(std::uint32_t),
-                        .data = words.data(),
+        std::vector<std::uint32_t> data;
+        data.reserve(std::max<std::size_t>(words, 3));
+        std::vector<std::uint32_t> index;
+        for (std::size_t f = 0; f < mFaces.size(); ++f) {
+            const geometry::Pdsm& m = mFaces[f];
+            const auto base = static_cast<std::uint32_t>(data.size() / 3);
+            index = m.index;
+            for (std::size_t i = 0; i < index.size(); i += 2) index[i] += base;
+            glTextureSubImage3D(mIndex.id(), 0, 0, 0, static_cast<GLint>(f), R, R, 1,
+                                GL_RG_INTEGER, GL_UNSIGNED_INT, index.data());
+            data.insert(data.end(), m.data.begin(), m.data.end());
+        }
+        if (data.empty()) data.assign(3, 0u); // a texture is bound either way
+        mData = Buffer({.size = data.size() * sizeof(std::uint32_t),
+                        .data = data.data(),
                         .flags = 0,
                         .label = "pdsm-data"});
         if (!mDataTexels) {
@@ -317,7 +470,15 @@ private:
     Texture mIndex;
     Handle<TextureDeleter> mDataTexels;
     std::optional<SampleMapPass> mMaps;
-    geometry::Pdsm mMap;
+    std::vector<geometry::Pdsm> mFaces; // the built maps, a layer of mIndex each
+    std::vector<int> mFaceIds;          // their cube faces (0 for the one map)
+    bool mCube = false;         // the built maps are the cube's
+    bool mFrameClipped = false; // the one map's frame was clipped
+    // A view found receivers outside the one map where they may be hidden: the cube wherever
+    // the one map's frame is clipped.
+    bool mWantCube = false;
+    geometry::PcssFrame mCubeFrame;
+    int mIndexLayers = 0;
     SampleMapSetup mSetup;
     std::optional<Pending> mPending;
     double mMapsMs = 0.0, mUploadMs = 0.0;

@@ -104,6 +104,12 @@ PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
                        std::span<const std::size_t> casterObjects,
                        const PcssFitSettings& settings = {});
 
+// The least depth along face `face`'s axis of the triangles of `objects` (indices into
+// scene.objects) clipped to the frustum z >= zMin, lo z <= (x, y) <= hi z in that face's
+// coordinates; 0 when none reaches it.
+float casterNearInFrustum(const PcssFrame& f, int face, glm::vec2 lo, glm::vec2 hi, float zMin,
+                          const Scene& scene, std::span<const std::size_t> objects);
+
 // At most maxBoxes boxes that together hold every triangle of the objects (indices into
 // scene.objects): the triangles split at the median of their centres along the longest axis of
 // their bounds, recursively, each leaf's bounds a box. One object spread over a whole level (a

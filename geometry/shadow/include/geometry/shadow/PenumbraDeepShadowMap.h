@@ -27,6 +27,7 @@
 #pragma once
 
 #include <geometry/core/Types.h>
+#include <geometry/shadow/PcssFrame.h>
 #include <geometry/shadow/SampleMapFrame.h>
 
 #include <glm/glm.hpp>
@@ -61,6 +62,40 @@ struct PdsmGrid {
 // kSampleMapMaxTan. `scene`: the bounds of everything that may receive (all objects).
 PdsmGrid fitPdsmGrid(const SampleMapFrame& frame, const glm::vec3& lightCentre, const Aabb& scene,
                      int resolution);
+
+// A deep map per face of a cube around the light's centre, for receivers one frustum along
+// the light's normal cannot hold (fitPdsmGrid's map clipped: a lamp in a room, whose walls,
+// floor and ceiling lie all around it, the light emitting to both sides). The faces are pcss's
+// (PcssFrame.h: 0 and 1 along ±n up to 71.6° off it, 2..5 along ±eu and ±ev, the bands beyond),
+// each with its own k sample maps looking along its axis from the same light samples, and its
+// own deep map over the face's directions from the centre. On the front faces the samples lie
+// in the maps' plane, as in the one-map case; on a side face a sample lies `depth` ahead of the
+// centre along the face's axis (SampleMapView::depth), its own near plane that much nearer,
+// and a texel ray's line through its map affine in 1 / (z - depth) (the walk handles both).
+// - A face is built where receivers lie in it (pcss's `present`) and casters lie within its
+//   sample maps' reach (their views, capped at |m| <= kPdsmViewCap); a face without casters
+//   is lit.
+// - zNear of a face: the casters' least depth along its axis in that reach, held beyond the
+//   samples' own depth along it (every view's near plane in front of its sample); a caster
+//   nearer than that is missed, and the face says so (clipped), as is one whose views reach
+//   past the cap.
+// - A view's extent: the face's region seen from its sample over the face's depths (the
+//   region's corners at zNear and the deepest receiver, bilinear in m and 1 / (z - depth)),
+//   narrowed to the casters' box where the box lies wholly in front of it.
+inline constexpr float kPdsmViewCap = kSampleMapMaxTan;
+
+struct PdsmFace {
+    int face = 0; // the cube face (PcssFrame's numbering)
+    SampleMapFrame frame;
+    PdsmGrid grid;
+};
+
+// The faces to build for `light`'s samples (st in [-1, 1]^2): `cube` fitted to the scene's
+// receivers and `casterObjects`, whose bounds are `casters`; `scene`: the receivers' bounds.
+std::vector<PdsmFace> fitPdsmCube(const PcssFrame& cube, const RectLight& light,
+                                  std::span<const glm::vec2> samples, const Scene& sceneObjects,
+                                  std::span<const std::size_t> casterObjects, const Aabb& casters,
+                                  const Aabb& scene, int resolution);
 
 // One step of a texel's staircase: at depth code `code` V goes from `before` to `after`.
 struct PdsmStep {
