@@ -84,6 +84,7 @@ void main() {
     float zNear = pdsm.faceB2[face].w, sFar = pdsm.faceAxis[face].w, R = pdsm.cube.w;
     vec4 extent = pdsm.faceExtent[face];
     float texelSize = pdsm.faceTexel[face].x;
+    vec2 faceSize = pdsm.faceTexel[face].yz; // the face's columns and rows (of the R x R layer)
     // The offset, towards the side of P's plane that holds the light's centre.
     vec3 toCentre = c - P;
     float facing = dot(N, toCentre);
@@ -101,6 +102,8 @@ void main() {
         return;
     }
     vec2 uv = (vec2(dot(d, eu), dot(d, ev)) / z - extent.xy) * extent.zw;
+    // In the cube, P's face holds it; the offset may carry Q a little past the face's edge.
+    if (pdsm.cube.x != 0.0) uv = clamp(uv, vec2(0.0), vec2(1.0));
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
         if (pdsm.basisU.w != 0.0) atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
         oVisibility = front;
@@ -118,7 +121,7 @@ void main() {
     // plane meets it far away). As a loop that runs only where one of the four holds a
     // function, so that llvmpipe (which runs both sides of a branch under a lane mask) skips the
     // searches for SIMD groups of lit pixels.
-    vec2 x = uv * R - 0.5;
+    vec2 x = uv * faceSize - 0.5;
     vec2 base = floor(x);
     vec2 f = x - base;
     vec2 gather = (base + 1.0) / R;
@@ -127,7 +130,7 @@ void main() {
     vec4 w = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
     // The gathered texels' columns and rows (x: (i0, j1), y: (i1, j1), z: (i1, j0), w: (i0, j0)).
     vec4 ci = base.x + vec4(0.5, 1.5, 1.5, 0.5), cj = base.y + vec4(1.5, 1.5, 0.5, 0.5);
-    vec2 texelM = 1.0 / (R * extent.zw); // a texel's size in m
+    vec2 texelM = 1.0 / (faceSize * extent.zw); // a texel's size in m
     float planeD = dot(N, d);                  // the plane through Q: dot(N, X - c) = planeD
     vec3 Nm = vec3(dot(N, eu), dot(N, ev), dot(N, n));
     float span = RECEIVER_PLANE_SPAN * texelSize * z;

@@ -273,7 +273,9 @@ PENUMBRA_UBO_BEGIN(PdsmUniforms, BINDING_PDSM_UBO)
     vec4 faceB2[6];     // xyz: its second lateral axis, w: zNear (its casters' least depth)
     vec4 faceAxis[6];   // xyz: its depth axis, w: sFar
     vec4 faceExtent[6]; // xy: lo in m = (x, y) / z, zw: 1 / (hi - lo)
-    vec4 faceTexel[6];  // x: a texel's world size per unit of depth (the larger side over R)
+    // x: a texel's world size per unit of depth (the larger side's), yz: the face's columns and
+    // rows (a side face's band fills the first rows of its R x R layer)
+    vec4 faceTexel[6];
 PENUMBRA_UBO_END(PdsmUniforms, pdsm)
 
 // One directed silhouette edge copy from the light centre: the group's light-oriented

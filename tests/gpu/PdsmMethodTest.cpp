@@ -209,10 +209,11 @@ TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
         double mean, hard; // measured: pdsm's and hard's mean |dV|
         std::size_t off;   // measured: pdsm's pixels off by > 0.05
     };
-    // Measured: kaos2 0.00118 (hard 0.00000: no shadow in the view; 73 pixels at the walls'
-    // creases and on the ramps the light grazes), oa_dm5 0.00502 (214: the floor's ramp below
-    // the lamp and the creases of the walls beside it).
-    for (const Case& c : {Case{"kaos2.glb", 0.00118, 0.0, 73}, Case{"oa_dm5.glb", 0.00502, 0.01799, 214}}) {
+    // Measured: kaos2 0.00112 (hard 0.00000: no shadow in the view; 59 pixels at the walls'
+    // creases and on the ramps the light grazes), oa_dm5 0.00652 (313: the steps' risers below
+    // the lamp, which it grazes, the creases of the walls beside it, and the penumbra on the
+    // wall left of the lamp, in a side face whose 256 x 86 texels are coarse there).
+    for (const Case& c : {Case{"kaos2.glb", 0.00112, 0.0, 59}, Case{"oa_dm5.glb", 0.00652, 0.01799, 313}}) {
         SCOPED_TRACE(c.level);
         const geometry::Scene scene = testutil::levelWithLamp(c.level, 0);
         const Rendered r = testutil::render(scene, "pdsm", 128, 72, 1,

@@ -175,7 +175,8 @@ void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, const LineDepth& l
 
 glm::vec2 PdsmGrid::texelCentre(int i, int j) const {
     return lo + (glm::vec2(static_cast<float>(i), static_cast<float>(j)) + 0.5f) /
-                    static_cast<float>(resolution) * (hi - lo);
+                    glm::vec2(static_cast<float>(resolution), static_cast<float>(rowCount())) *
+                    (hi - lo);
 }
 
 PdsmGrid fitPdsmGrid(const SampleMapFrame& f, const glm::vec3& lightCentre, const Aabb& scene,
@@ -315,6 +316,10 @@ std::vector<PdsmFace> fitPdsmCube(const PcssFrame& cube, const RectLight& light,
         g.lo = k < 2 ? glm::max(s.lo, glm::vec2(-cube.maxTan)) : s.lo;
         g.hi = k < 2 ? glm::min(s.hi, glm::vec2(cube.maxTan)) : s.hi;
         g.resolution = resolution;
+        // Texels about square in m: a side face's band a third as many rows.
+        g.rows = std::clamp(static_cast<int>(std::ceil(static_cast<float>(resolution) *
+                                                       (g.hi.y - g.lo.y) / (g.hi.x - g.lo.x))),
+                            1, resolution);
         g.zNear = f.zNear;
         g.sFar = f.zNear / deepest;
         g.clipped = f.clipped;
@@ -509,8 +514,8 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     const auto t0 = std::chrono::steady_clock::now();
     Pdsm out;
     out.grid = grid;
-    const int R = grid.resolution;
-    const std::size_t texels = static_cast<std::size_t>(R) * static_cast<std::size_t>(R);
+    const int R = grid.resolution, rows = grid.rowCount();
+    const std::size_t texels = static_cast<std::size_t>(R) * static_cast<std::size_t>(rows);
     out.index.assign(2 * texels, 0u);
     if (grid.empty || frame.views.empty()) return out;
     const std::size_t layer =
@@ -521,7 +526,7 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     int blocks = 0;
     const std::vector<float> blockMax = blockMaxima(maps, frame.views.size(), blocks);
     // Per row: its texels' packed points, and each texel's count.
-    std::vector<std::vector<std::uint32_t>> rowPoints(static_cast<std::size_t>(R));
+    std::vector<std::vector<std::uint32_t>> rowPoints(static_cast<std::size_t>(rows));
     struct Partial {
         PdsmStats stats;
     };
@@ -533,7 +538,7 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     const auto work = [&](int w) {
         std::vector<PdsmStep> steps;
         PdsmStats& st = partial[static_cast<std::size_t>(w)].stats;
-        for (int j = nextRow++; j < R; j = nextRow++) {
+        for (int j = nextRow++; j < rows; j = nextRow++) {
             std::vector<std::uint32_t>& row = rowPoints[static_cast<std::size_t>(j)];
             for (int i = 0; i < R; ++i) {
                 const float start = staircase(frame, grid, maps, blockMax, blocks, i, j,
@@ -553,7 +558,7 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
                 out.index[2 * (static_cast<std::size_t>(j) * R + i) + 1] = count;
             }
             const int done = ++rowsDone;
-            if (w == 0 && settings.progress) settings.progress(done, R);
+            if (w == 0 && settings.progress) settings.progress(done, rows);
         }
     };
     std::vector<std::thread> pool;
@@ -561,12 +566,12 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     try {
         work(0); // the progress callback may throw (an interrupted bench): stop the others
     } catch (...) {
-        nextRow = R;
+        nextRow = rows;
         for (std::thread& t : pool) t.join();
         throw;
     }
     for (std::thread& t : pool) t.join();
-    if (settings.progress) settings.progress(R, R);
+    if (settings.progress) settings.progress(rows, rows);
 
     for (const Partial& p : partial) {
         out.stats.points += p.stats.points;
@@ -579,13 +584,13 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
         throw std::length_error("pdsm: more than 2^32 points");
     // Concatenate in texel order, each texel's points from a group's start.
     std::uint64_t groups = 0;
-    for (int j = 0; j < R; ++j)
+    for (int j = 0; j < rows; ++j)
         for (int i = 0; i < R; ++i)
             groups += (out.index[2 * (static_cast<std::size_t>(j) * R + i) + 1] + 3) / 4;
     if (groups > 0xFFFFFFFFull) throw std::length_error("pdsm: more than 2^32 point groups");
     out.data.assign(3 * groups, 0u);
     std::uint32_t group = 0;
-    for (int j = 0; j < R; ++j)
+    for (int j = 0; j < rows; ++j)
         group = packPdsmRow(rowPoints[static_cast<std::size_t>(j)],
                             out.index.data() + 2 * static_cast<std::size_t>(j) * R, R,
                             0xFFFFFFFFu, group, out.data.data());

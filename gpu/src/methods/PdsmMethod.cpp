@@ -120,7 +120,9 @@ private:
         if (!mCube && outside > 0 && !mWantCube) {
             mWantCube = true;
             if (ctx.settings.waitForGpu || !mBuilt) {
+                const double first = precomputeMs();
                 ensureMaps(ctx);
+                mFirstMapMs = first; // part of what this frame waited for
                 outside = runLookup(ctx, lookup);
             } else if (!mPending) {
                 mPending.emplace(start(ctx));
@@ -154,6 +156,13 @@ private:
         return cached;
     }
 
+    // The built maps' precompute: their sample maps, merges and upload.
+    double precomputeMs() const {
+        double build = 0.0;
+        for (const geometry::Pdsm& m : mFaces) build += m.stats.buildMs;
+        return mMapsMs + build + mUploadMs;
+    }
+
     // The lookup into V; the receivers it finds outside the maps where they may be hidden.
     std::uint32_t runLookup(const FrameContext& ctx, const FullscreenPass& lookup) {
         const bool clipped = std::any_of(mFaces.begin(), mFaces.end(),
@@ -177,7 +186,9 @@ private:
             u.faceB2[k] = glm::vec4(g.ev, g.zNear);
             u.faceAxis[k] = glm::vec4(g.n, g.sFar);
             u.faceExtent[k] = glm::vec4(g.lo, 1.0f / side);
-            u.faceTexel[k] = glm::vec4(std::max(side.x, side.y) / static_cast<float>(g.resolution));
+            const glm::vec2 size(static_cast<float>(g.resolution),
+                                 static_cast<float>(g.rowCount()));
+            u.faceTexel[k] = glm::vec4(std::max(side.x / size.x, side.y / size.y), size, 0.0f);
         }
         mUniforms.upload(&u, sizeof(u));
         // The lookup counts receivers outside the map only where it is clipped (elsewhere none
@@ -223,9 +234,7 @@ private:
         ctx.addCounter("pdsm_cached", cached ? 1.0 : 0.0);
         ctx.addCounter("pdsm_building", mPending ? 1.0 : 0.0);
         ctx.addCounter("pdsm_building_percent",
-                       mPending ? 100.0 * mPending->rows->load() /
-                                      (mOptions.resolution *
-                                       std::max<std::size_t>(mPending->faces.size(), 1))
+                       mPending ? 100.0 * mPending->rows->load() / std::max(mPending->totalRows, 1)
                                 : 0.0);
         ctx.addCounter("pdsm_samples", anyCasters ? static_cast<double>(mOptions.samples) : 0.0);
         ctx.addCounter("pdsm_faces", static_cast<double>(mFaces.size()));
@@ -242,7 +251,8 @@ private:
         ctx.addCounter("pdsm_bytes", static_cast<double>(bytes));
         ctx.addCounter("pdsm_maps_ms", mMapsMs);
         ctx.addCounter("pdsm_build_ms", s.buildMs);
-        ctx.addCounter("pdsm_precompute_ms", mMapsMs + s.buildMs + mUploadMs);
+        ctx.addCounter("pdsm_first_map_ms", mFirstMapMs);
+        ctx.addCounter("pdsm_precompute_ms", precomputeMs() + mFirstMapMs);
         ctx.addCounter("pdsm_clipped", clipped ? 1.0 : 0.0);
         ctx.addCounter("pdsm_pixels_outside", outside);
         ctx.addCounter("pdsm_casters", static_cast<double>(mSetup.objects.size()));
@@ -252,6 +262,7 @@ private:
     // and read back one face at a time (on the GL thread), each face's merged on a CPU thread.
     struct Pending {
         std::shared_ptr<std::atomic<int>> rows; // rows merged so far, over every face
+        int totalRows = 0;                      // the faces' rows
         geometry::RectLight light;
         std::uint32_t seed = 0;
         std::vector<std::uint32_t> subset;
@@ -310,6 +321,7 @@ private:
                 geometry::jitterSampleMapGrids(face.frame, mOptions.resolution);
         }
         p.rows = std::make_shared<std::atomic<int>>(0);
+        for (const geometry::PdsmFace& face : p.faces) p.totalRows += face.grid.rowCount();
         p.report = ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
         drawNext(ctx, p);
         return p;
@@ -343,8 +355,9 @@ private:
         p.mapsMs += ms;
         ctx.addCpuTime("pdsm-sample-maps", ms);
         geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance};
-        const int before = static_cast<int>(p.next) * R;
-        const int total = static_cast<int>(p.faces.size()) * R;
+        int before = 0;
+        for (std::size_t k = 0; k < p.next; ++k) before += p.faces[k].grid.rowCount();
+        const int total = p.totalRows;
         settings.progress = [rows = p.rows, report = p.report, before, total](int done, int) {
             rows->store(before + done);
             if (report) report(before + done, total);
@@ -396,6 +409,7 @@ private:
         mSubset = std::move(p.subset);
         mSetup = std::move(p.setup);
         mMapsMs = p.mapsMs;
+        mFirstMapMs = 0.0;
         const auto t0 = Clock::now();
         upload();
         mUploadMs = msSince(t0);
@@ -439,7 +453,15 @@ private:
             const auto base = static_cast<std::uint32_t>(data.size() / 3);
             index = m.index;
             for (std::size_t i = 0; i < index.size(); i += 2) index[i] += base;
-            glTextureSubImage3D(mIndex.id(), 0, 0, 0, static_cast<GLint>(f), R, R, 1,
+            // A side face's band fills the layer's first rows; the row above it repeats its
+            // last, which the bilinear gathers at its edge read (as CLAMP_TO_EDGE does at the
+            // layer's).
+            const int rows = m.grid.rowCount();
+            const int filled = std::min(rows + 1, R);
+            if (filled > rows)
+                index.insert(index.end(), index.end() - 2 * static_cast<std::ptrdiff_t>(R),
+                             index.end());
+            glTextureSubImage3D(mIndex.id(), 0, 0, 0, static_cast<GLint>(f), R, filled, 1,
                                 GL_RG_INTEGER, GL_UNSIGNED_INT, index.data());
             data.insert(data.end(), m.data.begin(), m.data.end());
         }
@@ -482,6 +504,7 @@ private:
     SampleMapSetup mSetup;
     std::optional<Pending> mPending;
     double mMapsMs = 0.0, mUploadMs = 0.0;
+    double mFirstMapMs = 0.0; // the one map built before the cube in the same frame
     bool mBuilt = false;
     geometry::RectLight mLight;
     std::uint32_t mSeed = 0;

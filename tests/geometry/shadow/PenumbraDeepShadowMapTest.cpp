@@ -257,8 +257,9 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
     // Receivers on the wall on each texel's centre ray, against the same samples' segments.
     double sum = 0.0;
     int off = 0, count = 0, shadowed = 0;
-    for (int j = 0; j < 64; ++j)
-        for (int i = 0; i < 64; ++i) {
+    EXPECT_EQ(g.rowCount(), 22); // the band: a third as tall as wide, texels about square
+    for (int j = 0; j < g.rowCount(); ++j)
+        for (int i = 0; i < g.resolution; ++i) {
             const glm::vec2 m = g.texelCentre(i, j);
             const glm::vec3 dir = m.x * g.eu + m.y * g.ev + g.n;
             const glm::vec3 q = light.center + 4.0f * dir;
@@ -276,11 +277,11 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
             shadowed += lit < N;
             ++count;
         }
-    std::printf("  side face, 64² deep map from %d maps of %d²: zNear %.3f, %d of %d wall "
+    std::printf("  side face, 64 x 22 deep map from %d maps of %d²: zNear %.3f, %d of %d wall "
                 "receivers in shadow, mean |dV| %.5f against the same samples, %d off by more "
                 "than one sample and the tolerance\n",
                 N, R, g.zNear, shadowed, count, sum / count, off);
-    EXPECT_GT(shadowed, 400);
+    EXPECT_GT(shadowed, 300);
     // Measured: 0.00156 (the tolerance, 1 / N + 0.5 / 255, lets each value move by up to
     // 0.0176).
     EXPECT_LT(sum / count, 0.0020);

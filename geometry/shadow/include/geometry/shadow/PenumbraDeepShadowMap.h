@@ -45,7 +45,9 @@ struct PdsmGrid {
     glm::vec3 centre{0.0f};
     glm::vec3 eu{1, 0, 0}, ev{0, 0, 1}, n{0, -1, 0};
     glm::vec2 lo{0.0f}, hi{0.0f}; // extent in m from the centre
-    int resolution = 0;           // texels per side
+    int resolution = 0;           // texels per row (along eu)
+    int rows = 0;                 // rows (along ev): resolution, or fewer for a cube's side
+                                  // face, whose band is a third as tall as it is wide
     float zNear = 0.0f;           // the casters' least depth along n (t = 0)
     float sFar = 0.0f;            // zNear / the deepest receiver's depth (t = 1), in (0, 1)
     // The extent was capped at kSampleMapMaxTan, or the sample frame is clipped: receivers the
@@ -53,6 +55,7 @@ struct PdsmGrid {
     bool clipped = false;
     bool empty = true; // no casters: every receiver lit
 
+    int rowCount() const { return rows > 0 ? rows : resolution; }
     // The texel centre's m of texel (i, j) (column i, row j from lo).
     glm::vec2 texelCentre(int i, int j) const;
 };
