@@ -4,8 +4,9 @@
 # viewer's lamp) at 256x256, against `reference` N = 1024 of the same view: pdsm's error (and
 # sample-maps' with the same 256 samples and wedges-bitmask's beside it), its frame over hard's
 # (ROUNDS alternating runs, each the median of 5 frames after the first, which builds the deep
-# map), its precompute, memory and function lengths. Then the tolerance and the samples swept
-# on two scenes. Writes docs/bench-pdsm.md.
+# map), whether it built one map or the cube around the light, its precompute, memory and
+# function lengths. Then the tolerance and the samples swept on two scenes, and the receiver
+# offset (bias) on the levels' views. Writes docs/bench-pdsm.md.
 # Usage: bash scripts/bench-pdsm.sh   (build first; OUT defaults to out/bench-pdsm, ROUNDS to 3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -46,6 +47,14 @@ for s in plates-three sphere; do
         sweeps+=("$o|$s|$p")
     done
 done
+# The receiver offset on the levels' spawn views (where the lamp grazes steps and walls).
+for entry in ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0; do
+    wedge_view "$entry"
+    o="$root/${name// /-}"
+    "$render" --scene "$scene" "${camera[@]}" --method pdsm --param bias=0.1 --size "$size" \
+        --out "$o/pdsm-bias=0.1" --compare "$o/reference/visibility.pfm" --quiet
+    sweeps+=("$o|$name|bias=0.1")
+done
 cpu=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
 /usr/bin/python3 - "$rounds" "$cpu" "${rows[@]}" -- "${sweeps[@]}" > docs/bench-pdsm.md <<'PY'
 import json, statistics, sys
@@ -65,13 +74,16 @@ print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², t
       f"256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
       f"beside `sample-maps` with the same 256 samples and `wedges-bitmask`'s default. Frame: "
       f"pdsm's over `hard`'s, the median of {rounds} alternating runs, each the median of 6 frames "
-      f"(the first builds the deep map). Precompute: the sample maps drawn and read back, merged "
-      f"on the CPU (all cores) and uploaded, in the first frame. GL_RENDERER "
-      f"{first['gl_renderer']}, CPU {cpu}.")
+      f"(the first builds the deep map). Maps: one along the light's normal, or the cube of deep "
+      f"maps around the light (its faces built) where the one map's first lookup finds receivers "
+      f"outside it. Precompute: the sample maps drawn and read back, merged on the CPU (all "
+      f"cores) and uploaded, in the first frame (for the cube, the one map's before it "
+      f"included, in parentheses). GL_RENDERER {first['gl_renderer']}, CPU {cpu}.")
 print()
-print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard | precompute s | "
-      "deep map MiB | points per texel (mean, longest) | clipped (receivers outside) |")
-print("|---|---|---|---|---|---|---|---|---|")
+print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard | maps | "
+      "precompute s | deep map MiB | points per texel (mean, longest) | "
+      "clipped (receivers outside) |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for row in rows:
     o, name = row.split("|")
     p = rep(o + "/pdsm-1")
@@ -79,9 +91,14 @@ for row in rows:
     ratios = [rep(f"{o}/pdsm-{r}")["frame_ms"] / rep(f"{o}/hard-{r}")["frame_ms"]
               for r in range(1, rounds + 1)]
     clipped = f"yes ({int(c['pdsm_pixels_outside'])})" if c["pdsm_clipped"] else "no"
+    cube = c.get("pdsm_cube", 0) > 0
+    maps = f"cube, {int(c['pdsm_faces'])} faces" if cube else "one"
+    pre = f"{c['pdsm_precompute_ms'] / 1000:.1f}"
+    if cube:
+        pre += f" ({c['pdsm_first_map_ms'] / 1000:.1f})"
     print(f"| {name} | {err(p)} | {err(rep(o + '/sample-maps'))} | "
-          f"{err(rep(o + '/wedges-bitmask'))} | {statistics.median(ratios):.2f}× | "
-          f"{c['pdsm_precompute_ms'] / 1000:.1f} | {c['pdsm_bytes'] / 2**20:.1f} | "
+          f"{err(rep(o + '/wedges-bitmask'))} | {statistics.median(ratios):.2f}× | {maps} | "
+          f"{pre} | {c['pdsm_bytes'] / 2**20:.1f} | "
           f"{c['pdsm_mean_function']:.0f}, {int(c['pdsm_longest_function'])} | {clipped} |")
 print()
 print("**Parameters** (one run each, the same reference):")
@@ -91,7 +108,8 @@ print("| scene | parameter | mean error (% > 0.05) | deep map MiB | points per t
 print("|---|---|---|---|---|---|---|")
 for s in sweeps:
     o, scene, p = s.split("|")
-    for label, path in ([("default", o + "/pdsm-1")] if p == "tolerance=0.003" else []) + \
+    for label, path in ([("default", o + "/pdsm-1")]
+                        if p in ("tolerance=0.003", "bias=0.1") else []) + \
             [(p, f"{o}/pdsm-{p}")]:
         r = rep(path)
         c = r["counters"]
