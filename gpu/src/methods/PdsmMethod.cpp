@@ -289,6 +289,7 @@ private:
     // it holds every receiver that may be hidden, else a map per face of the cube; and starts
     // the first face.
     Pending start(const FrameContext& ctx) {
+        const auto t0 = Clock::now();
         Pending p;
         p.light = ctx.light;
         p.seed = ctx.settings.seed;
@@ -323,6 +324,7 @@ private:
         p.rows = std::make_shared<std::atomic<int>>(0);
         for (const geometry::PdsmFace& face : p.faces) p.totalRows += face.grid.rowCount();
         p.report = ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
+        p.mapsMs = msSince(t0); // the fit (the cube's walks every caster triangle per face)
         drawNext(ctx, p);
         return p;
     }
