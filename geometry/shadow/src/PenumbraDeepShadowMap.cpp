@@ -174,6 +174,21 @@ void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, const LineDepth& l
 
 } // namespace
 
+namespace {
+
+// Depth t = 0 .. 1 of a deep map along `axis` from `centre`: to the farthest corner of the
+// receivers' box (at least `atLeast`), a thousandth beyond, and at least 1 % beyond zNear.
+float deepestReceiver(const Aabb& scene, const glm::vec3& centre, const glm::vec3& axis,
+                      float atLeast, float zNear) {
+    float deepest = atLeast;
+    if (!scene.empty())
+        for (int q = 0; q < 8; ++q)
+            deepest = std::max(deepest, glm::dot(scene.corner(q) - centre, axis));
+    return std::max(deepest * 1.001f, zNear * 1.01f);
+}
+
+} // namespace
+
 glm::vec2 PdsmGrid::texelCentre(int i, int j) const {
     return lo + (glm::vec2(static_cast<float>(i), static_cast<float>(j)) + 0.5f) /
                     glm::vec2(static_cast<float>(resolution), static_cast<float>(rowCount())) *
@@ -192,15 +207,7 @@ PdsmGrid fitPdsmGrid(const SampleMapFrame& f, const glm::vec3& lightCentre, cons
     g.empty = false;
     g.zNear = f.zNear;
     // The deepest receiver: the scene box's farthest corner along n (at least the casters').
-    float deepest = f.zFar;
-    if (!scene.empty())
-        for (int c = 0; c < 8; ++c) {
-            const glm::vec3 q((c & 1) ? scene.max.x : scene.min.x,
-                              (c & 2) ? scene.max.y : scene.min.y,
-                              (c & 4) ? scene.max.z : scene.min.z);
-            deepest = std::max(deepest, glm::dot(q - lightCentre, f.n));
-        }
-    deepest = std::max(deepest * 1.001f, f.zNear * 1.01f);
+    const float deepest = deepestReceiver(scene, lightCentre, f.n, f.zFar, f.zNear);
     g.sFar = f.zNear / deepest;
     // inReach's widening for every depth in [zNear, deepest]: the light's half extent times
     // the spread of 1 / z, and 1 % of the casters' extent.
@@ -249,22 +256,12 @@ std::vector<PdsmFace> fitPdsmCube(const PcssFrame& cube, const RectLight& light,
         f.empty = false;
         f.clipped = nearest < minNear;
         f.zNear = std::max(0.999f * nearest, minNear);
-        float deepest = 0.0f;
-        for (int q = 0; q < 8; ++q) {
-            const glm::vec3 corner((q & 1) ? scene.max.x : scene.min.x,
-                                   (q & 2) ? scene.max.y : scene.min.y,
-                                   (q & 4) ? scene.max.z : scene.min.z);
-            deepest = std::max(deepest, glm::dot(corner - c, s.axis));
-        }
-        deepest = std::max(deepest * 1.001f, f.zNear * 1.01f);
+        const float deepest = deepestReceiver(scene, c, s.axis, 0.0f, f.zNear);
         f.zFar = deepest;
         f.half = cube.halfSize;
         f.reachAll = true;
         std::array<glm::vec3, 8> box;
-        for (int q = 0; q < 8; ++q)
-            box[q] = glm::vec3((q & 1) ? casters.max.x : casters.min.x,
-                               (q & 2) ? casters.max.y : casters.min.y,
-                               (q & 4) ? casters.max.z : casters.min.z);
+        for (int q = 0; q < 8; ++q) box[q] = casters.corner(q);
         for (SampleMapView& v : f.views) {
             const glm::vec3 o = v.origin - c;
             const glm::vec2 d(glm::dot(o, s.b1), glm::dot(o, s.b2));

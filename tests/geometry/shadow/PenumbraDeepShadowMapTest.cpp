@@ -116,6 +116,29 @@ TEST(PenumbraDeepShadowMap, SmoothRampTakesFewPoints) {
     EXPECT_EQ(geometry::compressPdsmStaircase(0.25f, {}, 0.004f).size(), 1u);
 }
 
+// The frame's sample maps at R², rasterised analytically: each texel centre's ray meets the
+// plate (the box `plate`, flat across axis `a`) or not; a view stores (zNear - depth) / z of its
+// own depth z, as SampleMapFrame::projection draws it.
+std::vector<float> plateMaps(const geometry::SampleMapFrame& f, int R, const geometry::Aabb& plate,
+                             int a) {
+    std::vector<float> texels(f.views.size() * static_cast<std::size_t>(R) * R, 0.0f);
+    for (std::size_t k = 0; k < f.views.size(); ++k) {
+        const geometry::SampleMapView& v = f.views[k];
+        for (int y = 0; y < R; ++y)
+            for (int x = 0; x < R; ++x) {
+                const glm::vec2 m = v.lo + (glm::vec2(x, y) + 0.5f) / float(R) * (v.hi - v.lo);
+                const glm::vec3 dir = m.x * f.eu + m.y * f.ev + f.n;
+                const float z = (plate.min[a] - v.origin[a]) / dir[a]; // depth along n
+                const glm::vec3 q = v.origin + z * dir;
+                bool inside = true;
+                for (int b = 0; b < 3; ++b)
+                    inside = inside && (b == a || (q[b] >= plate.min[b] && q[b] <= plate.max[b]));
+                if (inside) texels[(k * R + y) * R + x] = (f.zNear - v.depth) / z;
+            }
+    }
+    return texels;
+}
+
 TEST(PenumbraDeepShadowMap, PlateMapsGiveTheSharesOfTheSameSamples) {
     // A light 4 above the floor, a 1 x 1 plate at height 2, the floor at 0.
     const geometry::RectLight light{{0, 4, 0}, {0.5f, 0, 0}, {0, 0, 0.5f}};
@@ -129,21 +152,8 @@ TEST(PenumbraDeepShadowMap, PlateMapsGiveTheSharesOfTheSameSamples) {
     const auto samples = geometry::stratifiedSquare(N, 1);
     const geometry::SampleMapFrame f = geometry::fitSampleMapFrame(light, samples, plate);
     ASSERT_FALSE(f.clipped);
-    // The maps, rasterised analytically: each texel centre's ray meets the plate or not.
     const int R = 256;
-    std::vector<float> texels(static_cast<std::size_t>(N) * R * R, 0.0f);
-    for (int k = 0; k < N; ++k) {
-        const geometry::SampleMapView& v = f.views[static_cast<std::size_t>(k)];
-        for (int y = 0; y < R; ++y)
-            for (int x = 0; x < R; ++x) {
-                const glm::vec2 m = v.lo + (glm::vec2(x, y) + 0.5f) / float(R) * (v.hi - v.lo);
-                const glm::vec3 dir = m.x * f.eu + m.y * f.ev + f.n;
-                const float z = (2.0f - v.origin.y) / dir.y; // depth along n to the plate
-                const glm::vec3 q = v.origin + z * dir;
-                if (std::abs(q.x) <= 0.5f && std::abs(q.z) <= 0.5f)
-                    texels[(static_cast<std::size_t>(k) * R + y) * R + x] = f.zNear / z;
-            }
-    }
+    const std::vector<float> texels = plateMaps(f, R, plate, 1);
     const geometry::PdsmGrid g = geometry::fitPdsmGrid(f, light.center, scene, 64);
     EXPECT_FALSE(g.clipped);
     const float tol = 1.0f / N + 0.5f / 255.0f + 2e-6f; // a line may cut through steps
@@ -192,8 +202,9 @@ TEST(PenumbraDeepShadowMap, PlateMapsGiveTheSharesOfTheSameSamples) {
                 "more than one sample and the tolerance; against 4096 samples %.5f (the %d "
                 "samples themselves %.5f)\n",
                 sum / count, N, off, count, sumFine / count, N, sumSamples / count);
-    // Measured: 0.00613 (the default tolerance, 1 / N + 0.5 / 255, lets each value move by up to
-    // 0.0176); 0; 0.01333 against 0.01182 (the 8 x 8 samples band under an axis-aligned plate).
+    // Measured: 0.00620 (0.00613 before hidden intervals started at the code at or after their
+    // depth; the default tolerance, 1 / N + 0.5 / 255, lets each value move by up to
+    // 0.0176); 0; 0.01340 against 0.01182 (the 8 x 8 samples band under an axis-aligned plate).
     EXPECT_LT(sum / count, 0.0065);
     EXPECT_EQ(off, 0);
     EXPECT_LT(sumFine / count, sumSamples / count + 0.002);
@@ -235,22 +246,8 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
     float deepest = 0.0f;
     for (const geometry::SampleMapView& v : f.views) deepest = std::max(deepest, v.depth);
     EXPECT_GT(deepest, 0.4f); // the samples lie ahead of the centre along the axis
-    // The maps, rasterised analytically: each texel centre's ray meets the plate or not; a view
-    // stores (zNear - depth) / z of its own depth z.
     const int R = 256;
-    std::vector<float> texels(static_cast<std::size_t>(N) * R * R, 0.0f);
-    for (int k = 0; k < N; ++k) {
-        const geometry::SampleMapView& v = f.views[static_cast<std::size_t>(k)];
-        for (int y = 0; y < R; ++y)
-            for (int x = 0; x < R; ++x) {
-                const glm::vec2 m = v.lo + (glm::vec2(x, y) + 0.5f) / float(R) * (v.hi - v.lo);
-                const glm::vec3 dir = m.x * f.eu + m.y * f.ev + f.n;
-                const float z = (2.0f - v.origin.x) / dir.x;
-                const glm::vec3 q = v.origin + z * dir;
-                if (std::abs(q.y) <= 0.3f && std::abs(q.z) <= 0.5f)
-                    texels[(static_cast<std::size_t>(k) * R + y) * R + x] = (f.zNear - v.depth) / z;
-            }
-    }
+    const std::vector<float> texels = plateMaps(f, R, plate, 0);
     const float tol = 1.0f / N + 0.5f / 255.0f + 2e-6f;
     const geometry::Pdsm map = geometry::buildPdsm(f, g, {R, texels}, {.tolerance = tol});
     EXPECT_LE(map.stats.maxDeviation, tol + 1e-5f);

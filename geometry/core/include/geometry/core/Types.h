@@ -49,6 +49,10 @@ struct Aabb {
     bool empty() const { return min.x > max.x; }
     glm::vec3 center() const { return 0.5f * (min + max); }
     glm::vec3 extent() const { return max - min; }
+    // Corner i (0..7): bit 0 picks max.x, bit 1 max.y, bit 2 max.z.
+    glm::vec3 corner(int i) const {
+        return {(i & 1) ? max.x : min.x, (i & 2) ? max.y : min.y, (i & 4) ? max.z : min.z};
+    }
 };
 
 // A surface a ray crosses: its distance along the ray (in units of the ray's direction) and its
