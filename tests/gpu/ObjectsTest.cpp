@@ -81,6 +81,26 @@ TEST_F(ObjectsTest, BufferUploadResizeGrowsGeometrically) {
     EXPECT_EQ(back, std::vector<std::uint32_t>(data.begin(), data.begin() + 10));
 }
 
+TEST_F(ObjectsTest, BufferReserveKeepsTheBufferWhereItFitsAndUploadsAtAnOffset) {
+    gpu::Buffer buffer({.label = "kept"});
+    buffer.reserve(64);
+    const GLuint id = buffer.id();
+    const std::size_t capacity = buffer.size();
+    EXPECT_GE(capacity, 64u);
+    buffer.reserve(capacity); // fits: the same buffer
+    EXPECT_EQ(buffer.id(), id);
+    const std::uint32_t a[2] = {7, 8}, b[2] = {9, 10};
+    buffer.upload(a, sizeof a, 0);
+    buffer.upload(b, sizeof b, sizeof a);
+    std::uint32_t back[4] = {};
+    glGetNamedBufferSubData(buffer.id(), 0, sizeof back, back);
+    EXPECT_EQ(back[0], 7u);
+    EXPECT_EQ(back[3], 10u);
+    buffer.reserve(capacity + 1); // grows: at least doubled, a new name, the label kept
+    EXPECT_GE(buffer.size(), 2 * capacity);
+    EXPECT_EQ(objectLabel(GL_BUFFER, buffer.id()), "kept");
+}
+
 int gDeleteCalls = 0;
 struct CountingDeleter {
     void operator()(GLuint) const { ++gDeleteCalls; }

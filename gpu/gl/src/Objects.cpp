@@ -186,7 +186,7 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
                          static_cast<GLsizeiptr>(bytes), data);
 }
 
-void Buffer::uploadResize(const void* data, std::size_t bytes) {
+void Buffer::reserve(std::size_t bytes) {
     if (bytes > mSize || !mHandle) {
         // Geometric growth: streaming buffers (silhouette edges per frame) grow a few times and
         // then settle, instead of reallocating whenever the count creeps up.
@@ -201,6 +201,10 @@ void Buffer::uploadResize(const void* data, std::size_t bytes) {
         mSize = capacity;
         mFlags = flags;
     }
+}
+
+void Buffer::uploadResize(const void* data, std::size_t bytes) {
+    reserve(bytes);
     upload(data, bytes, 0);
 }
 

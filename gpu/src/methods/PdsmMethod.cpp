@@ -56,7 +56,8 @@ public:
           mLookupWithoutPlane(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}),
           mProduct(r.shaders, "pdsm-compose"),
           mUniforms({.size = sizeof(shader::PdsmUniforms), .label = "pdsm-uniforms"}),
-          mStats({.size = PDSM_STAT_COUNT * sizeof(std::uint32_t), .label = "pdsm-stats"}) {
+          mStats({.size = PDSM_STAT_COUNT * sizeof(std::uint32_t), .label = "pdsm-stats"}),
+          mData({.label = "pdsm-data"}) {
         const std::size_t r2 = static_cast<std::size_t>(mOptions.resolution) *
                                static_cast<std::size_t>(mOptions.resolution);
         const std::size_t bytes = static_cast<std::size_t>(mOptions.samples) * r2 * 4;
@@ -338,7 +339,12 @@ private:
         const geometry::SampleMapFrame& f = face.frame;
         const int R = mOptions.resolution;
         const std::size_t layer = static_cast<std::size_t>(R) * static_cast<std::size_t>(R);
-        auto texels = std::make_shared<std::vector<float>>();
+        // One read-back buffer, kept from face to face and build to build (a light moved every
+        // frame would otherwise allocate and free k R^2 floats per face per frame); a new one
+        // only while a merge still holds it.
+        if (!mReadBack || mReadBack.use_count() > 1)
+            mReadBack = std::make_shared<std::vector<float>>();
+        std::shared_ptr<std::vector<float>> texels = mReadBack;
         if (!f.empty) {
             ScopedPass pass(&ctx.timers, "pdsm-sample-maps");
             texels->resize(layer * f.views.size());
@@ -447,12 +453,15 @@ private:
                 " points, more than one buffer texture of GL_MAX_TEXTURE_BUFFER_SIZE = " +
                 std::to_string(maxTexels) + " texels of four holds; raise tolerance or lower " +
                 "resolution");
-        std::vector<std::uint32_t> data;
-        data.reserve(std::max<std::size_t>(words, 3));
+        // The data buffer is kept and grown (doubling) as the maps need, each face's points
+        // uploaded at its offset: a light moved every frame rebuilds the maps every frame.
+        const std::size_t usedWords = std::max<std::size_t>(words, 3);
+        mData.reserve(usedWords * sizeof(std::uint32_t));
+        std::size_t offset = 0; // in words
         std::vector<std::uint32_t> index;
         for (std::size_t f = 0; f < mFaces.size(); ++f) {
             const geometry::Pdsm& m = mFaces[f];
-            const auto base = static_cast<std::uint32_t>(data.size() / 3);
+            const auto base = static_cast<std::uint32_t>(offset / 3);
             index = m.index;
             for (std::size_t i = 0; i < index.size(); i += 2) index[i] += base;
             // A side face's band fills the layer's first rows; the row above it repeats its
@@ -465,19 +474,22 @@ private:
                              index.end());
             glTextureSubImage3D(mIndex.id(), 0, 0, 0, static_cast<GLint>(f), R, filled, 1,
                                 GL_RG_INTEGER, GL_UNSIGNED_INT, index.data());
-            data.insert(data.end(), m.data.begin(), m.data.end());
+            mData.upload(m.data.data(), m.data.size() * sizeof(std::uint32_t),
+                         offset * sizeof(std::uint32_t));
+            offset += m.data.size();
         }
-        if (data.empty()) data.assign(3, 0u); // a texture is bound either way
-        mData = Buffer({.size = data.size() * sizeof(std::uint32_t),
-                        .data = data.data(),
-                        .flags = 0,
-                        .label = "pdsm-data"});
+        if (offset == 0) { // a texture is bound either way
+            const std::uint32_t zeros[3] = {};
+            mData.upload(zeros, sizeof(zeros));
+        }
         if (!mDataTexels) {
             GLuint id = 0;
             glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
             mDataTexels = Handle<TextureDeleter>(id);
         }
-        glTextureBuffer(mDataTexels.id(), GL_RGB32UI, mData.id());
+        // Re-pointed every upload: the buffer's name changes where it grew.
+        glTextureBufferRange(mDataTexels.id(), GL_RGB32UI, mData.id(), 0,
+                             static_cast<GLsizeiptr>(usedWords * sizeof(std::uint32_t)));
     }
 
     struct TextureDeleter {
@@ -494,6 +506,7 @@ private:
     Texture mIndex;
     Handle<TextureDeleter> mDataTexels;
     std::optional<SampleMapPass> mMaps;
+    std::shared_ptr<std::vector<float>> mReadBack; // the sample maps read back (drawNext)
     std::vector<geometry::Pdsm> mFaces; // the built maps, a layer of mIndex each
     std::vector<int> mFaceIds;          // their cube faces (0 for the one map)
     bool mCube = false;         // the built maps are the cube's
