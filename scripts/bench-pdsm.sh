@@ -5,8 +5,9 @@
 # sample-maps' with the same 256 samples and wedges-bitmask's beside it), its frame over hard's
 # (ROUNDS alternating runs, each the median of 5 frames after the first, which builds the deep
 # map), whether it built one map or the cube around the light, its precompute, memory and
-# function lengths. Then the tolerance and the samples swept on two scenes, and the receiver
-# offset (bias) on the levels' views. Writes docs/bench-pdsm.md.
+# function lengths. Then the compression's noise bound, its tolerance and the samples swept on
+# two scenes, and the noise bound and the receiver offset (bias) on the levels' views. Writes
+# docs/bench-pdsm.md.
 # Usage: bash scripts/bench-pdsm.sh   (build first; OUT defaults to out/bench-pdsm, ROUNDS to 3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,20 +41,26 @@ done
 sweeps=()
 for s in plates-three sphere; do
     o="$root/$s"
-    for p in tolerance=0.003 tolerance=0.008 tolerance=0.016 tolerance=0.032 samples=16 \
-        samples=64; do
+    for p in noise=0 noise=1 tolerance=0.003 tolerance=0.008 tolerance=0.016 tolerance=0.032 \
+        samples=16 samples=64; do
         "$render" --scene "data/$s.json" --method pdsm --param "$p" --size "$size" \
             --out "$o/pdsm-$p" --compare "$o/reference/visibility.pfm" --quiet
         sweeps+=("$o|$s|$p")
     done
 done
-# The receiver offset on the levels' spawn views (where the lamp grazes steps and walls).
+# On the levels' spawn views: the compression's noise bound (memory), and the receiver offset
+# (where the lamp grazes steps and walls).
 for entry in ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0; do
     wedge_view "$entry"
     o="$root/${name// /-}"
-    "$render" --scene "$scene" "${camera[@]}" --method pdsm --param bias=0.1 --size "$size" \
-        --out "$o/pdsm-bias=0.1" --compare "$o/reference/visibility.pfm" --quiet
-    sweeps+=("$o|$name|bias=0.1")
+    params=(noise=1 bias=0.1)
+    [[ "$entry" == *oa_dm5* ]] && params=(noise=0 noise=1 noise=2 bias=0.1)
+    for p in "${params[@]}"; do
+        echo "== $name $p" >&2
+        "$render" --scene "$scene" "${camera[@]}" --method pdsm --param "$p" --size "$size" \
+            --out "$o/pdsm-$p" --compare "$o/reference/visibility.pfm" --quiet
+        sweeps+=("$o|$name|$p")
+    done
 done
 cpu=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
 /usr/bin/python3 - "$rounds" "$cpu" "${rows[@]}" -- "${sweeps[@]}" > docs/bench-pdsm.md <<'PY'
@@ -70,8 +77,8 @@ def err(r):
     return f"{e['mean_abs_err']:.4f} ({e['bad_pixel_pct']:.1f})"
 first = rep(rows[0].split("|")[0] + "/pdsm-1")
 print("<!-- written by scripts/bench-pdsm.sh; do not edit by hand -->")
-print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², tolerance 0.004) at "
-      f"256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
+print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², tolerance 0.004, "
+      f"noise 0.5) at 256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
       f"beside `sample-maps` with the same 256 samples and `wedges-bitmask`'s default. Frame: "
       f"pdsm's over `hard`'s, the median of {rounds} alternating runs, each the median of 6 frames "
       f"(the first builds the deep map). Maps: one along the light's normal, or the cube of deep "
@@ -101,16 +108,17 @@ for row in rows:
           f"{pre} | {c['pdsm_bytes'] / 2**20:.1f} | "
           f"{c['pdsm_mean_function']:.0f}, {int(c['pdsm_longest_function'])} | {clipped} |")
 print()
-print("**Parameters** (one run each, the same reference):")
+print("**Parameters** (one run each, the same reference; the others at their defaults):")
 print()
 print("| scene | parameter | mean error (% > 0.05) | deep map MiB | points per texel | "
       "largest stored deviation | precompute s |")
 print("|---|---|---|---|---|---|---|")
+last = None
 for s in sweeps:
     o, scene, p = s.split("|")
-    for label, path in ([("default", o + "/pdsm-1")]
-                        if p in ("tolerance=0.003", "bias=0.1") else []) + \
+    for label, path in ([("default", o + "/pdsm-1")] if scene != last else []) + \
             [(p, f"{o}/pdsm-{p}")]:
+        last = scene
         r = rep(path)
         c = r["counters"]
         print(f"| {scene} | {label} | {err(r)} | {c['pdsm_bytes'] / 2**20:.1f} | "

@@ -157,7 +157,9 @@ Diff diff(const Rendered& a, const Rendered& b) {
 TEST_F(PdsmMethod, AgainstTheReferenceOnDataScenes) {
     // 128², k = 64 samples, maps of 256², against reference N = 256 (the bench: 256², k = 256,
     // maps of 512², N = 1024). Measured error of each (the maps' texels, the compression's
-    // 0.004 and the 64 samples' own banding).
+    // bound: 0.004, or half the 64 samples' standard error where V is between 0 and 1 and that
+    // is more, up to 0.031; and the 64 samples' own banding). With the bound 0.004 alone:
+    // 0.00601 (121 off), 0.00215 (20), 0.00325 (84), 0.00262 (24).
     struct Case {
         const char* scene;
         double mean;     // measured
@@ -166,8 +168,8 @@ TEST_F(PdsmMethod, AgainstTheReferenceOnDataScenes) {
     // The pixels off by > 0.05 lie along the plates' and the box's umbra edges (the maps'
     // texels at 256²) and the curved casters' terminators; plates-three's mean is mostly the 64
     // samples' own banding under its axis-aligned plates.
-    for (const Case& c : {Case{"plates-three.json", 0.00601, 121}, Case{"sphere.json", 0.00215, 20},
-                          Case{"box.json", 0.00325, 84}, Case{"torus.json", 0.00262, 24}}) {
+    for (const Case& c : {Case{"plates-three.json", 0.00617, 119}, Case{"sphere.json", 0.00217, 25},
+                          Case{"box.json", 0.00335, 58}, Case{"torus.json", 0.00278, 39}}) {
         SCOPED_TRACE(c.scene);
         const auto scene = geometry::loadScene(testutil::dataPath(c.scene));
         const Rendered ref = testutil::render(scene, "reference", 128, 128, 256);
@@ -182,8 +184,7 @@ TEST_F(PdsmMethod, AgainstTheReferenceOnDataScenes) {
         EXPECT_GT(d.pixels, 5000u);
         EXPECT_LT(d.mean, c.mean + 0.0005);
         EXPECT_LE(d.off, c.off + c.off / 10);
-        EXPECT_LE(testutil::counter(r.stats, "pdsm_max_deviation"),
-                  0.004 + 1e-5);
+        EXPECT_LE(testutil::counter(r.stats, "pdsm_max_excess"), 1e-5); // the bound kept
     }
 }
 
@@ -209,11 +210,12 @@ TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
         double mean, hard; // measured: pdsm's and hard's mean |dV|
         std::size_t off;   // measured: pdsm's pixels off by > 0.05
     };
-    // Measured: kaos2 0.00112 (hard 0.00000: no shadow in the view; 59 pixels at the walls'
-    // creases and on the ramps the light grazes), oa_dm5 0.00652 (313: the steps' risers below
+    // Measured: kaos2 0.00111 (hard 0.00000: no shadow in the view; 47 pixels at the walls'
+    // creases and on the ramps the light grazes), oa_dm5 0.00651 (323: the steps' risers below
     // the lamp, which it grazes, the creases of the walls beside it, and the penumbra on the
     // wall left of the lamp, in a side face whose 256 x 86 texels are coarse there).
-    for (const Case& c : {Case{"kaos2.glb", 0.00112, 0.0, 59}, Case{"oa_dm5.glb", 0.00652, 0.01799, 313}}) {
+    for (const Case& c :
+         {Case{"kaos2.glb", 0.00111, 0.0, 47}, Case{"oa_dm5.glb", 0.00651, 0.01799, 323}}) {
         SCOPED_TRACE(c.level);
         const geometry::Scene scene = testutil::levelWithLamp(c.level, 0);
         const Rendered r = testutil::render(scene, "pdsm", 128, 72, 1,

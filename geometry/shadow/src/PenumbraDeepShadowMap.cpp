@@ -340,11 +340,19 @@ void jitterSampleMapGrids(SampleMapFrame& frame, int resolution) {
     }
 }
 
+float PdsmBound::at(float v) const {
+    if (!(noise > 0.0f) || samples <= 0) return tolerance;
+    const float var = std::max(v * (1.0f - v), 0.0f) / static_cast<float>(samples);
+    return std::max(tolerance, noise * std::sqrt(var));
+}
+
 std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmStep> steps,
-                                             float tolerance) {
+                                             const PdsmBound& bound) {
     // The values are rounded to 8 bits afterwards: at most half a step more.
-    const float eps = tolerance - 0.5f / 255.0f - 1e-6f;
-    if (!(eps > 0.0f)) throw std::invalid_argument("pdsm: tolerance must exceed 0.5 / 255");
+    const auto epsAt = [&](float v) { return bound.at(v) - 0.5f / 255.0f - 1e-6f; };
+    if (!(epsAt(0.0f) > 0.0f)) throw std::invalid_argument("pdsm: tolerance must exceed 0.5 / 255");
+    if (!(bound.noise >= 0.0f) || (bound.noise > 0.0f && bound.samples <= 0))
+        throw std::invalid_argument("pdsm: noise must be >= 0, with the sample count");
     std::vector<PdsmPoint> out;
     out.push_back({0u, start});
     float ox = 0.0f, oy = start;       // the current segment's start
@@ -383,9 +391,13 @@ std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmSt
     };
     for (const PdsmStep& s : steps) {
         const float x = static_cast<float>(s.code);
-        if (std::abs(s.after - s.before) <= 2.0f * eps) {
-            // Both sides of the step within eps of the line.
-            add(x, std::max(s.before, s.after) - eps, std::min(s.before, s.after) + eps);
+        // The line at x within the bound of both sides of the step: the pieces before and
+        // after it, each constant, deviate the most from a line at their ends.
+        const float eb = epsAt(s.before), ea = epsAt(s.after);
+        const float lo = std::max(s.before - eb, s.after - ea);
+        const float hi = std::min(s.before + eb, s.after + ea);
+        if (lo <= hi) {
+            add(x, lo, hi);
         } else {
             // A step: the segment ends at x on `before` exactly, the next starts at `after`.
             // (Every receiver lies just before such a step, the surface it lies on, and reads
@@ -400,7 +412,7 @@ std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmSt
     }
     const float last = steps.empty() ? start : steps.back().after;
     if (steps.empty() || steps.back().code < kMaxCode)
-        add(static_cast<float>(kMaxCode), last - eps, last + eps);
+        add(static_cast<float>(kMaxCode), last - epsAt(last), last + epsAt(last));
     if (have) flush();
     // A constant function needs its first point only.
     bool constant = true;
@@ -418,6 +430,24 @@ float pdsmDeviation(float start, std::span<const PdsmStep> steps,
     const auto piece = [&](float next, bool end) {
         worst = std::max(worst, std::abs(storedAt(points, c, false) - f));
         worst = std::max(worst, std::abs(storedAt(points, next, !end) - f));
+    };
+    for (const PdsmStep& s : steps) {
+        piece(static_cast<float>(s.code), false);
+        c = static_cast<float>(s.code);
+        f = s.after;
+    }
+    piece(static_cast<float>(kMaxCode), true);
+    return worst;
+}
+
+float pdsmExcess(float start, std::span<const PdsmStep> steps, std::span<const PdsmPoint> points,
+                 const PdsmBound& bound) {
+    float worst = -kInf;
+    float c = 0.0f, f = start;
+    const auto piece = [&](float next, bool end) {
+        const float b = bound.at(f);
+        worst = std::max(worst, std::abs(storedAt(points, c, false) - f) - b);
+        worst = std::max(worst, std::abs(storedAt(points, next, !end) - f) - b);
     };
     for (const PdsmStep& s : steps) {
         piece(static_cast<float>(s.code), false);
@@ -533,6 +563,9 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     threads = std::clamp(threads, 1, 64);
     std::vector<Partial> partial(static_cast<std::size_t>(threads));
     std::atomic<int> nextRow{0}, rowsDone{0};
+    const PdsmBound bound{.tolerance = settings.tolerance,
+                          .noise = settings.noise,
+                          .samples = static_cast<int>(frame.views.size())};
     const auto work = [&](int w) {
         std::vector<PdsmStep> steps;
         PdsmStats& st = partial[static_cast<std::size_t>(w)].stats;
@@ -543,9 +576,9 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
                                               settings.depthBias, steps);
                 std::uint32_t count = 0;
                 if (!(steps.empty() && valueCode(start) == 255u)) {
-                    const std::vector<PdsmPoint> pts =
-                        compressPdsmStaircase(start, steps, settings.tolerance);
+                    const std::vector<PdsmPoint> pts = compressPdsmStaircase(start, steps, bound);
                     st.maxDeviation = std::max(st.maxDeviation, pdsmDeviation(start, steps, pts));
+                    st.maxExcess = std::max(st.maxExcess, pdsmExcess(start, steps, pts, bound));
                     for (const PdsmPoint& p : pts) row.push_back(p.code | valueCode(p.value) << 16);
                     count = static_cast<std::uint32_t>(pts.size());
                     ++st.texelsStored;
@@ -577,6 +610,7 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
         out.stats.texelsStored += p.stats.texelsStored;
         out.stats.longest = std::max(out.stats.longest, p.stats.longest);
         out.stats.maxDeviation = std::max(out.stats.maxDeviation, p.stats.maxDeviation);
+        out.stats.maxExcess = std::max(out.stats.maxExcess, p.stats.maxExcess);
     }
     if (out.stats.points > 0xFFFFFFFFull)
         throw std::length_error("pdsm: more than 2^32 points");

@@ -106,6 +106,7 @@ struct PdsmOptions {
     int samples = 0;         // light samples k, one shadow map each, merged into the deep map
     int resolution = 0;      // side of each sample map and of the deep map in texels
     float tolerance = 0.0f;  // the compression's bound on |dV|
+    float noise = 0.0f;      // up to this many standard errors of the samples' V where more
     float normalOffset = 0.0f; // the receiver offset: x tan(angle) deep-map texels
     bool ownPlane = true;    // V at most the share of the light in front of the receiver
 };

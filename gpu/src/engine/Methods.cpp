@@ -156,7 +156,9 @@ constexpr MethodParameter kLinearLightSmParameters[] = {
 // pdsm (St-Amour et al. 2005): the sample maps merged into one deep map from the light's centre.
 constexpr std::string_view kPdsmSamples[] = {"16", "32", "64", "128", "256"};
 constexpr std::string_view kPdsmResolution[] = {"128", "256", "512", "1024"};
-constexpr std::string_view kPdsmTolerance[] = {"0.003", "0.004", "0.008", "0.016", "0.032"};
+constexpr std::string_view kPdsmTolerance[] = {"0.002", "0.003", "0.004", "0.008", "0.016",
+                                               "0.032"};
+constexpr std::string_view kPdsmNoise[] = {"0", "0.25", "0.5", "1", "2"};
 constexpr std::string_view kPdsmBias[] = {"0.0", "0.1", "0.25", "0.5", "1.0"};
 constexpr std::string_view kPdsmPlane[] = {"on", "off"};
 constexpr MethodParameter kPdsmParameters[] = {
@@ -169,6 +171,10 @@ constexpr MethodParameter kPdsmParameters[] = {
      "the compression's guaranteed bound on |V stored - V of the k samples| at every depth of "
      "every texel, 8-bit values included: more stores fewer points (at or below 1 / (2k) + "
      "0.002 every sample's step is kept)"},
+    {"noise", kPdsmNoise, "0.5",
+     "where V lies between 0 and 1, the bound may be this many standard errors of the k "
+     "samples' own estimate, sqrt(V (1 - V) / k), where that is more than tolerance (0: "
+     "tolerance everywhere)"},
     {"bias", kPdsmBias, "0.0",
      "the receiver moved bias x tan(angle between its normal and the light's centre) deep-map "
      "texels along its normal, towards the light, beside the receiver-plane reads and the maps' "
@@ -447,6 +453,7 @@ PdsmOptions pdsmOptions(std::span<const ParameterValue> given) {
     return {.samples = intValue(r, "samples"),
             .resolution = intValue(r, "resolution"),
             .tolerance = std::stof(std::string(parameterValue(r, "tolerance"))),
+            .noise = std::stof(std::string(parameterValue(r, "noise"))),
             .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
             .ownPlane = parameterValue(r, "plane") == "on"};
 }

@@ -229,6 +229,7 @@ private:
             s.texelsStored += m.stats.texelsStored;
             s.longest = std::max(s.longest, m.stats.longest);
             s.maxDeviation = std::max(s.maxDeviation, m.stats.maxDeviation);
+            s.maxExcess = std::max(s.maxExcess, m.stats.maxExcess);
             s.buildMs += m.stats.buildMs;
             bytes += m.bytes();
         }
@@ -242,6 +243,7 @@ private:
         ctx.addCounter("pdsm_cube", mCube ? 1.0 : 0.0);
         ctx.addCounter("pdsm_resolution", mOptions.resolution);
         ctx.addCounter("pdsm_tolerance", mOptions.tolerance);
+        ctx.addCounter("pdsm_noise", mOptions.noise);
         ctx.addCounter("pdsm_points", static_cast<double>(s.points));
         ctx.addCounter("pdsm_texels_stored", s.texelsStored);
         ctx.addCounter("pdsm_longest_function", s.longest);
@@ -249,6 +251,8 @@ private:
                        s.texelsStored ? static_cast<double>(s.points) / s.texelsStored : 0.0);
         ctx.addCounter("pdsm_steps", static_cast<double>(s.steps));
         ctx.addCounter("pdsm_max_deviation", s.maxDeviation);
+        // At most 0: every stored function keeps its bound (tolerance and noise).
+        ctx.addCounter("pdsm_max_excess", s.texelsStored ? s.maxExcess : 0.0f);
         ctx.addCounter("pdsm_bytes", static_cast<double>(bytes));
         ctx.addCounter("pdsm_maps_ms", mMapsMs);
         ctx.addCounter("pdsm_build_ms", s.buildMs);
@@ -362,7 +366,8 @@ private:
         const double ms = msSince(t0);
         p.mapsMs += ms;
         ctx.addCpuTime("pdsm-sample-maps", ms);
-        geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance};
+        geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance,
+                                             .noise = mOptions.noise};
         int before = 0;
         for (std::size_t k = 0; k < p.next; ++k) before += p.faces[k].grid.rowCount();
         const int total = p.totalRows;

@@ -102,6 +102,48 @@ TEST(PenumbraDeepShadowMap, CompressionKeepsEveryDepthWithinItsTolerance) {
     }
 }
 
+TEST(PenumbraDeepShadowMap, TheNoiseBoundHoldsAndKeepsLitAndUmbraExact) {
+    // The bound max(tolerance, noise sqrt(V (1 - V) / k)): kept at every depth (exact, and
+    // on either side of every step as the lookup reads it), tolerance where V is 0 or 1, and
+    // fewer points than the tolerance alone where V wanders between.
+    std::mt19937 rng(11);
+    const geometry::PdsmBound bound{.tolerance = 0.002f, .noise = 0.5f, .samples = 256};
+    EXPECT_FLOAT_EQ(bound.at(1.0f), 0.002f);
+    EXPECT_FLOAT_EQ(bound.at(0.0f), 0.002f);
+    EXPECT_NEAR(bound.at(0.5f), 0.5f * 0.5f / 16.0f, 1e-6f);
+    float worstExcess = -1.0f, worstEnds = 0.0f;
+    std::size_t withNoise = 0, without = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        float start = 1.0f;
+        const std::vector<PdsmStep> s = randomStaircase(rng, 256, start);
+        const std::vector<PdsmPoint> p = geometry::compressPdsmStaircase(start, s, bound);
+        withNoise += p.size();
+        without += geometry::compressPdsmStaircase(start, s, bound.tolerance).size();
+        worstExcess = std::max(worstExcess, geometry::pdsmExcess(start, s, p, bound));
+        const geometry::Pdsm m = oneTexel(p);
+        for (const PdsmStep& st : s)
+            for (float dx : {-0.25f, 0.25f}) {
+                const float x = float(st.code) + dx;
+                if (x < 0.0f || x > 65535.0f) continue;
+                const float truth = staircase(start, s, x, false);
+                const float got = geometry::evaluatePdsm(m, 0, 0, x / PDSM_DEPTH_CODES);
+                EXPECT_LE(std::abs(got - truth), bound.at(truth) + 1e-5f);
+                if (truth == 0.0f || truth == 1.0f)
+                    worstEnds = std::max(worstEnds, std::abs(got - truth));
+            }
+    }
+    std::printf("  noise 0.5, k = 256: largest excess over the bound %.6f; where V is 0 or 1 the "
+                "largest deviation %.5f; %zu points (tolerance 0.002 alone: %zu)\n",
+                worstExcess, worstEnds, withNoise, without);
+    EXPECT_LE(worstExcess, 1e-5f);
+    EXPECT_LE(worstEnds, bound.tolerance + 1e-5f); // the floor: about the 8 bits' half step
+    EXPECT_LT(withNoise, without);
+    const std::vector<PdsmStep> none;
+    EXPECT_THROW(geometry::compressPdsmStaircase(
+                     1.0f, none, geometry::PdsmBound{.tolerance = 0.004f, .noise = 0.5f}),
+                 std::invalid_argument);
+}
+
 TEST(PenumbraDeepShadowMap, SmoothRampTakesFewPoints) {
     // 256 samples hidden one by one over codes 1000..21000: a ramp.
     std::vector<PdsmStep> s;

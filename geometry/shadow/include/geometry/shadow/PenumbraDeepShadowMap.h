@@ -13,11 +13,13 @@
 // into the exact interval of s it hides: per sample a set of hidden intervals, per texel the sum
 // over the samples, V(t) = 1 - hidden / N, a staircase in the depth code t (shared/Pdsm.h).
 // The staircase is then compressed to a piecewise-linear function with a guaranteed bound:
-// |V_stored(t) - V_staircase(t)| <= tolerance at every t, quantisation of the values to 8 bits
-// included (the staircase's steps themselves lie on the 16-bit depth codes). The compression is
-// Lokovic & Veach's (2000) greedy one: from each segment's start, the window of slopes that keep
-// every later step within the bound is narrowed step by step, and the segment ends where it
-// would empty; a step larger than twice the bound is stored as a step (two points at one depth).
+// |V_stored(t) - V_staircase(t)| <= bound(V_staircase(t)) at every t (PdsmBound: the tolerance,
+// or a share of the k samples' standard error where V is between 0 and 1), quantisation of the
+// values to 8 bits included (the staircase's steps themselves lie on the 16-bit depth codes).
+// The compression is Lokovic & Veach's (2000) greedy one: from each segment's start, the window
+// of slopes that keep every later step within the bound is narrowed step by step, and the
+// segment ends where it would empty; a step larger than the bounds of its two sides together is
+// stored as a step (two points at one depth).
 //
 // Storage (the slides' index + data textures): per texel (first group, point count) and the
 // points, 24 bits each, four in three 32-bit words (shared/Pdsm.h), each texel's from a group's
@@ -119,19 +121,45 @@ struct PdsmPoint {
 // against `reference` N = 1024 (docs/bench-pdsm.md), data/plates-three.json errs by 0.0020 at
 // 0.003 and 0.004, 0.0021 at 0.008, 0.0026 at 0.016 and 0.0041 at 0.032, with 155, 72, 18, 7
 // and 5 points per stored texel; the sphere 0.0007, 0.0007, 0.0008, 0.0011, 0.0019;
-// spheres-nine 0.0027 at 0.004 and 0.0029 at 0.008, the demo 0.0011 and 0.0021.
+// spheres-nine 0.0027 at 0.004 and 0.0029 at 0.008, the demo 0.0011 and 0.0021 (those with the
+// tolerance alone, noise = 0). With the noise bound, the method's default 0.5 (same view, 256²):
+// spheres-nine 0.0028 (1 standard error: 0.0035), plates-three 0.0021 (0.0023); oa_dm5's spawn
+// view with the lamp 0.0044 and 88 MiB (noise 0: 0.0044 and 316 MiB; 2: 0.0046, 27 MiB).
 
-// The piecewise-linear function within `tolerance` of the staircase that starts at `start`
+// The compression's bound where the staircase has the value V: `tolerance` everywhere, and
+// where `noise` > 0, up to `noise` standard errors of a k-sample estimate of V,
+// sqrt(V (1 - V) / k), where that is more. The staircase is the k samples' estimate of the true
+// V: where V lies between 0 and 1 it is itself off by about that much (0.031 at V = 1/2, k = 256),
+// and a bound far below it stores the samples' noise point by point; where V is 0 or 1 (lit, in
+// umbra: most of a level's receivers) the estimate is exact and the bound is `tolerance`.
+struct PdsmBound {
+    float tolerance = 0.004f;
+    float noise = 0.0f;
+    int samples = 0; // k (noise > 0 only)
+    float at(float v) const;
+};
+
+// The piecewise-linear function within the bound of the staircase that starts at `start`
 // (V at t = 0) and steps at `steps` (codes strictly increasing, in (0, 65535]), values
-// quantised to 8 bits (the bound includes them). tolerance > 0.5 / 255.
+// quantised to 8 bits (the bound includes them): |stored - staircase| <= bound.at(staircase) at
+// every depth. tolerance > 0.5 / 255.
 std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmStep> steps,
-                                             float tolerance);
+                                             const PdsmBound& bound);
+inline std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmStep> steps,
+                                                    float tolerance) {
+    return compressPdsmStaircase(start, steps, PdsmBound{.tolerance = tolerance});
+}
 
 // The largest |stored - staircase| over every depth (exact: both are linear or constant between
 // the steps and the points, which lie on the steps' codes), the stored function read as the
 // lookup reads it (shared/Pdsm.h pdsmSegment, values decoded from their 8 bits).
 float pdsmDeviation(float start, std::span<const PdsmStep> steps,
                     std::span<const PdsmPoint> points);
+
+// The largest |stored - staircase| - bound.at(staircase) over every depth (exact, as
+// pdsmDeviation): at most 0 where the stored function keeps the bound.
+float pdsmExcess(float start, std::span<const PdsmStep> steps, std::span<const PdsmPoint> points,
+                 const PdsmBound& bound);
 
 // Shifts each sample map's texel grid by its own fraction of a texel (the window widened by one
 // texel, its start moved by a share of it from the R2 sequence over the sample's index). Fitted
@@ -151,6 +179,7 @@ struct PdsmMaps {
 
 struct PdsmBuildSettings {
     float tolerance = 0.004f;
+    float noise = 0.0f; // PdsmBound::noise (k: the frame's views)
     float depthBias = 1e-3f; // hidden where the stored value > s (1 + depthBias)
     int threads = 0;         // 0: std::thread::hardware_concurrency()
     // (rows done, rows), from the calling thread.
@@ -163,6 +192,7 @@ struct PdsmStats {
     std::uint32_t texelsStored = 0;  // texels with a function (not 1 everywhere)
     std::uint32_t longest = 0;       // the most points of one texel
     float maxDeviation = 0.0f;       // the largest pdsmDeviation over the texels
+    float maxExcess = -1.0f;         // the largest pdsmExcess over the texels (<= 0: in bound)
     double buildMs = 0.0;            // the walk and the compression (CPU)
 };
 
