@@ -99,6 +99,9 @@ TEST_F(ObjectsTest, BufferReserveKeepsTheBufferWhereItFitsAndUploadsAtAnOffset) 
     buffer.reserve(capacity + 1); // grows: at least doubled, a new name, the label kept
     EXPECT_GE(buffer.size(), 2 * capacity);
     EXPECT_EQ(objectLabel(GL_BUFFER, buffer.id()), "kept");
+    const std::size_t exact = buffer.size() + 100;
+    buffer.reserve(exact, false); // grows to exactly what is asked
+    EXPECT_EQ(buffer.size(), exact);
 }
 
 int gDeleteCalls = 0;

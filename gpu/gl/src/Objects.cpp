@@ -186,11 +186,11 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
                          static_cast<GLsizeiptr>(bytes), data);
 }
 
-void Buffer::reserve(std::size_t bytes) {
+void Buffer::reserve(std::size_t bytes, bool geometric) {
     if (bytes > mSize || !mHandle) {
         // Geometric growth: streaming buffers (silhouette edges per frame) grow a few times and
         // then settle, instead of reallocating whenever the count creeps up.
-        std::size_t capacity = std::max<std::size_t>({bytes, mSize * 2, 256});
+        std::size_t capacity = std::max<std::size_t>({bytes, geometric ? mSize * 2 : 0, 256});
         GLbitfield flags = mFlags | GL_DYNAMIC_STORAGE_BIT;
         GLuint id = 0;
         glCreateBuffers(1, &id);

@@ -254,6 +254,11 @@ private:
         // At most 0: every stored function keeps its bound (tolerance and noise).
         ctx.addCounter("pdsm_max_excess", s.texelsStored ? s.maxExcess : 0.0f);
         ctx.addCounter("pdsm_bytes", static_cast<double>(bytes));
+        // The GPU's copy as allocated: the index layers (R x R, 8 bytes a texel) and the data
+        // buffer, kept at the largest maps' since the method was created.
+        const double R = mOptions.resolution;
+        ctx.addCounter("pdsm_buffer_bytes",
+                       static_cast<double>(mData.size()) + R * R * 8.0 * mIndexLayers);
         ctx.addCounter("pdsm_maps_ms", mMapsMs);
         ctx.addCounter("pdsm_build_ms", s.buildMs);
         ctx.addCounter("pdsm_first_map_ms", mFirstMapMs);
@@ -458,10 +463,11 @@ private:
                 " points, more than one buffer texture of GL_MAX_TEXTURE_BUFFER_SIZE = " +
                 std::to_string(maxTexels) + " texels of four holds; raise tolerance or lower " +
                 "resolution");
-        // The data buffer is kept and grown (doubling) as the maps need, each face's points
-        // uploaded at its offset: a light moved every frame rebuilds the maps every frame.
+        // The data buffer is kept, grown to what the maps need where they need more (the
+        // largest maps built so far), each face's points uploaded at its offset: a light moved
+        // every frame rebuilds the maps every frame.
         const std::size_t usedWords = std::max<std::size_t>(words, 3);
-        mData.reserve(usedWords * sizeof(std::uint32_t));
+        mData.reserve(usedWords * sizeof(std::uint32_t), false);
         std::size_t offset = 0; // in words
         std::vector<std::uint32_t> index;
         for (std::size_t f = 0; f < mFaces.size(); ++f) {

@@ -56,9 +56,9 @@ public:
     GLuint id() const { return mHandle.id(); }
     std::size_t size() const { return mSize; }
     void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
-    // Grows (reallocates, contents lost, a new GL name) if `bytes` exceeds the capacity, to at
-    // least twice the old capacity.
-    void reserve(std::size_t bytes);
+    // Grows (reallocates, contents lost, a new GL name) if `bytes` exceeds the capacity: to at
+    // least twice the old capacity, or (geometric = false) to `bytes` exactly.
+    void reserve(std::size_t bytes, bool geometric = true);
     // reserve(bytes), then uploads.
     void uploadResize(const void* data, std::size_t bytes);
     template <typename T> void upload(std::span<const T> data) {
