@@ -336,14 +336,14 @@ TEST_F(PdsmMethod, DynamicObjectsAreShadowedEachFrameAndComposed) {
         std::size_t off;           // measured pixels off by > 0.05
     };
     // Measured (128², k = 64, 256² maps, against reference N = 256): the sphere dynamic over a
-    // static floor 0.00081, no pixel off by > 0.05 (all static: 0.00215; auto's wedges are exact
-    // for the sphere); plates-three's middle plate dynamic 0.00995, 963 pixels (all static:
-    // 0.00601, 121): the product treats the two sets as independent occluders, so where the
+    // static floor 0.00081, no pixel off by > 0.05 (all static: 0.00217; auto's wedges are exact
+    // for the sphere); plates-three's middle plate dynamic 0.01003, 995 pixels (all static:
+    // 0.00617, 119; before the noise bound 0.00995 and 963): the product treats the two sets as independent occluders, so where the
     // middle plate's penumbra overlaps the others' it over-darkens (the light both hide is
     // counted twice; at 256², 81 % of the pixels off by > 0.05 are darker): the known cost of
     // composing, as between auto's paths.
     for (const Case& c : {Case{"sphere.json", 1, 0.00081, 0},
-                          Case{"plates-three.json", 2, 0.00995, 963}}) {
+                          Case{"plates-three.json", 2, 0.01003, 995}}) {
         SCOPED_TRACE(c.scene);
         auto scene = geometry::loadScene(testutil::dataPath(c.scene));
         ASSERT_LT(c.dynamicObject, scene.objects.size());
