@@ -422,14 +422,27 @@ std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmSt
     return out;
 }
 
-float pdsmDeviation(float start, std::span<const PdsmStep> steps,
-                    std::span<const PdsmPoint> points) {
-    // Pieces of the staircase: [c_p, c_{p+1}) with value f_p; the last one to the end code.
-    float worst = 0.0f;
+namespace {
+
+// One walk over the staircase's pieces: the largest |stored - staircase| and the largest
+// |stored - staircase| - bound.at(staircase) (exact: both are linear or constant between the
+// steps and the points, which lie on the steps' codes).
+struct PdsmFit {
+    float deviation = 0.0f;
+    float excess = -kInf;
+};
+
+PdsmFit pdsmFit(float start, std::span<const PdsmStep> steps, std::span<const PdsmPoint> points,
+                const PdsmBound& bound) {
+    PdsmFit fit;
     float c = 0.0f, f = start;
     const auto piece = [&](float next, bool end) {
-        worst = std::max(worst, std::abs(storedAt(points, c, false) - f));
-        worst = std::max(worst, std::abs(storedAt(points, next, !end) - f));
+        const float b = bound.at(f);
+        for (const float d : {std::abs(storedAt(points, c, false) - f),
+                              std::abs(storedAt(points, next, !end) - f)}) {
+            fit.deviation = std::max(fit.deviation, d);
+            fit.excess = std::max(fit.excess, d - b);
+        }
     };
     for (const PdsmStep& s : steps) {
         piece(static_cast<float>(s.code), false);
@@ -437,25 +450,19 @@ float pdsmDeviation(float start, std::span<const PdsmStep> steps,
         f = s.after;
     }
     piece(static_cast<float>(kMaxCode), true);
-    return worst;
+    return fit;
+}
+
+} // namespace
+
+float pdsmDeviation(float start, std::span<const PdsmStep> steps,
+                    std::span<const PdsmPoint> points) {
+    return pdsmFit(start, steps, points, PdsmBound{}).deviation;
 }
 
 float pdsmExcess(float start, std::span<const PdsmStep> steps, std::span<const PdsmPoint> points,
                  const PdsmBound& bound) {
-    float worst = -kInf;
-    float c = 0.0f, f = start;
-    const auto piece = [&](float next, bool end) {
-        const float b = bound.at(f);
-        worst = std::max(worst, std::abs(storedAt(points, c, false) - f) - b);
-        worst = std::max(worst, std::abs(storedAt(points, next, !end) - f) - b);
-    };
-    for (const PdsmStep& s : steps) {
-        piece(static_cast<float>(s.code), false);
-        c = static_cast<float>(s.code);
-        f = s.after;
-    }
-    piece(static_cast<float>(kMaxCode), true);
-    return worst;
+    return pdsmFit(start, steps, points, bound).excess;
 }
 
 namespace {
@@ -577,8 +584,9 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
                 std::uint32_t count = 0;
                 if (!(steps.empty() && valueCode(start) == 255u)) {
                     const std::vector<PdsmPoint> pts = compressPdsmStaircase(start, steps, bound);
-                    st.maxDeviation = std::max(st.maxDeviation, pdsmDeviation(start, steps, pts));
-                    st.maxExcess = std::max(st.maxExcess, pdsmExcess(start, steps, pts, bound));
+                    const PdsmFit fit = pdsmFit(start, steps, pts, bound);
+                    st.maxDeviation = std::max(st.maxDeviation, fit.deviation);
+                    st.maxExcess = std::max(st.maxExcess, fit.excess);
                     for (const PdsmPoint& p : pts) row.push_back(p.code | valueCode(p.value) << 16);
                     count = static_cast<std::uint32_t>(pts.size());
                     ++st.texelsStored;
