@@ -123,7 +123,7 @@ struct PdsmPoint {
 // and 5 points per stored texel; the sphere 0.0007, 0.0007, 0.0008, 0.0011, 0.0019;
 // spheres-nine 0.0027 at 0.004 and 0.0029 at 0.008, the demo 0.0011 and 0.0021 (those with the
 // tolerance alone, noise = 0). With the noise bound, the method's default 0.5 (same view, 256²):
-// spheres-nine 0.0028 (1 standard error: 0.0035), plates-three 0.0021 (0.0023); oa_dm5's spawn
+// spheres-nine 0.0028, plates-three 0.0021 (1 standard error: 0.0023); oa_dm5's spawn
 // view with the lamp 0.0044 and 88 MiB (noise 0: 0.0044 and 316 MiB; 2: 0.0046, 27 MiB).
 
 // The compression's bound where the staircase has the value V: `tolerance` everywhere, and
