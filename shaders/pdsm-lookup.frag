@@ -137,12 +137,10 @@ void main() {
     float v = 0.0;
     int texels = any(notEqual(counts, uvec4(0u))) ? 4 : 0;
     for (int k = 0; k < texels; ++k) {
-        // Texel k's ray c + zk (m_k, 1) meets the plane at zk = planeD / dot(N, (m_k, 1)).
+        // Texel k's ray c + zk (m_k, 1) meets the plane at zk = planeD / dot(N, (m_k, 1))
+        // (shared/Pdsm.h pdsmReadDepth).
         vec2 mk = extent.xy + vec2(ci[k], cj[k]) * texelM;
-        float along = dot(Nm, vec3(mk, 1.0));
-        float zk = abs(along) > 1e-12 ? planeD / along : z;
-        zk = clamp(zk > 0.0 ? zk : z, z - span, z + span);
-        float tk = pdsmDepthCode(max(min(zk, z), zNear), zNear, sFar);
+        float tk = pdsmDepthCode(pdsmReadDepth(Nm, planeD, mk, z, span, zNear), zNear, sFar);
         v += w[k] * (counts[k] == 0u ? 1.0 : pdsmFunction(firsts[k], counts[k], tk));
     }
     if (texels == 0) v = 1.0;

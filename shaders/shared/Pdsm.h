@@ -82,6 +82,20 @@ SHARED_FN float pdsmDepthCode(float z, float zNear, float sFar) {
     return (1.0f - zNear / z) / (1.0f - sFar);
 }
 
+// The depth (along the map's axis) at which the lookup reads the function of the texel whose
+// ray is c + z' (mk, 1) for a receiver at depth z on the plane dot(Nm, X - c) = planeD (Nm: the
+// plane's normal in the map's axes (eu, ev, n)): where that ray meets the plane, held within
+// `span` of z (a ray nearly in the plane meets it far away), never deeper than z itself, nor
+// nearer than zNear (pdsm-lookup.frag says why). The build keeps each texel's function only at
+// the depths this can return for a receiver within a texel of its ray
+// (geometry::PdsmReadDepths).
+SHARED_FN float pdsmReadDepth(vec3 Nm, float planeD, vec2 mk, float z, float span, float zNear) {
+    float along = dot(Nm, vec3(mk.x, mk.y, 1.0f));
+    float zk = abs(along) > 1e-12f ? planeD / along : z;
+    zk = clamp(zk > 0.0f ? zk : z, z - span, z + span);
+    return max(min(zk, z), zNear);
+}
+
 SHARED_END
 
 #endif // PENUMBRA_SHARED_PDSM_H
