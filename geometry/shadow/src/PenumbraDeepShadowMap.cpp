@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -112,15 +113,15 @@ struct LineDepth {
     }
 };
 
-// Hidden intervals of u in [0, 1] along one line through one map (texel units, P(u) = p0 +
-// u (p1 - p0)), as events of the deep map's depth code: code << 1 | 1 where one starts,
-// code << 1 where one ends (none at the line's end). A point of the line is hidden where its
-// texel stores a value above s_v (1 + bias), s_v = 1 - u (1 - line.sFar).
-void walkMap(glm::vec2 p0, glm::vec2 p1, const MapLayer& map, const LineDepth& line, float bias,
-             std::vector<std::uint32_t>& events) {
+// Hidden intervals of u in [uLo, uHi] (within [0, 1]) along one line through one map (texel
+// units, P(u) = p0 + u (p1 - p0)), as events of the deep map's depth code: code << 1 | 1 where
+// one starts, code << 1 where one ends (none at the line's end, u = 1). A point of the line is
+// hidden where its texel stores a value above s_v (1 + bias), s_v = 1 - u (1 - line.sFar).
+void walkMap(glm::vec2 p0, glm::vec2 p1, float uLo, float uHi, const MapLayer& map,
+             const LineDepth& line, float bias, std::vector<std::uint32_t>& events) {
     const glm::vec2 d = p1 - p0;
     const int R = map.R;
-    float tA = 0.0f, tB = 1.0f;
+    float tA = uLo, tB = uHi;
     const float size = static_cast<float>(R);
     for (int a = 0; a < 2; ++a) {
         if (std::abs(d[a]) < 1e-12f) {
@@ -340,6 +341,160 @@ void jitterSampleMapGrids(SampleMapFrame& frame, int resolution) {
     }
 }
 
+PdsmReadDepths::PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> triangles,
+                               float spanTexels)
+    : mGrid(grid) {
+    const int R = grid.resolution, rows = grid.rowCount();
+    mRows.resize(static_cast<std::size_t>(rows));
+    if (grid.empty || R <= 0) return;
+    mTexelU = (grid.hi.x - grid.lo.x) / static_cast<float>(R);
+    mTexelV = (grid.hi.y - grid.lo.y) / static_cast<float>(rows);
+    // A receiver at depth z reads no nearer than z - span, span = spanTexels texels (the
+    // lookup's texel size: the larger side) times z.
+    mLowShare = std::max(1.0f - spanTexels * std::max(mTexelU, mTexelV), 0.0f);
+    // A receiver nearer than zNear reads nothing (lit): the triangles clipped there.
+    const float zClip = grid.zNear * (1.0f - 1e-4f);
+    const glm::vec2 texel(mTexelU, mTexelV);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        glm::vec3 p[3];
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 e = triangles[t + k] - grid.centre;
+            p[k] = glm::vec3(glm::dot(e, grid.eu), glm::dot(e, grid.ev), glm::dot(e, grid.n));
+        }
+        if (!std::isfinite(p[0].x + p[0].y + p[0].z + p[1].x + p[1].y + p[1].z + p[2].x +
+                           p[2].y + p[2].z))
+            continue;
+        // Clipped to z >= zClip (Sutherland-Hodgman against one plane: at most 4 corners).
+        glm::vec3 poly[4];
+        int n = 0;
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3& a = p[k];
+            const glm::vec3& b = p[(k + 1) % 3];
+            const bool ina = a.z >= zClip, inb = b.z >= zClip;
+            if (ina) poly[n++] = a;
+            if (ina != inb) poly[n++] = a + (b - a) * ((zClip - a.z) / (b.z - a.z));
+        }
+        if (n < 3) continue;
+        Triangle tri;
+        tri.nm = glm::cross(p[1] - p[0], p[2] - p[0]);
+        tri.d = glm::dot(tri.nm, p[0]);
+        tri.z0 = kInf;
+        tri.z1 = 0.0f;
+        glm::vec2 m0(kInf), m1(-kInf);
+        for (int k = 0; k < n; ++k) {
+            tri.z0 = std::min(tri.z0, poly[k].z);
+            tri.z1 = std::max(tri.z1, poly[k].z);
+            const glm::vec2 m(poly[k].x / poly[k].z, poly[k].y / poly[k].z);
+            m0 = glm::min(m0, m);
+            m1 = glm::max(m1, m);
+        }
+        // The texels whose centre lies within a texel of the box (one more for rounding),
+        // clamped to the grid: a receiver past its edge reads the edge's texels in the cube.
+        int lo[2], hi[2];
+        const int count[2] = {R, rows};
+        for (int a = 0; a < 2; ++a) {
+            const float first = (m0[a] - texel[a] - grid.lo[a]) / texel[a] - 0.5f;
+            const float last = (m1[a] + texel[a] - grid.lo[a]) / texel[a] - 0.5f;
+            const float most = static_cast<float>(count[a] - 1);
+            lo[a] = static_cast<int>(std::clamp(std::ceil(first) - 1.0f, 0.0f, most));
+            hi[a] = static_cast<int>(std::clamp(std::floor(last) + 1.0f, 0.0f, most));
+            tri.pastLo[a] = m0[a] < grid.lo[a] + texel[a];
+            tri.pastHi[a] = m1[a] > grid.hi[a] - texel[a];
+        }
+        tri.i0 = lo[0];
+        tri.i1 = hi[0];
+        const auto index = static_cast<std::uint32_t>(mTriangles.size());
+        mTriangles.push_back(tri);
+        for (int j = lo[1]; j <= hi[1]; ++j) mRows[static_cast<std::size_t>(j)].push_back(index);
+    }
+}
+
+void PdsmReadDepths::row(int j, std::vector<std::vector<PdsmCodeRange>>& ranges) const {
+    const int R = mGrid.resolution, rows = mGrid.rowCount();
+    ranges.resize(static_cast<std::size_t>(R));
+    for (std::vector<PdsmCodeRange>& r : ranges) r.clear();
+    if (mGrid.empty || j < 0 || j >= rows) return;
+    const auto code = [&](float z, bool up) {
+        const float t = std::clamp(shader::pdsmDepthCode(z, mGrid.zNear, mGrid.sFar), 0.0f, 1.0f);
+        const float c = up ? std::ceil(t * float(kMaxCode)) + 2.0f
+                           : std::floor(t * float(kMaxCode)) - 2.0f;
+        return static_cast<std::uint32_t>(std::clamp(c, 0.0f, float(kMaxCode)));
+    };
+    const float v = mGrid.lo.y + (static_cast<float>(j) + 0.5f) * mTexelV;
+    const bool edgeLo = j == 0, edgeHi = j == rows - 1;
+    for (const std::uint32_t index : mRows[static_cast<std::size_t>(j)]) {
+        const Triangle& tri = mTriangles[index];
+        const bool pastRow = (edgeLo && tri.pastLo[1]) || (edgeHi && tri.pastHi[1]);
+        // dot(nm, (m, 1)) over a texel's square: its centre's value +- this.
+        const float reach = std::abs(tri.nm.x) * mTexelU + std::abs(tri.nm.y) * mTexelV;
+        const float low = tri.z0 * mLowShare;
+        for (int i = tri.i0; i <= tri.i1; ++i) {
+            const float u = mGrid.lo.x + (static_cast<float>(i) + 0.5f) * mTexelU;
+            const bool past = pastRow || (i == 0 && tri.pastLo[0]) ||
+                              (i == R - 1 && tri.pastHi[0]);
+            float zlo = low, zhi = tri.z1;
+            if (!past) {
+                const float along = tri.nm.x * u + tri.nm.y * v + tri.nm.z;
+                const float a0 = along - reach, a1 = along + reach;
+                // The plane's depth d / along over the square, where it meets every ray of it
+                // in front of the centre.
+                if (tri.d > 0.0f && a0 > 0.0f) {
+                    zlo = std::max(zlo, tri.d / a1);
+                    zhi = std::min(zhi, tri.d / a0);
+                } else if (tri.d < 0.0f && a1 < 0.0f) {
+                    zlo = std::max(zlo, tri.d / a0);
+                    zhi = std::min(zhi, tri.d / a1);
+                }
+            }
+            zlo *= 1.0f - 1e-4f;
+            zhi *= 1.0f + 1e-4f;
+            if (!(zlo <= zhi)) continue; // the triangle reaches no receiver of this texel
+            ranges[static_cast<std::size_t>(i)].push_back({code(zlo, false), code(zhi, true)});
+        }
+    }
+    for (std::vector<PdsmCodeRange>& r : ranges) {
+        if (r.size() < 2) continue;
+        std::sort(r.begin(), r.end(),
+                  [](const PdsmCodeRange& a, const PdsmCodeRange& b) { return a.lo < b.lo; });
+        std::size_t out = 0;
+        for (std::size_t k = 1; k < r.size(); ++k) {
+            if (r[k].lo <= r[out].hi + kMergeGap)
+                r[out].hi = std::max(r[out].hi, r[k].hi);
+            else
+                r[++out] = r[k];
+        }
+        r.resize(out + 1);
+    }
+}
+
+float maskPdsmStaircase(float start, std::vector<PdsmStep>& steps,
+                        std::span<const PdsmCodeRange> kept) {
+    if (kept.empty()) throw std::invalid_argument("pdsm: no depths to keep");
+    thread_local std::vector<PdsmStep> out;
+    out.clear();
+    std::size_t s = 0;
+    float value = start; // the staircase's value at the code reached
+    const auto reach = [&](std::uint32_t code) {
+        while (s < steps.size() && steps[s].code <= code) value = steps[s++].after;
+    };
+    reach(kept.front().lo);
+    const float first = value;
+    float held = value;
+    for (std::size_t r = 0; r < kept.size(); ++r) {
+        if (r > 0) {
+            reach(kept[r].lo);
+            if (value != held) out.push_back({kept[r].lo, held, value, true});
+        }
+        while (s < steps.size() && steps[s].code <= kept[r].hi) {
+            out.push_back(steps[s]);
+            value = steps[s++].after;
+        }
+        held = value;
+    }
+    steps.assign(out.begin(), out.end());
+    return first;
+}
+
 float PdsmBound::at(float v) const {
     if (!(noise > 0.0f) || samples <= 0) return tolerance;
     const float var = std::max(v * (1.0f - v), 0.0f) / static_cast<float>(samples);
@@ -396,7 +551,7 @@ std::vector<PdsmPoint> compressPdsmStaircase(float start, std::span<const PdsmSt
         const float eb = epsAt(s.before), ea = epsAt(s.after);
         const float lo = std::max(s.before - eb, s.after - ea);
         const float hi = std::min(s.before + eb, s.after + ea);
-        if (lo <= hi) {
+        if (lo <= hi && !s.exact) {
             add(x, lo, hi);
         } else {
             // A step: the segment ends at x on `before` exactly, the next starts at `after`.
@@ -485,9 +640,12 @@ std::vector<float> blockMaxima(const PdsmMaps& maps, std::size_t layers, int& bl
     return out;
 }
 
+// Texel (i, j)'s staircase, exact within the depth codes `kept` (sorted, disjoint; empty: every
+// depth): each map's line is walked over those depths only, and the staircase's value between
+// them is not the texel's (maskPdsmStaircase replaces it).
 float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps& maps,
                 const std::vector<float>& blockMax, int blocks, int i, int j, float depthBias,
-                std::vector<PdsmStep>& steps) {
+                std::span<const PdsmCodeRange> kept, std::vector<PdsmStep>& steps) {
     thread_local std::vector<std::uint32_t> events;
     events.clear();
     steps.clear();
@@ -521,9 +679,24 @@ float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMap
             p0 = (m + (v.depth * m - d) * line.w0 - v.lo) * inv * size;
             p1 = (m + (v.depth * m - d) * line.w1 - v.lo) * inv * size;
         }
+        // u of a depth code (line.t's inverse), a code further out for the codes' rounding.
+        const auto uOf = [&](std::uint32_t code, int out) {
+            const float t = std::clamp(static_cast<float>(static_cast<int>(code) + out) /
+                                           float(kMaxCode),
+                                       0.0f, 1.0f);
+            if (v.depth == 0.0f) return t;
+            const float z = grid.zNear / (1.0f - t * (1.0f - grid.sFar));
+            const float w = 1.0f / (z - v.depth);
+            return std::clamp((w - line.w0) / (line.w1 - line.w0), 0.0f, 1.0f);
+        };
         const MapLayer layer{maps.texels.data() + k * layerSize, blockMax.data() + k * blockSize,
                              R, blocks};
-        walkMap(p0, p1, layer, line, depthBias, events);
+        if (kept.empty()) {
+            walkMap(p0, p1, 0.0f, 1.0f, layer, line, depthBias, events);
+        } else {
+            for (const PdsmCodeRange& r : kept)
+                walkMap(p0, p1, uOf(r.lo, -1), uOf(r.hi, 1), layer, line, depthBias, events);
+        }
     }
     std::sort(events.begin(), events.end());
     const float n = static_cast<float>(frame.views.size());
@@ -573,15 +746,32 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
     const PdsmBound bound{.tolerance = settings.tolerance,
                           .noise = settings.noise,
                           .samples = static_cast<int>(frame.views.size())};
+    std::optional<PdsmReadDepths> reads;
+    if (settings.receivers) reads.emplace(grid, *settings.receivers, settings.readSpanTexels);
     const auto work = [&](int w) {
         std::vector<PdsmStep> steps;
+        std::vector<std::vector<PdsmCodeRange>> ranges;
         PdsmStats& st = partial[static_cast<std::size_t>(w)].stats;
         for (int j = nextRow++; j < rows; j = nextRow++) {
             std::vector<std::uint32_t>& row = rowPoints[static_cast<std::size_t>(j)];
+            if (reads) reads->row(j, ranges);
             for (int i = 0; i < R; ++i) {
-                const float start = staircase(frame, grid, maps, blockMax, blocks, i, j,
-                                              settings.depthBias, steps);
                 std::uint32_t count = 0;
+                float start = 1.0f;
+                if (reads) {
+                    // Only the depths a receiver may read (none: the texel is not walked).
+                    const std::vector<PdsmCodeRange>& kept = ranges[static_cast<std::size_t>(i)];
+                    if (kept.empty()) continue; // index: count 0, lit
+                    for (const PdsmCodeRange& r : kept) st.codesKept += r.hi - r.lo + 1;
+                    start = staircase(frame, grid, maps, blockMax, blocks, i, j,
+                                      settings.depthBias, kept, steps);
+                    start = maskPdsmStaircase(start, steps, kept);
+                } else {
+                    st.codesKept += kMaxCode + 1;
+                    start = staircase(frame, grid, maps, blockMax, blocks, i, j,
+                                      settings.depthBias, {}, steps);
+                }
+                ++st.texelsRead;
                 if (!(steps.empty() && valueCode(start) == 255u)) {
                     const std::vector<PdsmPoint> pts = compressPdsmStaircase(start, steps, bound);
                     const PdsmFit fit = pdsmFit(start, steps, pts, bound);
@@ -616,6 +806,8 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
         out.stats.points += p.stats.points;
         out.stats.steps += p.stats.steps;
         out.stats.texelsStored += p.stats.texelsStored;
+        out.stats.texelsRead += p.stats.texelsRead;
+        out.stats.codesKept += p.stats.codesKept;
         out.stats.longest = std::max(out.stats.longest, p.stats.longest);
         out.stats.maxDeviation = std::max(out.stats.maxDeviation, p.stats.maxDeviation);
         out.stats.maxExcess = std::max(out.stats.maxExcess, p.stats.maxExcess);

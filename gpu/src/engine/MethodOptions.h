@@ -109,6 +109,7 @@ struct PdsmOptions {
     float noise = 0.0f;      // up to this many standard errors of the samples' V where more
     float normalOffset = 0.0f; // the receiver offset: x tan(angle) deep-map texels
     bool ownPlane = true;    // V at most the share of the light in front of the receiver
+    bool cull = true;        // functions kept only at the depths a receiver may read them
 };
 PdsmOptions pdsmOptions(std::span<const ParameterValue> given);
 

@@ -161,6 +161,7 @@ constexpr std::string_view kPdsmTolerance[] = {"0.002", "0.003", "0.004", "0.008
 constexpr std::string_view kPdsmNoise[] = {"0", "0.25", "0.5", "1", "2"};
 constexpr std::string_view kPdsmBias[] = {"0.0", "0.1", "0.25", "0.5", "1.0"};
 constexpr std::string_view kPdsmPlane[] = {"on", "off"};
+constexpr std::string_view kPdsmCull[] = {"on", "off"};
 constexpr MethodParameter kPdsmParameters[] = {
     {"samples", kPdsmSamples, "256",
      "light samples k, one shadow map each (the reference's stratified pattern for the same "
@@ -183,6 +184,11 @@ constexpr MethodParameter kPdsmParameters[] = {
     {"plane", kPdsmPlane, "on",
      "on: V at most the share of the light in front of the receiver's own plane (as raytrace "
      "counts it); off: only the deep map"},
+    {"cull", kPdsmCull, "on",
+     "on: each texel's function kept only at the depths where the lookup may read it for a "
+     "point of the scene's surfaces (a level's rays cross rock between its rooms; a texel no "
+     "surface reads holds nothing), not applied while objects are dynamic or bias is above 0 "
+     "(pdsm_cull says which); off: at every depth"},
 };
 
 // deep-sm (Lokovic & Veach 2000): pcss's faces as deep shadow maps of transmittance.
@@ -455,7 +461,8 @@ PdsmOptions pdsmOptions(std::span<const ParameterValue> given) {
             .tolerance = std::stof(std::string(parameterValue(r, "tolerance"))),
             .noise = std::stof(std::string(parameterValue(r, "noise"))),
             .normalOffset = std::stof(std::string(parameterValue(r, "bias"))),
-            .ownPlane = parameterValue(r, "plane") == "on"};
+            .ownPlane = parameterValue(r, "plane") == "on",
+            .cull = parameterValue(r, "cull") == "on"};
 }
 
 DeepSmOptions deepSmOptions(std::span<const ParameterValue> given) {

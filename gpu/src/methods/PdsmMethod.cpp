@@ -43,6 +43,12 @@ constexpr std::size_t kMaxReadBackBytes = std::size_t(256) << 20;
 // construction reads one texel per map, whose stored depth is the surface's at the texel's
 // centre.
 constexpr float kMapSlopeBias = 1.5f;
+// The lookup's RECEIVER_PLANE_SPAN (pdsm-lookup.frag): how far from a receiver's depth, in
+// texels, it reads a neighbouring texel; the build keeps the functions over that span.
+constexpr float kReceiverPlaneSpan = 16.0f;
+std::string spanDefine() {
+    return "RECEIVER_PLANE_SPAN " + std::to_string(kReceiverPlaneSpan);
+}
 // Sample maps drawn (and read back) at a time.
 constexpr int kMapsPerBatch = 16;
 
@@ -51,9 +57,10 @@ public:
     explicit PdsmMethod(const MethodResources& r)
         : mResources{r.shaders, r.scene, {}}, mOptions(pdsmOptions(r.parameters)),
           mLookup(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
-                  mOptions.ownPlane ? std::vector<std::string>{"OWN_PLANE"}
-                                    : std::vector<std::string>{}),
-          mLookupWithoutPlane(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}),
+                  mOptions.ownPlane ? std::vector<std::string>{"OWN_PLANE", spanDefine()}
+                                    : std::vector<std::string>{spanDefine()}),
+          mLookupWithoutPlane(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
+                              {spanDefine()}),
           mProduct(r.shaders, "pdsm-compose"),
           mUniforms({.size = sizeof(shader::PdsmUniforms), .label = "pdsm-uniforms"}),
           mStats({.size = PDSM_STAT_COUNT * sizeof(std::uint32_t), .label = "pdsm-stats"}),
@@ -227,6 +234,8 @@ private:
             s.points += m.stats.points;
             s.steps += m.stats.steps;
             s.texelsStored += m.stats.texelsStored;
+            s.texelsRead += m.stats.texelsRead;
+            s.codesKept += m.stats.codesKept;
             s.longest = std::max(s.longest, m.stats.longest);
             s.maxDeviation = std::max(s.maxDeviation, m.stats.maxDeviation);
             s.maxExcess = std::max(s.maxExcess, m.stats.maxExcess);
@@ -246,6 +255,14 @@ private:
         ctx.addCounter("pdsm_noise", mOptions.noise);
         ctx.addCounter("pdsm_points", static_cast<double>(s.points));
         ctx.addCounter("pdsm_texels_stored", s.texelsStored);
+        // cull=on: the functions kept only where a receiver may read them (0 where not
+        // applied); the texels some receiver reads, and the share of their depths kept.
+        ctx.addCounter("pdsm_cull", mCulled ? 1.0 : 0.0);
+        ctx.addCounter("pdsm_texels_read", s.texelsRead);
+        ctx.addCounter("pdsm_depth_kept",
+                       s.texelsRead ? static_cast<double>(s.codesKept) /
+                                          (65536.0 * static_cast<double>(s.texelsRead))
+                                    : 0.0);
         ctx.addCounter("pdsm_longest_function", s.longest);
         ctx.addCounter("pdsm_mean_function",
                        s.texelsStored ? static_cast<double>(s.points) / s.texelsStored : 0.0);
@@ -277,6 +294,9 @@ private:
         std::uint32_t seed = 0;
         std::vector<std::uint32_t> subset;
         SampleMapSetup setup;
+        // The receivers' triangles where the functions are kept only at the depths they may be
+        // read (cull=on; null: every depth).
+        std::shared_ptr<const std::vector<glm::vec3>> receivers;
         bool cube = false;
         bool frameClipped = false; // the one map's frame was clipped
         geometry::PcssFrame cubeFrame;
@@ -306,6 +326,19 @@ private:
         p.subset.assign(ctx.casterSubset.begin(), ctx.casterSubset.end());
         p.setup = fitSampleMaps(ctx.scene, ctx.casters, p.subset, ctx.light, mOptions.samples,
                                 p.seed);
+        // Every object receives; a dynamic one may move anywhere without a new build, and the
+        // normal offset reads receivers moved off their surfaces: then every depth is kept.
+        const bool anyDynamic = std::any_of(ctx.scene.objects.begin(), ctx.scene.objects.end(),
+                                            [](const geometry::SceneObject& o) {
+                                                return !o.isStatic;
+                                            });
+        if (mOptions.cull && !anyDynamic && mOptions.normalOffset == 0.0f) {
+            auto triangles = std::make_shared<std::vector<glm::vec3>>();
+            for (const geometry::SceneObject& o : ctx.scene.objects)
+                for (const glm::uvec3& t : o.mesh.triangles)
+                    for (int k = 0; k < 3; ++k) triangles->push_back(o.mesh.positions[t[k]]);
+            p.receivers = std::move(triangles);
+        }
         geometry::jitterSampleMapGrids(p.setup.frame, mOptions.resolution);
         geometry::Aabb scene;
         for (const geometry::SceneObject& o : ctx.scene.objects) scene.extend(o.mesh.bounds());
@@ -372,7 +405,9 @@ private:
         p.mapsMs += ms;
         ctx.addCpuTime("pdsm-sample-maps", ms);
         geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance,
-                                             .noise = mOptions.noise};
+                                             .noise = mOptions.noise,
+                                             .receivers = p.receivers,
+                                             .readSpanTexels = kReceiverPlaneSpan};
         int before = 0;
         for (std::size_t k = 0; k < p.next; ++k) before += p.faces[k].grid.rowCount();
         const int total = p.totalRows;
@@ -420,6 +455,7 @@ private:
         mFaceIds.clear();
         for (const geometry::PdsmFace& f : p.faces) mFaceIds.push_back(f.face);
         mCube = p.cube;
+        mCulled = p.receivers != nullptr;
         mFrameClipped = p.frameClipped;
         mCubeFrame = p.cubeFrame;
         mLight = p.light;
@@ -521,6 +557,7 @@ private:
     std::vector<geometry::Pdsm> mFaces; // the built maps, a layer of mIndex each
     std::vector<int> mFaceIds;          // their cube faces (0 for the one map)
     bool mCube = false;         // the built maps are the cube's
+    bool mCulled = false;       // the built maps keep only the depths receivers read
     bool mFrameClipped = false; // the one map's frame was clipped
     // A view found receivers outside the one map where they may be hidden: the cube wherever
     // the one map's frame is clipped.

@@ -4,7 +4,9 @@
 //   and stores a smooth ramp in a few points;
 // - a texel's function, built from shadow maps of a square plate, equals the share of the same
 //   samples whose segment misses the plate, up to the maps' texels along the plate's edges and
-//   the compression's tolerance, and errs against 4096 samples little more than those samples.
+//   the compression's tolerance, and errs against 4096 samples little more than those samples;
+// - the depths kept for the receivers (PdsmReadDepths) hold every depth the lookup reads for a
+//   point of a receiver's triangle, and a staircase masked to them equals it there.
 #include <geometry/core/Sampling.h>
 #include <geometry/shadow/PenumbraDeepShadowMap.h>
 
@@ -13,8 +15,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 namespace {
@@ -252,6 +256,167 @@ TEST(PenumbraDeepShadowMap, PlateMapsGiveTheSharesOfTheSameSamples) {
     EXPECT_LT(sumFine / count, sumSamples / count + 0.002);
 }
 
+// A random triangle for the read depths: small or large, some crossing the near plane or
+// reaching past the grid, some seen edge-on from the centre (their plane holds a ray).
+std::array<glm::vec3, 3> randomReceiver(std::mt19937& rng) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const glm::vec3 at(6.0f * u(rng), 6.0f * u(rng), 6.5f + 6.0f * u(rng));
+    const int kind = std::uniform_int_distribution<int>(0, 3)(rng);
+    const float size = kind == 0 ? 0.2f : 4.0f;
+    glm::vec3 e1(size * u(rng), size * u(rng), size * u(rng));
+    glm::vec3 e2(size * u(rng), size * u(rng), size * u(rng));
+    if (kind == 2) e1 = glm::normalize(at) * (2.0f + 2.0f * u(rng)) + 0.01f * e1; // edge-on
+    return {at, at + e1, at + e2};
+}
+
+TEST(PenumbraDeepShadowMap, ReceiversReadOnlyTheDepthsKeptForThem) {
+    // A map along +z from the origin, 64 x 40 texels over a window not centred on the axis.
+    geometry::PdsmGrid g;
+    g.eu = {1, 0, 0};
+    g.ev = {0, 1, 0};
+    g.n = {0, 0, 1};
+    g.lo = {-1.2f, -0.8f};
+    g.hi = {1.0f, 0.9f};
+    g.resolution = 64;
+    g.rows = 40;
+    g.zNear = 0.5f;
+    g.sFar = 0.5f / 13.0f;
+    g.empty = false;
+    std::mt19937 rng(11);
+    std::vector<glm::vec3> triangles;
+    for (int t = 0; t < 150; ++t)
+        for (const glm::vec3& p : randomReceiver(rng)) triangles.push_back(p);
+    const float spanTexels = 16.0f;
+    const geometry::PdsmReadDepths reads(g, triangles, spanTexels);
+    std::vector<std::vector<std::vector<geometry::PdsmCodeRange>>> kept(40);
+    double keptCodes = 0.0;
+    for (int j = 0; j < 40; ++j) {
+        reads.row(j, kept[j]);
+        for (const auto& texel : kept[j])
+            for (std::size_t r = 0; r < texel.size(); ++r) {
+                keptCodes += texel[r].hi - texel[r].lo + 1;
+                if (r > 0) EXPECT_GT(texel[r].lo, texel[r - 1].hi + 1); // sorted, disjoint
+            }
+    }
+    // Points of every triangle read as the lookup reads them (pdsm-lookup.frag: the cube's
+    // clamp to the face, the 2 x 2 texels around the ray, each read at pdsmReadDepth, the index
+    // clamped to the layer's edge).
+    const glm::vec2 size(64.0f, 40.0f), texelM = (g.hi - g.lo) / size;
+    const float texelSize = std::max(texelM.x, texelM.y);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    int reads4 = 0, missed = 0;
+    for (std::size_t t = 0; t < triangles.size(); t += 3) {
+        const glm::vec3 a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
+        const glm::vec3 N = glm::normalize(glm::cross(b - a, c - a));
+        for (int k = 0; k < 400; ++k) {
+            float x = u01(rng), y = u01(rng);
+            if (x + y > 1.0f) {
+                x = 1.0f - x;
+                y = 1.0f - y;
+            }
+            const glm::vec3 P = a + x * (b - a) + y * (c - a);
+            const float z = P.z;
+            if (z <= g.zNear) continue; // nearer than every caster: lit, nothing read
+            const glm::vec2 uv =
+                glm::clamp((glm::vec2(P.x, P.y) / z - g.lo) / (g.hi - g.lo), 0.0f, 1.0f);
+            const glm::vec2 xy = uv * size - 0.5f;
+            const glm::vec2 base = glm::floor(xy);
+            const float planeD = glm::dot(N, P);
+            const float span = spanTexels * texelSize * z;
+            for (int q = 0; q < 4; ++q) {
+                const glm::vec2 cell = base + glm::vec2(q & 1, q >> 1);
+                const glm::vec2 mk = g.lo + (cell + 0.5f) * texelM;
+                const float readZ = shader::pdsmReadDepth(N, planeD, mk, z, span, g.zNear);
+                const float code = std::clamp(
+                    shader::pdsmDepthCode(readZ, g.zNear, g.sFar) * PDSM_DEPTH_CODES, 0.0f,
+                    PDSM_DEPTH_CODES);
+                const int i = std::clamp(static_cast<int>(cell.x), 0, 63);
+                const int j = std::clamp(static_cast<int>(cell.y), 0, 39);
+                bool in = false;
+                for (const geometry::PdsmCodeRange& r : kept[j][i])
+                    in = in || (float(r.lo) <= std::floor(code) && std::ceil(code) <= float(r.hi));
+                missed += !in;
+                ++reads4;
+            }
+        }
+    }
+    const double share = keptCodes / (64.0 * 40.0 * 65536.0);
+    std::printf("  %d reads of 150 random receivers' points: %d outside the depths kept, which "
+                "are %.1f %% of the texels' depths\n",
+                reads4, missed, 100.0 * share);
+    EXPECT_GT(reads4, 100000);
+    EXPECT_EQ(missed, 0);
+    // Measured: 60 % (150 triangles of every size and orientation, two thirds of them 4 wide
+    // at a depth of 1 to 12, over 64 x 40 texels: they overlap).
+    EXPECT_LT(share, 0.65);
+    // A wall facing the light keeps little of each texel's depth: its plane's depths over the
+    // texel's square; on the grid's edge, which the wall reaches past (a receiver past it is
+    // read there in the cube), its depths less the span.
+    const std::vector<glm::vec3> wall = {{-20, -20, 6}, {20, -20, 6}, {0, 30, 6}};
+    const geometry::PdsmReadDepths wallReads(g, wall, spanTexels);
+    std::vector<std::vector<geometry::PdsmCodeRange>> row;
+    std::uint32_t widest = 0, widestEdge = 0;
+    for (int j = 0; j < 40; ++j) {
+        wallReads.row(j, row);
+        for (int i = 0; i < 64; ++i) {
+            const auto& texel = row[static_cast<std::size_t>(i)];
+            ASSERT_EQ(texel.size(), 1u);
+            const bool edge = i == 0 || i == 63 || j == 0 || j == 39;
+            std::uint32_t& w = edge ? widestEdge : widest;
+            w = std::max(w, texel[0].hi - texel[0].lo + 1);
+        }
+    }
+    std::printf("  a wall facing the light: at most %u of 65536 depth codes kept per texel (on "
+                "the grid's edge %u)\n",
+                widest, widestEdge);
+    EXPECT_LT(widest, 100u); // measured: 7
+}
+
+TEST(PenumbraDeepShadowMap, AMaskedStaircaseEqualsItWhereKept) {
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 300; ++trial) {
+        float start = 1.0f;
+        const std::vector<PdsmStep> s = randomStaircase(rng, 64, start);
+        std::vector<geometry::PdsmCodeRange> kept;
+        std::uint32_t at = std::uniform_int_distribution<std::uint32_t>(0, 3000)(rng);
+        while (at < 65535u) {
+            const std::uint32_t hi =
+                std::min(at + std::uniform_int_distribution<std::uint32_t>(0, 4000)(rng), 65535u);
+            kept.push_back({at, hi});
+            at = hi + 2 + std::uniform_int_distribution<std::uint32_t>(0, 9000)(rng);
+        }
+        std::vector<PdsmStep> masked = s;
+        const float mstart = geometry::maskPdsmStaircase(start, masked, kept);
+        for (std::size_t k = 0; k < masked.size(); ++k) {
+            if (k > 0) EXPECT_LT(masked[k - 1].code, masked[k].code);
+            if (k > 0) EXPECT_EQ(masked[k - 1].after, masked[k].before);
+            EXPECT_NE(masked[k].before, masked[k].after);
+            // Steps only within the ranges (a range's first code included).
+            bool in = false;
+            for (const geometry::PdsmCodeRange& r : kept)
+                in = in || (masked[k].code >= r.lo && masked[k].code <= r.hi);
+            EXPECT_TRUE(in) << masked[k].code;
+        }
+        if (!masked.empty()) {
+            EXPECT_EQ(masked.front().before, mstart);
+        }
+        for (const geometry::PdsmCodeRange& r : kept)
+            for (std::uint32_t x = r.lo; x <= r.hi; x += 1 + (r.hi - r.lo) / 97) {
+                EXPECT_EQ(staircase(mstart, masked, float(x), false),
+                          staircase(start, s, float(x), false));
+                if (x > r.lo)
+                    EXPECT_EQ(staircase(mstart, masked, float(x), true),
+                              staircase(start, s, float(x), true));
+            }
+        // The compressed masked staircase within the bound where kept.
+        const geometry::PdsmBound bound{.tolerance = 0.004f, .noise = 0.5f, .samples = 64};
+        const std::vector<PdsmPoint> p = geometry::compressPdsmStaircase(mstart, masked, bound);
+        EXPECT_LE(geometry::pdsmExcess(mstart, masked, p, bound), 1e-5f);
+    }
+    std::vector<PdsmStep> none;
+    EXPECT_THROW(geometry::maskPdsmStaircase(1.0f, none, {}), std::invalid_argument);
+}
+
 // A quad (two triangles) from corner a along edges e1 and e2.
 geometry::SceneObject quad(glm::vec3 a, glm::vec3 e1, glm::vec3 e2) {
     geometry::SceneObject o;
@@ -293,9 +458,27 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
     const float tol = 1.0f / N + 0.5f / 255.0f + 2e-6f;
     const geometry::Pdsm map = geometry::buildPdsm(f, g, {R, texels}, {.tolerance = tol});
     EXPECT_LE(map.stats.maxDeviation, tol + 1e-5f);
+    // And kept only where the plate and the wall may be read (each map's line walked over
+    // those depths only): the same values there.
+    auto receivers = std::make_shared<std::vector<glm::vec3>>();
+    for (const geometry::SceneObject& o : scene.objects)
+        for (const glm::uvec3& t : o.mesh.triangles)
+            for (int k = 0; k < 3; ++k) receivers->push_back(o.mesh.positions[t[k]]);
+    const geometry::Pdsm masked = geometry::buildPdsm(
+        f, g, {R, texels}, {.tolerance = tol, .receivers = receivers});
+    EXPECT_LE(masked.stats.maxDeviation, tol + 1e-5f);
+    const double kept = static_cast<double>(masked.stats.codesKept) /
+                        (65536.0 * std::max(masked.stats.texelsRead, 1u));
+    std::printf("  kept where the receivers may read it: %u of %u texels read, %.1f %% of their "
+                "depths, %llu points (%llu with every depth)\n",
+                masked.stats.texelsRead, map.stats.texelsRead, 100.0 * kept,
+                static_cast<unsigned long long>(masked.stats.points),
+                static_cast<unsigned long long>(map.stats.points));
+    EXPECT_LT(kept, 0.2);
+    EXPECT_LT(masked.stats.points, map.stats.points);
     // Receivers on the wall on each texel's centre ray, against the same samples' segments.
-    double sum = 0.0;
-    int off = 0, count = 0, shadowed = 0;
+    double sum = 0.0, sumMasked = 0.0;
+    int off = 0, offMasked = 0, count = 0, shadowed = 0;
     EXPECT_EQ(g.rowCount(), 22); // the band: a third as tall as wide, texels about square
     for (int j = 0; j < g.rowCount(); ++j)
         for (int i = 0; i < g.resolution; ++i) {
@@ -309,10 +492,13 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
                 lit += !(std::abs(x.y) <= 0.3f && std::abs(x.z) <= 0.5f);
             }
             const float truth = float(lit) / float(N);
-            const float got =
-                geometry::evaluatePdsm(map, i, j, shader::pdsmDepthCode(4.0f, g.zNear, g.sFar));
+            const float t = shader::pdsmDepthCode(4.0f, g.zNear, g.sFar);
+            const float got = geometry::evaluatePdsm(map, i, j, t);
             sum += std::abs(got - truth);
             off += std::abs(got - truth) > 1.5f / float(N) + tol;
+            const float gotMasked = geometry::evaluatePdsm(masked, i, j, t);
+            sumMasked += std::abs(gotMasked - truth);
+            offMasked += std::abs(gotMasked - truth) > 1.5f / float(N) + tol;
             shadowed += lit < N;
             ++count;
         }
@@ -325,6 +511,9 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
     // 0.0176).
     EXPECT_LT(sum / count, 0.0020);
     EXPECT_EQ(off, 0);
+    std::printf("  kept where read: mean |dV| %.5f, %d off\n", sumMasked / count, offMasked);
+    EXPECT_LT(sumMasked / count, 0.0020);
+    EXPECT_EQ(offMasked, 0);
 }
 
 } // namespace

@@ -36,6 +36,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -106,6 +107,7 @@ std::vector<PdsmFace> fitPdsmCube(const PcssFrame& cube, const RectLight& light,
 struct PdsmStep {
     std::uint32_t code = 0;
     float before = 1.0f, after = 1.0f;
+    bool exact = false; // stored as a step (two points) whatever the bound
 };
 
 // A stored point before packing: depth code and value in [0, 1].
@@ -177,11 +179,69 @@ struct PdsmMaps {
     std::span<const float> texels;
 };
 
+// A range of depth codes [lo, hi] (0 .. 65535).
+struct PdsmCodeRange {
+    std::uint32_t lo = 0, hi = 0;
+};
+
+// Where the lookup may read a deep map's functions: per texel, the depth codes at which it
+// reads that texel for a point of one of the receivers' triangles (shared/Pdsm.h
+// pdsmReadDepth: a receiver within a texel of the texel's ray, per axis, reads it where the
+// ray meets the receiver's plane, held within `spanTexels` texels of the receiver's depth and
+// no deeper than it). A level's texel ray crosses a wall, then rock, then the next room: most
+// of its depth holds no surface, and V there is never read. Per triangle (clipped to the
+// map's near plane) and texel within a texel of its projection's bounding box: the depths of
+// its plane over the texel's 2 x 2-texel square (the plane's depth is monotone in 1 / z, affine
+// in m, so its extremes lie at the square's corners), within the triangle's own depths (less
+// the span); where the plane is seen edge-on in the square, the triangle's depths. A texel on
+// the grid's edge also takes, where the triangle reaches past that edge, the triangle's depths
+// (the cube's lookup clamps a receiver past its face's edge to it). Conservative: a range may
+// hold depths no receiver reads, never the reverse (PenumbraDeepShadowMapTest holds random
+// receivers' reads to it). Valid for the lookup without the normal offset (bias 0): a receiver
+// moved along its normal reads elsewhere.
+class PdsmReadDepths {
+public:
+    PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> triangles, float spanTexels);
+
+    // The ranges of texel (i, j) for every column i of row j, each sorted and disjoint (ranges
+    // less than kMergeGap codes apart merged); empty where no receiver reads it.
+    void row(int j, std::vector<std::vector<PdsmCodeRange>>& ranges) const;
+
+    static constexpr std::uint32_t kMergeGap = 32;
+
+private:
+    struct Triangle {
+        glm::vec3 nm{0.0f}; // the plane dot(nm, (x, y, z)) = d in the map's axes from the centre
+        float d = 0.0f;
+        float z0 = 0.0f, z1 = 0.0f; // the clipped triangle's depths
+        int i0 = 0, i1 = -1;        // its columns
+        bool pastLo[2] = {false, false}, pastHi[2] = {false, false}; // reaches past an edge
+    };
+    PdsmGrid mGrid;
+    float mTexelU = 0.0f, mTexelV = 0.0f, mLowShare = 0.0f;
+    std::vector<Triangle> mTriangles;
+    std::vector<std::vector<std::uint32_t>> mRows; // per row, the triangles that may reach it
+};
+
+// Holds the staircase (start, steps) only within `kept` (sorted, disjoint, not empty): between
+// two ranges it keeps the value it had at the end of the first, and steps to the staircase's
+// value at the start of the next; before the first it holds the value there, after the last
+// the value at its end. Returns the new start; `steps` replaced.
+float maskPdsmStaircase(float start, std::vector<PdsmStep>& steps,
+                        std::span<const PdsmCodeRange> kept);
+
 struct PdsmBuildSettings {
     float tolerance = 0.004f;
     float noise = 0.0f; // PdsmBound::noise (k: the frame's views)
     float depthBias = 1e-3f; // hidden where the stored value > s (1 + depthBias)
     int threads = 0;         // 0: std::thread::hardware_concurrency()
+    // The receivers' triangles (world space, three corners each): each texel's function is
+    // kept only at the depths where the lookup may read it for a point of one of them
+    // (PdsmReadDepths, masked by maskPdsmStaircase), and a texel no receiver reads is not
+    // walked; null: every depth (receivers whose depths are not known when the map is built:
+    // dynamic objects, or a lookup that offsets receivers).
+    std::shared_ptr<const std::vector<glm::vec3>> receivers;
+    float readSpanTexels = 16.0f; // the lookup's RECEIVER_PLANE_SPAN
     // (rows done, rows), from the calling thread.
     std::function<void(int, int)> progress;
 };
@@ -190,6 +250,8 @@ struct PdsmStats {
     std::uint64_t points = 0;        // stored points over all texels
     std::uint64_t steps = 0;         // the staircases' steps before compression
     std::uint32_t texelsStored = 0;  // texels with a function (not 1 everywhere)
+    std::uint32_t texelsRead = 0;    // texels a receiver may read (all, without receivers)
+    std::uint64_t codesKept = 0;     // the depth codes kept over those texels
     std::uint32_t longest = 0;       // the most points of one texel
     float maxDeviation = 0.0f;       // the largest pdsmDeviation over the texels
     float maxExcess = -1.0f;         // the largest pdsmExcess over the texels (<= 0: in bound)
