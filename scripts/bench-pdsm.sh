@@ -5,8 +5,9 @@
 # sample-maps' with the same 256 samples and wedges-bitmask's beside it), its frame over hard's
 # (ROUNDS alternating runs, each the median of 5 frames after the first, which builds the deep
 # map), whether it built one map or the cube around the light, its precompute, memory and
-# function lengths. Then the compression's noise bound, its tolerance and the samples swept on
-# two scenes, and the noise bound and the receiver offset (bias) on the levels' views. Writes
+# function lengths and the share of the depths kept for the receivers. Then the compression's
+# noise bound, its tolerance, the samples, the receiver offset (bias) and cull=off swept on two
+# scenes, and the noise bound, the offset and cull=off on the levels' views. Writes
 # docs/bench-pdsm.md.
 # Usage: bash scripts/bench-pdsm.sh   (build first; OUT defaults to out/bench-pdsm, ROUNDS to 3)
 set -euo pipefail
@@ -42,19 +43,19 @@ sweeps=()
 for s in plates-three sphere; do
     o="$root/$s"
     for p in noise=0 noise=1 tolerance=0.003 tolerance=0.008 tolerance=0.016 tolerance=0.032 \
-        samples=16 samples=64; do
+        samples=16 samples=64 bias=0.0 bias=0.1 cull=off; do
         "$render" --scene "data/$s.json" --method pdsm --param "$p" --size "$size" \
             --out "$o/pdsm-$p" --compare "$o/reference/visibility.pfm" --quiet
         sweeps+=("$o|$s|$p")
     done
 done
-# On the levels' spawn views: the compression's noise bound (memory), and the receiver offset
-# (where the lamp grazes steps and walls).
+# On the levels' spawn views: the compression's noise bound (memory), the receiver offset
+# (where the lamp grazes steps and walls), and every depth kept (cull=off).
 for entry in ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0; do
     wedge_view "$entry"
     o="$root/${name// /-}"
-    params=(noise=1 bias=0.1)
-    [[ "$entry" == *oa_dm5* ]] && params=(noise=0 noise=1 noise=2 bias=0.1)
+    params=(noise=1 bias=0.0 cull=off)
+    [[ "$entry" == *oa_dm5* ]] && params=(noise=0 noise=1 bias=0.0 bias=0.1 cull=off)
     for p in "${params[@]}"; do
         echo "== $name $p" >&2
         "$render" --scene "$scene" "${camera[@]}" --method pdsm --param "$p" --size "$size" \
@@ -78,7 +79,7 @@ def err(r):
 first = rep(rows[0].split("|")[0] + "/pdsm-1")
 print("<!-- written by scripts/bench-pdsm.sh; do not edit by hand -->")
 print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², tolerance 0.004, "
-      f"noise 0.5) at 256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
+      f"noise 0.5, bias 0.05, cull on) at 256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
       f"beside `sample-maps` with the same 256 samples and `wedges-bitmask`'s default. Frame: "
       f"pdsm's over `hard`'s, the median of {rounds} alternating runs, each the median of 6 frames "
       f"(the first builds the deep map). Maps: one along the light's normal, or the cube of deep "
@@ -88,9 +89,9 @@ print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², t
       f"included, in parentheses). GL_RENDERER {first['gl_renderer']}, CPU {cpu}.")
 print()
 print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard | maps | "
-      "precompute s | deep map MiB | points per texel (mean, longest) | "
+      "precompute s | deep map MiB | points per texel (mean, longest) | depths kept % | "
       "clipped (receivers outside) |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 for row in rows:
     o, name = row.split("|")
     p = rep(o + "/pdsm-1")
@@ -106,7 +107,8 @@ for row in rows:
     print(f"| {name} | {err(p)} | {err(rep(o + '/sample-maps'))} | "
           f"{err(rep(o + '/wedges-bitmask'))} | {statistics.median(ratios):.2f}× | {maps} | "
           f"{pre} | {c['pdsm_bytes'] / 2**20:.1f} | "
-          f"{c['pdsm_mean_function']:.0f}, {int(c['pdsm_longest_function'])} | {clipped} |")
+          f"{c['pdsm_mean_function']:.0f}, {int(c['pdsm_longest_function'])} | "
+          f"{100 * c['pdsm_depth_kept']:.1f} | {clipped} |")
 print()
 print("**Parameters** (one run each, the same reference; the others at their defaults):")
 print()

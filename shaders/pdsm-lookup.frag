@@ -6,14 +6,19 @@
 // bilinearly, so that V changes continuously as P moves across texels.
 // - A surface does not hide its own points: the sample maps store every surface 1.5 texels of
 //   its depth slope farther from their sample (PdsmMethod.cpp kMapSlopeBias), and each of the
-//   four texels is read where its ray meets P's tangent plane (below). P may also be moved
-//   along its normal, towards the light's centre, by bias tan(a) texels of the deep map at
-//   P's depth (a: the angle between the normal and the direction to the centre, tan(a) capped
-//   at 8; OFFSET_FLOOR texels more); the default is none: every texel of offset lifts the
-//   receiver towards its casters and lightens its penumbrae (256², against reference N =
-//   1024: data/plates-three.json 0.0020 mean error with none, 0.0026 with bias 0.25; the
-//   sphere 0.0007 and 0.0018; before the receiver plane and the maps' offset, the walls of
-//   data/demo.json grazed by the light were striped dark, 0.046).
+//   four texels is read where its ray meets P's tangent plane (below). And P is moved along
+//   its normal, to the side it faces, by bias tan(a) texels of the deep map at P's depth (a:
+//   the angle between the normal and the direction to the centre, tan(a) capped at 8;
+//   shared/Pdsm.h pdsmOffsetReceiver): a surface the light grazes is narrower in the maps than
+//   a texel, whose stored depth is then the surface beside it (a stair's riser under its
+//   tread's nose, a crate's side under its top). Default 0.05 (256², against reference N =
+//   1024: oa_dm5's spawn view with the lamp 0.0044 mean error with none, 0.0024 with it, the
+//   data/ scenes within 0.0001; bias 0.1 costs spheres-nine 0.0002 and 0.25 plates-three
+//   0.0006: every texel of offset lifts the receiver towards its casters and lightens its
+//   penumbrae; before the receiver plane and the maps' offset, the walls of data/demo.json
+//   grazed by the light were striped dark, 0.046). Until this offset moved receivers to the
+//   side they face, a receiver facing away from the light's centre was moved into the object
+//   behind it (a crate's side lit by the light's edge came out dark).
 // - Nearer to the light than every caster (t < 0), lit; past the deepest receiver the map was
 //   built for (t > 1), the last value.
 // - Outside the deep map's extent: lit. Where the map was clipped (casters reaching the light's
@@ -38,9 +43,6 @@ layout(location = 0) out float oVisibility;
 
 #ifndef RECEIVER_PLANE_SPAN
 #define RECEIVER_PLANE_SPAN 16.0
-#endif
-#ifndef OFFSET_FLOOR
-#define OFFSET_FLOOR 0.0
 #endif
 
 // The cube face whose map holds a point at toP from the centre (geometry::PcssFrame::faceOf),
@@ -85,16 +87,8 @@ void main() {
     vec4 extent = pdsm.faceExtent[face];
     float texelSize = pdsm.faceTexel[face].x;
     vec2 faceSize = pdsm.faceTexel[face].yz; // the face's columns and rows (of the R x R layer)
-    // The offset, towards the side of P's plane that holds the light's centre.
-    vec3 toCentre = c - P;
-    float facing = dot(N, toCentre);
-    float dist = length(toCentre);
-    float cosA = abs(facing) / max(dist, 1e-30);
-    float tanA = min(sqrt(max(1.0 - cosA * cosA, 0.0)) / max(cosA, 1e-6), 8.0);
-    float zP = dot(P - c, n);
-    float offset = (facing >= 0.0 ? 1.0 : -1.0) * (OFFSET_FLOOR + pdsm.cube.z * tanA) *
-                   texelSize * max(zP, 0.0);
-    vec3 Q = P + offset * N;
+    // The offset along P's normal (shared/Pdsm.h).
+    vec3 Q = pdsmOffsetReceiver(P, N, c, dot(P - c, n), pdsm.cube.z, texelSize);
     vec3 d = Q - c;
     float z = dot(d, n);
     if (z <= zNear) {

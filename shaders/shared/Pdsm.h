@@ -82,6 +82,21 @@ SHARED_FN float pdsmDepthCode(float z, float zNear, float sFar) {
     return (1.0f - zNear / z) / (1.0f - sFar);
 }
 
+// The receiver as the lookup reads it: P moved along its normal N (towards the side it faces,
+// where the light that reaches it lies) by bias tan(a) texels of the deep map at P's depth zP
+// (a: the angle between N and the direction to the light's centre c, tan(a) capped at
+// PDSM_OFFSET_MAX_TAN; texelSize: a texel's side in m, so that a texel at depth z spans
+// texelSize z), so that a surface the light grazes, narrower in the maps than a texel, is not
+// hidden by the surface beside it in the same texel. The build keeps the depths that such a
+// point may read (geometry::PdsmReadDepths, offsetTexels = bias PDSM_OFFSET_MAX_TAN).
+#define PDSM_OFFSET_MAX_TAN 8.0f
+SHARED_FN vec3 pdsmOffsetReceiver(vec3 P, vec3 N, vec3 c, float zP, float bias, float texelSize) {
+    vec3 toCentre = c - P;
+    float cosA = abs(dot(N, toCentre)) / max(length(toCentre), 1e-30f);
+    float tanA = min(sqrt(max(1.0f - cosA * cosA, 0.0f)) / max(cosA, 1e-6f), PDSM_OFFSET_MAX_TAN);
+    return P + (bias * tanA * texelSize * max(zP, 0.0f)) * N;
+}
+
 // The depth (along the map's axis) at which the lookup reads the function of the texel whose
 // ray is c + z' (mk, 1) for a receiver at depth z on the plane dot(Nm, X - c) = planeD (Nm: the
 // plane's normal in the map's axes (eu, ev, n)): where that ray meets the plane, held within

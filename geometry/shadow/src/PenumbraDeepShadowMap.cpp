@@ -342,7 +342,8 @@ void jitterSampleMapGrids(SampleMapFrame& frame, int resolution) {
 }
 
 PdsmReadDepths::PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> triangles,
-                               float spanTexels)
+                               float spanTexels, float offsetTexels,
+                               std::span<const glm::vec3> lightCorners)
     : mGrid(grid) {
     const int R = grid.resolution, rows = grid.rowCount();
     mRows.resize(static_cast<std::size_t>(rows));
@@ -351,9 +352,14 @@ PdsmReadDepths::PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> 
     mTexelV = (grid.hi.y - grid.lo.y) / static_cast<float>(rows);
     // A receiver at depth z reads no nearer than z - span, span = spanTexels texels (the
     // lookup's texel size: the larger side) times z.
-    mLowShare = std::max(1.0f - spanTexels * std::max(mTexelU, mTexelV), 0.0f);
-    // A receiver nearer than zNear reads nothing (lit): the triangles clipped there.
-    const float zClip = grid.zNear * (1.0f - 1e-4f);
+    const float texelSize = std::max(mTexelU, mTexelV);
+    mLowShare = std::max(1.0f - spanTexels * texelSize, 0.0f);
+    // The receiver read is P moved by up to offset zP along its normal (either way).
+    const float offset = std::clamp(offsetTexels * texelSize, 0.0f, 0.5f);
+    mOffset = offset;
+    // A receiver read nearer than zNear reads nothing (lit): the triangles clipped where even
+    // the offset cannot carry them past it.
+    const float zClip = grid.zNear * (1.0f - 1e-4f) / (1.0f + offset);
     const glm::vec2 texel(mTexelU, mTexelV);
     for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
         glm::vec3 p[3];
@@ -378,16 +384,36 @@ PdsmReadDepths::PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> 
         Triangle tri;
         tri.nm = glm::cross(p[1] - p[0], p[2] - p[0]);
         tri.d = glm::dot(tri.nm, p[0]);
+        // The side of its plane the offset may move a receiver to: where the light lies, if
+        // it lies wholly on one side (a receiver facing none of it reads nothing).
+        if (!lightCorners.empty()) {
+            bool above = false, below = false;
+            for (const glm::vec3& corner : lightCorners) {
+                const glm::vec3 e = corner - grid.centre;
+                const glm::vec3 q(glm::dot(e, grid.eu), glm::dot(e, grid.ev), glm::dot(e, grid.n));
+                const float side = glm::dot(tri.nm, q) - tri.d;
+                above = above || side >= 0.0f;
+                below = below || side <= 0.0f;
+            }
+            tri.towards = above && !below ? 1 : (below && !above ? -1 : 0);
+        }
         tri.z0 = kInf;
         tri.z1 = 0.0f;
         glm::vec2 m0(kInf), m1(-kInf);
+        float mMax = 0.0f;
         for (int k = 0; k < n; ++k) {
             tri.z0 = std::min(tri.z0, poly[k].z);
             tri.z1 = std::max(tri.z1, poly[k].z);
             const glm::vec2 m(poly[k].x / poly[k].z, poly[k].y / poly[k].z);
             m0 = glm::min(m0, m);
             m1 = glm::max(m1, m);
+            mMax = std::max(mMax, glm::length(m));
         }
+        // Q = P + delta N, delta <= offset zP: its m lies within delta (1 + |m|) / (zP - delta)
+        // = offset (1 + |m|) / (1 - offset) of P's.
+        tri.reach = offset * (1.0f + mMax) / (1.0f - offset);
+        m0 -= glm::vec2(tri.reach);
+        m1 += glm::vec2(tri.reach);
         // The texels whose centre lies within a texel of the box (one more for rounding),
         // clamped to the grid: a receiver past its edge reads the edge's texels in the cube.
         int lo[2], hi[2];
@@ -427,23 +453,50 @@ void PdsmReadDepths::row(int j, std::vector<std::vector<PdsmCodeRange>>& ranges)
         const bool pastRow = (edgeLo && tri.pastLo[1]) || (edgeHi && tri.pastHi[1]);
         // dot(nm, (m, 1)) over a texel's square: its centre's value +- this.
         const float reach = std::abs(tri.nm.x) * mTexelU + std::abs(tri.nm.y) * mTexelV;
-        const float low = tri.z0 * mLowShare;
+        // Where a plane dot(nm, X) = d meets every ray of a square whose dot(nm, (m, 1)) spans
+        // [a0, a1], its depths d / along there (extremes at the square's corners).
+        const auto meets = [](float d, float a0, float a1, float& lo, float& hi) {
+            if (d > 0.0f && a0 > 0.0f) {
+                lo = d / a1;
+                hi = d / a0;
+                return true;
+            }
+            if (d < 0.0f && a1 < 0.0f) {
+                lo = d / a0;
+                hi = d / a1;
+                return true;
+            }
+            return false;
+        };
+        const float wide = reach + (std::abs(tri.nm.x) + std::abs(tri.nm.y)) * tri.reach;
+        const float norm = glm::length(tri.nm);
         for (int i = tri.i0; i <= tri.i1; ++i) {
             const float u = mGrid.lo.x + (static_cast<float>(i) + 0.5f) * mTexelU;
             const bool past = pastRow || (i == 0 && tri.pastLo[0]) ||
                               (i == R - 1 && tri.pastHi[0]);
-            float zlo = low, zhi = tri.z1;
+            // P's depths: the triangle's, within its plane's over the square widened by the
+            // offset's reach (where Q's square may hold P's).
+            float pLo = tri.z0, pHi = tri.z1;
+            const float along = tri.nm.x * u + tri.nm.y * v + tri.nm.z;
+            float lo = 0.0f, hi = 0.0f;
+            if (!past && meets(tri.d, along - wide, along + wide, lo, hi)) {
+                pLo = std::max(pLo, lo);
+                pHi = std::min(pHi, hi);
+            }
+            // Q's depths (Q = P + delta N, delta <= offset zP), read no nearer than the span.
+            float zlo = pLo * (1.0f - mOffset) * mLowShare, zhi = pHi * (1.0f + mOffset);
             if (!past) {
-                const float along = tri.nm.x * u + tri.nm.y * v + tri.nm.z;
-                const float a0 = along - reach, a1 = along + reach;
-                // The plane's depth d / along over the square, where it meets every ray of it
-                // in front of the centre.
-                if (tri.d > 0.0f && a0 > 0.0f) {
-                    zlo = std::max(zlo, tri.d / a1);
-                    zhi = std::min(zhi, tri.d / a0);
-                } else if (tri.d < 0.0f && a1 < 0.0f) {
-                    zlo = std::max(zlo, tri.d / a0);
-                    zhi = std::min(zhi, tri.d / a1);
+                // Q lies on the plane moved by delta <= offset pHi (towards the light, or
+                // either way), in the square: its depths there (monotone in d: the two
+                // extremes) where both planes meet it.
+                const float shift = mOffset * pHi * norm;
+                const float dLo = tri.d - (tri.towards > 0 ? 0.0f : shift);
+                const float dHi = tri.d + (tri.towards < 0 ? 0.0f : shift);
+                float lo1 = 0.0f, hi1 = 0.0f, lo2 = 0.0f, hi2 = 0.0f;
+                if (meets(dLo, along - reach, along + reach, lo1, hi1) &&
+                    meets(dHi, along - reach, along + reach, lo2, hi2)) {
+                    zlo = std::max(zlo, std::min(lo1, lo2));
+                    zhi = std::min(zhi, std::max(hi1, hi2));
                 }
             }
             zlo *= 1.0f - 1e-4f;
@@ -747,7 +800,9 @@ Pdsm buildPdsm(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMaps
                           .noise = settings.noise,
                           .samples = static_cast<int>(frame.views.size())};
     std::optional<PdsmReadDepths> reads;
-    if (settings.receivers) reads.emplace(grid, *settings.receivers, settings.readSpanTexels);
+    if (settings.receivers)
+        reads.emplace(grid, *settings.receivers, settings.readSpanTexels,
+                      settings.readOffsetTexels, settings.lightCorners);
     const auto work = [&](int w) {
         std::vector<PdsmStep> steps;
         std::vector<std::vector<PdsmCodeRange>> ranges;

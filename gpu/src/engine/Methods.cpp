@@ -159,7 +159,7 @@ constexpr std::string_view kPdsmResolution[] = {"128", "256", "512", "1024"};
 constexpr std::string_view kPdsmTolerance[] = {"0.002", "0.003", "0.004", "0.008", "0.016",
                                                "0.032"};
 constexpr std::string_view kPdsmNoise[] = {"0", "0.25", "0.5", "1", "2"};
-constexpr std::string_view kPdsmBias[] = {"0.0", "0.1", "0.25", "0.5", "1.0"};
+constexpr std::string_view kPdsmBias[] = {"0.0", "0.05", "0.1", "0.25", "0.5", "1.0"};
 constexpr std::string_view kPdsmPlane[] = {"on", "off"};
 constexpr std::string_view kPdsmCull[] = {"on", "off"};
 constexpr MethodParameter kPdsmParameters[] = {
@@ -176,19 +176,20 @@ constexpr MethodParameter kPdsmParameters[] = {
      "where V lies between 0 and 1, the bound may be this many standard errors of the k "
      "samples' own estimate, sqrt(V (1 - V) / k), where that is more than tolerance (0: "
      "tolerance everywhere)"},
-    {"bias", kPdsmBias, "0.0",
+    {"bias", kPdsmBias, "0.05",
      "the receiver moved bias x tan(angle between its normal and the light's centre) deep-map "
-     "texels along its normal, towards the light, beside the receiver-plane reads and the maps' "
-     "slope offset that already keep surfaces from hiding themselves: more lifts every "
-     "receiver towards its casters (lighter penumbrae)"},
+     "texels along its normal, to the side it faces (tan capped at 8): a surface the light "
+     "grazes, narrower in the maps than a texel, is otherwise hidden by the surface beside it "
+     "in the same texel (a level's stair risers); more lifts every receiver towards its casters "
+     "(lighter penumbrae)"},
     {"plane", kPdsmPlane, "on",
      "on: V at most the share of the light in front of the receiver's own plane (as raytrace "
      "counts it); off: only the deep map"},
     {"cull", kPdsmCull, "on",
      "on: each texel's function kept only at the depths where the lookup may read it for a "
      "point of the scene's surfaces (a level's rays cross rock between its rooms; a texel no "
-     "surface reads holds nothing), not applied while objects are dynamic or bias is above 0 "
-     "(pdsm_cull says which); off: at every depth"},
+     "surface reads holds nothing), not applied while objects are dynamic, which may be "
+     "anywhere when it is read (pdsm_cull says which); off: at every depth"},
 };
 
 // deep-sm (Lokovic & Veach 2000): pcss's faces as deep shadow maps of transmittance.

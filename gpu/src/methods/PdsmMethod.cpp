@@ -22,6 +22,7 @@
 
 #include <geometry/core/Error.h>
 #include <geometry/shadow/PenumbraDeepShadowMap.h>
+#include <shared/Pdsm.h>
 
 #include <algorithm>
 #include <atomic>
@@ -326,13 +327,13 @@ private:
         p.subset.assign(ctx.casterSubset.begin(), ctx.casterSubset.end());
         p.setup = fitSampleMaps(ctx.scene, ctx.casters, p.subset, ctx.light, mOptions.samples,
                                 p.seed);
-        // Every object receives; a dynamic one may move anywhere without a new build, and the
-        // normal offset reads receivers moved off their surfaces: then every depth is kept.
+        // Every object receives; a dynamic one may move anywhere without a new build: then
+        // every depth is kept.
         const bool anyDynamic = std::any_of(ctx.scene.objects.begin(), ctx.scene.objects.end(),
                                             [](const geometry::SceneObject& o) {
                                                 return !o.isStatic;
                                             });
-        if (mOptions.cull && !anyDynamic && mOptions.normalOffset == 0.0f) {
+        if (mOptions.cull && !anyDynamic) {
             auto triangles = std::make_shared<std::vector<glm::vec3>>();
             for (const geometry::SceneObject& o : ctx.scene.objects)
                 for (const glm::uvec3& t : o.mesh.triangles)
@@ -407,7 +408,13 @@ private:
         geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance,
                                              .noise = mOptions.noise,
                                              .receivers = p.receivers,
-                                             .readSpanTexels = kReceiverPlaneSpan};
+                                             .readSpanTexels = kReceiverPlaneSpan,
+                                             .readOffsetTexels =
+                                                 mOptions.normalOffset * PDSM_OFFSET_MAX_TAN};
+        if (mOptions.ownPlane) // only receivers facing some of the light read the map
+            for (const float s : {-1.0f, 1.0f})
+                for (const float t : {-1.0f, 1.0f})
+                    settings.lightCorners.push_back(p.light.point(s, t));
         int before = 0;
         for (std::size_t k = 0; k < p.next; ++k) before += p.faces[k].grid.rowCount();
         const int total = p.totalRows;

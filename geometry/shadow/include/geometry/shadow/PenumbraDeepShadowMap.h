@@ -197,11 +197,17 @@ struct PdsmCodeRange {
 // the grid's edge also takes, where the triangle reaches past that edge, the triangle's depths
 // (the cube's lookup clamps a receiver past its face's edge to it). Conservative: a range may
 // hold depths no receiver reads, never the reverse (PenumbraDeepShadowMapTest holds random
-// receivers' reads to it). Valid for the lookup without the normal offset (bias 0): a receiver
-// moved along its normal reads elsewhere.
+// receivers' reads to it). With the lookup's normal offset (shared/Pdsm.h pdsmOffsetReceiver:
+// at most offsetTexels texels at the receiver's depth, either way along the normal) the
+// triangle's box and the squares are widened by what the offset may move a point's
+// projection, its depths by the offset, and its plane taken at both extremes of the shift; with
+// `lightCorners` (the light's four corners, for a lookup that reads only receivers facing some
+// of the light: plane=on), towards the light alone where the light lies wholly on one side of
+// the triangle's plane.
 class PdsmReadDepths {
 public:
-    PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> triangles, float spanTexels);
+    PdsmReadDepths(const PdsmGrid& grid, std::span<const glm::vec3> triangles, float spanTexels,
+                   float offsetTexels = 0.0f, std::span<const glm::vec3> lightCorners = {});
 
     // The ranges of texel (i, j) for every column i of row j, each sorted and disjoint (ranges
     // less than kMergeGap codes apart merged); empty where no receiver reads it.
@@ -214,11 +220,14 @@ private:
         glm::vec3 nm{0.0f}; // the plane dot(nm, (x, y, z)) = d in the map's axes from the centre
         float d = 0.0f;
         float z0 = 0.0f, z1 = 0.0f; // the clipped triangle's depths
+        float reach = 0.0f;         // how far in m the offset may move a point's projection
+        int towards = 0;            // the offset's side: the sign of dot(nm, X) - d, or 0: both
         int i0 = 0, i1 = -1;        // its columns
         bool pastLo[2] = {false, false}, pastHi[2] = {false, false}; // reaches past an edge
     };
     PdsmGrid mGrid;
     float mTexelU = 0.0f, mTexelV = 0.0f, mLowShare = 0.0f;
+    float mOffset = 0.0f; // the offset's largest delta / zP
     std::vector<Triangle> mTriangles;
     std::vector<std::vector<std::uint32_t>> mRows; // per row, the triangles that may reach it
 };
@@ -239,9 +248,13 @@ struct PdsmBuildSettings {
     // kept only at the depths where the lookup may read it for a point of one of them
     // (PdsmReadDepths, masked by maskPdsmStaircase), and a texel no receiver reads is not
     // walked; null: every depth (receivers whose depths are not known when the map is built:
-    // dynamic objects, or a lookup that offsets receivers).
+    // dynamic objects).
     std::shared_ptr<const std::vector<glm::vec3>> receivers;
     float readSpanTexels = 16.0f; // the lookup's RECEIVER_PLANE_SPAN
+    float readOffsetTexels = 0.0f; // the lookup's largest normal offset: bias PDSM_OFFSET_MAX_TAN
+    // The light's corners where the lookup reads only receivers facing some of it (plane=on;
+    // empty: any receiver).
+    std::vector<glm::vec3> lightCorners;
     // (rows done, rows), from the calling thread.
     std::function<void(int, int)> progress;
 };
