@@ -103,6 +103,10 @@ void main() {
         oVisibility = front;
         return;
     }
+    if (pdsm.basisV.w != 0.0) {
+        oVisibility = front; // a probe of the one map's extent before it is built: counts only
+        return;
+    }
     // The 2 x 2 texels around Q's ray (two gathers: first groups and counts), weighted
     // bilinearly; a texel without points is lit. Each texel's function is read no deeper than
     // where its ray meets Q's tangent plane (the receiver plane): a surface the light grazes (a

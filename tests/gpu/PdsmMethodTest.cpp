@@ -261,6 +261,7 @@ TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
                     100.0 * testutil::counter(r.stats, "pdsm_depth_kept"), dh.mean, dAll.mean,
                     dAll.off, pointsAll);
         EXPECT_EQ(testutil::counter(r.stats, "pdsm_cube"), 1.0);
+        EXPECT_EQ(testutil::counter(r.stats, "pdsm_cube_probed"), 1.0); // no one map built
         EXPECT_GE(testutil::counter(r.stats, "pdsm_faces"), 5.0);
         EXPECT_EQ(testutil::counter(r.stats, "pdsm_pixels_outside"), 0.0);
         EXPECT_LT(d.mean, c.mean + 0.0005);
@@ -403,13 +404,9 @@ TEST_F(PdsmMethod, DynamicObjectsAreShadowedEachFrameAndComposed) {
     }
 }
 
-// cull=on keeps the functions only at the depths where the receivers' surfaces read them, the
-// normal offset (bias) included. With every sample's step kept (tolerance 0.002 at k = 32, noise
-// 0) both builds store the k samples' staircase exactly where it is read, so that a depth
-// missing from what cull keeps would show as a pixel that differs: a lamp in a closed room with
-// a crate (the cube of deep maps; walls, floor and the crate's sides grazed by the light) and
-// the sphere, at no offset, the default and a large one.
-TEST_F(PdsmMethod, CullKeepsEveryDepthTheReceiversRead) {
+// A lamp in a closed room (six inward slabs) with a crate on the floor, the camera inside: the
+// interior case of every level (EdgeCases.LightInsideAClosedRoom's scene).
+geometry::Scene roomWithCrate() {
     geometry::Scene room;
     room.camera.eye = {-2.5f, 2.5f, 2.5f};
     room.camera.target = {0.5f, 0.3f, -0.5f};
@@ -430,6 +427,50 @@ TEST_F(PdsmMethod, CullKeepsEveryDepthTheReceiversRead) {
     box("wall +z", {0, 1.5f, 3.05f}, {6, 3, 0.1f});
     box("crate", {0.9f, 0.5f, -0.3f}, {1, 1, 1});
     geometry::validateScene(room);
+    return room;
+}
+
+// Where the one map along the light's normal would leave receivers of the view out (a lamp in
+// a room: the walls beside it, the ceiling), a lookup of its extent alone, before it is built,
+// finds them, and the cube is built at once; a view that sees only what the one map holds
+// builds the one map, and the cube once a view leaves receivers out of it. The cube is the same
+// either way.
+TEST_F(PdsmMethod, TheCubeIsBuiltAtOnceWhereTheOneMapWouldLeaveReceiversOut) {
+    const geometry::Scene room = roomWithCrate();
+    gpu::RenderSettings s = testutil::frameSettings("pdsm", 64, 64);
+    s.parameters = {{"samples", "16"}, {"resolution", "128"}};
+    testutil::SceneRenderer direct(room);
+    const gpu::FrameStats first = direct.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(first, "pdsm_cube"), 1.0);
+    EXPECT_EQ(testutil::counter(first, "pdsm_cube_probed"), 1.0);
+    EXPECT_EQ(testutil::counter(first, "pdsm_first_map_ms"), 0.0);
+    EXPECT_EQ(testutil::counter(first, "pdsm_pixels_outside"), 0.0);
+    const geometry::FloatImage cubeV = direct.renderer.visibility();
+    // Looking down at the floor under the lamp: the one map holds it.
+    testutil::SceneRenderer stepwise(room);
+    geometry::Camera down = room.camera;
+    down.eye = {0.0f, 2.0f, 0.3f};
+    down.target = {0.0f, 0.0f, 0.0f};
+    s.camera = down;
+    const gpu::FrameStats one = stepwise.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(one, "pdsm_cube"), 0.0);
+    EXPECT_EQ(testutil::counter(one, "pdsm_cube_probed"), 0.0);
+    s.camera = room.camera;
+    const gpu::FrameStats then = stepwise.renderer.renderFrame(s);
+    EXPECT_EQ(testutil::counter(then, "pdsm_cube"), 1.0);
+    EXPECT_EQ(testutil::counter(then, "pdsm_cube_probed"), 0.0);
+    EXPECT_GT(testutil::counter(then, "pdsm_first_map_ms"), 0.0);
+    EXPECT_TRUE(sameImage(stepwise.renderer.visibility(), cubeV));
+}
+
+// cull=on keeps the functions only at the depths where the receivers' surfaces read them, the
+// normal offset (bias) included. With every sample's step kept (tolerance 0.002 at k = 32, noise
+// 0) both builds store the k samples' staircase exactly where it is read, so that a depth
+// missing from what cull keeps would show as a pixel that differs: a lamp in a closed room with
+// a crate (the cube of deep maps; walls, floor and the crate's sides grazed by the light) and
+// the sphere, at no offset, the default and a large one.
+TEST_F(PdsmMethod, CullKeepsEveryDepthTheReceiversRead) {
+    const geometry::Scene room = roomWithCrate();
     const auto sphere = geometry::loadScene(testutil::dataPath("sphere.json"));
     for (const geometry::Scene* scene : {static_cast<const geometry::Scene*>(&room), &sphere})
         for (const char* bias : {"0.0", "0.05", "0.5"}) {
@@ -457,8 +498,9 @@ TEST_F(PdsmMethod, CullKeepsEveryDepthTheReceiversRead) {
             EXPECT_EQ(d.off, 0u);
             // Measured: 8.1 %, 11.3 % and 71.2 % in the room, 2.2 %, 4.5 % and 29.0 % on the
             // sphere (a large offset widens every receiver's depths and squares).
-            if (std::string(bias) != "0.5")
+            if (std::string(bias) != "0.5") {
                 EXPECT_LT(testutil::counter(culled.stats, "pdsm_depth_kept"), 0.2);
+            }
         }
 }
 

@@ -121,6 +121,7 @@ public:
 private:
     // The deep maps of ctx.casterSubset (built or reused) and their lookup into V.
     void executeDeep(const FrameContext& ctx, const FullscreenPass& lookup) {
+        mCurrentLookup = &lookup; // the probe's, in start()
         const bool cached = ensureMaps(ctx);
         std::uint32_t outside = runLookup(ctx, lookup);
         // One map that leaves receivers of this view outside it where they may be hidden (its
@@ -173,23 +174,38 @@ private:
     }
 
     // The lookup into V; the receivers it finds outside the maps where they may be hidden.
-    std::uint32_t runLookup(const FrameContext& ctx, const FullscreenPass& lookup) {
-        const bool clipped = std::any_of(mFaces.begin(), mFaces.end(),
-                                         [](const geometry::Pdsm& m) { return m.grid.clipped; });
+    // `probe`: instead, the one map's extent `probe` alone, before its functions are built (the
+    // lookup counts the receivers outside it and reads nothing; V is written again after).
+    std::uint32_t runLookup(const FrameContext& ctx, const FullscreenPass& lookup,
+                            const geometry::PdsmGrid* probe = nullptr) {
+        std::vector<const geometry::PdsmGrid*> grids;
+        std::vector<int> ids;
+        if (probe) {
+            grids.push_back(probe);
+            ids.push_back(0);
+        } else {
+            for (std::size_t f = 0; f < mFaces.size(); ++f) {
+                grids.push_back(&mFaces[f].grid);
+                ids.push_back(mFaceIds[f]);
+            }
+        }
+        const bool clipped = std::any_of(grids.begin(), grids.end(),
+                                         [](const geometry::PdsmGrid* g) { return g->clipped; });
         shader::PdsmUniforms u{};
-        const bool anyCasters = std::any_of(mFaces.begin(), mFaces.end(),
-                                            [](const geometry::Pdsm& m) { return !m.grid.empty; });
-        u.centre = glm::vec4(mLight.center, anyCasters ? 1.0f : 0.0f);
-        u.cube = glm::vec4(mCube ? 1.0f : 0.0f, mCubeFrame.maxTan, mOptions.normalOffset,
+        const bool anyCasters = std::any_of(grids.begin(), grids.end(),
+                                            [](const geometry::PdsmGrid* g) { return !g->empty; });
+        const bool cube = !probe && mCube;
+        u.centre = glm::vec4(probe ? probe->centre : mLight.center, anyCasters ? 1.0f : 0.0f);
+        u.cube = glm::vec4(cube ? 1.0f : 0.0f, mCubeFrame.maxTan, mOptions.normalOffset,
                            static_cast<float>(mOptions.resolution));
         u.basisU = glm::vec4(mCubeFrame.eu, clipped ? 1.0f : 0.0f);
-        u.basisV = glm::vec4(mCubeFrame.ev, 0.0f);
+        u.basisV = glm::vec4(mCubeFrame.ev, probe ? 1.0f : 0.0f);
         u.normal = glm::vec4(mCubeFrame.normal, mCubeFrame.zNear);
         for (int k = 0; k < geometry::kPcssFaces; ++k) u.faceB1[k].w = -1.0f;
-        for (std::size_t f = 0; f < mFaces.size(); ++f) {
-            const geometry::PdsmGrid& g = mFaces[f].grid;
+        for (std::size_t f = 0; f < grids.size(); ++f) {
+            const geometry::PdsmGrid& g = *grids[f];
             if (g.empty) continue;
-            const int k = mFaceIds[f];
+            const int k = ids[f];
             const glm::vec2 side = g.hi - g.lo;
             u.faceB1[k] = glm::vec4(g.eu, static_cast<float>(f));
             u.faceB2[k] = glm::vec4(g.ev, g.zNear);
@@ -251,6 +267,9 @@ private:
         ctx.addCounter("pdsm_samples", anyCasters ? static_cast<double>(mOptions.samples) : 0.0);
         ctx.addCounter("pdsm_faces", static_cast<double>(mFaces.size()));
         ctx.addCounter("pdsm_cube", mCube ? 1.0 : 0.0);
+        // 1: the one map's extent, probed before it was built, left receivers of the view out:
+        // the cube was built without it (pdsm_first_map_ms 0).
+        ctx.addCounter("pdsm_cube_probed", mProbedCube ? 1.0 : 0.0);
         ctx.addCounter("pdsm_resolution", mOptions.resolution);
         ctx.addCounter("pdsm_tolerance", mOptions.tolerance);
         ctx.addCounter("pdsm_noise", mOptions.noise);
@@ -352,6 +371,13 @@ private:
         // past its cap is counted, pdsm_pixels_outside: none on the data/ scenes). Else (a lamp
         // in a room, casters at the light's plane) the cube.
         p.frameClipped = !f.empty && f.clipped;
+        // Where the one map would be clipped, the lookup first counts this view's receivers
+        // outside its extent (no functions needed): if there are any, the cube at once, without
+        // building the one map only to find them (a level's spawn view spent 16 of its 68 s so).
+        if (p.frameClipped && !mWantCube && runLookup(ctx, *mCurrentLookup, &grid) > 0) {
+            mWantCube = true;
+            mProbedCube = true;
+        }
         if (!p.frameClipped || !mWantCube) {
             p.faces.push_back({0, f, grid});
         } else {
@@ -553,6 +579,7 @@ private:
     MethodResources mResources; // shaders and scene, for the dynamic objects' method
     PdsmOptions mOptions;
     FullscreenPass mLookup, mLookupWithoutPlane;
+    const FullscreenPass* mCurrentLookup = nullptr; // this frame's (one of the two)
     VisibilityProduct mProduct;
     std::unique_ptr<VisibilityMethod> mDynamic; // auto, on the dynamic objects
     int mWidth = 0, mHeight = 0;
@@ -569,6 +596,7 @@ private:
     // A view found receivers outside the one map where they may be hidden: the cube wherever
     // the one map's frame is clipped.
     bool mWantCube = false;
+    bool mProbedCube = false; // the cube chosen by the probe, before any one map was built
     geometry::PcssFrame mCubeFrame;
     int mIndexLayers = 0;
     SampleMapSetup mSetup;
