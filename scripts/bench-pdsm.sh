@@ -9,10 +9,13 @@
 # noise bound, its tolerance, the samples, the receiver offset (bias) and cull=off swept on two
 # scenes, and the noise bound, the offset and cull=off on the levels' views. Writes
 # docs/bench-pdsm.md.
-# Usage: bash scripts/bench-pdsm.sh   (build first; OUT defaults to out/bench-pdsm, ROUNDS to 3)
+# Usage: bash scripts/bench-pdsm.sh   (build first; OUT defaults to out/bench-pdsm, ROUNDS to 3;
+# TABLES_ONLY=1 writes the tables again from OUT's last run without rendering)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-render=build/bin/penumbra-render
+render() {
+    [ -n "${TABLES_ONLY:-}" ] || build/bin/penumbra-render "$@"
+}
 root=${OUT:-out/bench-pdsm}
 rounds=${ROUNDS:-3}
 size=${SIZE:-256x256}
@@ -25,18 +28,18 @@ for entry in "${wedge_views[@]}"; do
     rows+=("$o|$name")
     echo "== $name" >&2
     [ -f "$o/reference/visibility.pfm" ] ||
-        "$render" --scene "$scene" "${camera[@]}" --method reference --samples 1024 --size "$size" \
+        render --scene "$scene" "${camera[@]}" --method reference --samples 1024 --size "$size" \
             --out "$o/reference" --quiet
     ref=(--compare "$o/reference/visibility.pfm")
     for run in $(seq "$rounds"); do
-        "$render" --scene "$scene" "${camera[@]}" --method hard --frames 6 --size "$size" \
+        render --scene "$scene" "${camera[@]}" --method hard --frames 6 --size "$size" \
             --out "$o/hard-$run" --quiet
-        "$render" --scene "$scene" "${camera[@]}" --method pdsm --frames 6 --size "$size" \
+        render --scene "$scene" "${camera[@]}" --method pdsm --frames 6 --size "$size" \
             --out "$o/pdsm-$run" "${ref[@]}" --quiet
     done
-    "$render" --scene "$scene" "${camera[@]}" --method sample-maps --param samples=256 \
+    render --scene "$scene" "${camera[@]}" --method sample-maps --param samples=256 \
         --size "$size" --out "$o/sample-maps" "${ref[@]}" --quiet
-    "$render" --scene "$scene" "${camera[@]}" --method wedges-bitmask --size "$size" \
+    render --scene "$scene" "${camera[@]}" --method wedges-bitmask --size "$size" \
         --out "$o/wedges-bitmask" "${ref[@]}" --quiet
 done
 sweeps=()
@@ -44,7 +47,7 @@ for s in plates-three sphere; do
     o="$root/$s"
     for p in noise=0 noise=1 tolerance=0.003 tolerance=0.008 tolerance=0.016 tolerance=0.032 \
         samples=16 samples=64 bias=0.0 bias=0.1 cull=off; do
-        "$render" --scene "data/$s.json" --method pdsm --param "$p" --size "$size" \
+        render --scene "data/$s.json" --method pdsm --param "$p" --size "$size" \
             --out "$o/pdsm-$p" --compare "$o/reference/visibility.pfm" --quiet
         sweeps+=("$o|$s|$p")
     done
@@ -58,7 +61,7 @@ for entry in ../shared/levels/kaos2.glb@0 ../shared/levels/oa_dm5.glb@0; do
     [[ "$entry" == *oa_dm5* ]] && params=(noise=0 noise=1 bias=0.0 bias=0.1 cull=off)
     for p in "${params[@]}"; do
         echo "== $name $p" >&2
-        "$render" --scene "$scene" "${camera[@]}" --method pdsm --param "$p" --size "$size" \
+        render --scene "$scene" "${camera[@]}" --method pdsm --param "$p" --size "$size" \
             --out "$o/pdsm-$p" --compare "$o/reference/visibility.pfm" --quiet
         sweeps+=("$o|$name|$p")
     done
@@ -83,10 +86,11 @@ print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², t
       f"beside `sample-maps` with the same 256 samples and `wedges-bitmask`'s default. Frame: "
       f"pdsm's over `hard`'s, the median of {rounds} alternating runs, each the median of 6 frames "
       f"(the first builds the deep map). Maps: one along the light's normal, or the cube of deep "
-      f"maps around the light (its faces built) where the one map's first lookup finds receivers "
-      f"outside it. Precompute: the sample maps drawn and read back, merged on the CPU (all "
-      f"cores) and uploaded, in the first frame (for the cube, the one map's before it "
-      f"included, in parentheses). GL_RENDERER {first['gl_renderer']}, CPU {cpu}.")
+      f"maps around the light (its faces built) where a lookup of the one map's extent finds "
+      f"receivers of the view outside it (the cube then built at once). Precompute: the sample "
+      f"maps drawn and read back, merged on the CPU (all cores) and uploaded, in the first frame "
+      f"(for the cube, a one map built before it, in parentheses: none where the probe chose "
+      f"it). Depths kept: the share of the read texels' depths kept for the receivers (cull). GL_RENDERER {first['gl_renderer']}, CPU {cpu}.")
 print()
 print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard | maps | "
       "precompute s | deep map MiB | points per texel (mean, longest) | depths kept % | "
