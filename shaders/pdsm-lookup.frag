@@ -12,13 +12,13 @@
 //   shared/Pdsm.h pdsmOffsetReceiver): a surface the light grazes is narrower in the maps than
 //   a texel, whose stored depth is then the surface beside it (a stair's riser under its
 //   tread's nose, a crate's side under its top). Default 0.05 (256², against reference N =
-//   1024: oa_dm5's spawn view with the lamp 0.0044 mean error with none, 0.0024 with it, the
-//   data/ scenes within 0.0001; bias 0.1 costs spheres-nine 0.0002 and 0.25 plates-three
-//   0.0006: every texel of offset lifts the receiver towards its casters and lightens its
-//   penumbrae; before the receiver plane and the maps' offset, the walls of data/demo.json
-//   grazed by the light were striped dark, 0.046). Until this offset moved receivers to the
-//   side they face, a receiver facing away from the light's centre was moved into the object
-//   behind it (a crate's side lit by the light's edge came out dark).
+//   1024: oa_dm5's spawn view with the lamp 0.0044 mean error with none, 0.0024 with it, no
+//   data/ scene worse by more than 0.0001; bias 0.1 costs spheres-nine 0.0002 and 0.25
+//   plates-three 0.0006: every texel of offset lifts the receiver towards its casters and
+//   lightens its penumbrae; before the receiver plane and the maps' offset, the walls of
+//   data/demo.json grazed by the light were striped dark, 0.046). Until this offset moved
+//   receivers to the side they face, a receiver facing away from the light's centre was moved
+//   into the object behind it (a crate's side lit by the light's edge came out dark).
 // - Nearer to the light than every caster (t < 0), lit; past the deepest receiver the map was
 //   built for (t > 1), the last value.
 // - Outside the deep map's extent: lit. Where the map was clipped (casters reaching the light's
