@@ -335,6 +335,25 @@ private:
                            mSubset.end());
     }
 
+    // Every object's triangles in world space, the receivers cull keeps the depths of: gathered
+    // once (the scene's objects do not move within a run; a light moved every frame rebuilds
+    // the maps every frame). Null where an object is dynamic: it may be anywhere when the map
+    // is read, so every depth is kept.
+    std::shared_ptr<const std::vector<glm::vec3>> receivers(const geometry::Scene& scene) {
+        if (mReceiversGathered) return mReceivers;
+        mReceiversGathered = true;
+        const bool anyDynamic =
+            std::any_of(scene.objects.begin(), scene.objects.end(),
+                        [](const geometry::SceneObject& o) { return !o.isStatic; });
+        if (anyDynamic) return mReceivers;
+        auto triangles = std::make_shared<std::vector<glm::vec3>>();
+        for (const geometry::SceneObject& o : scene.objects)
+            for (const glm::uvec3& t : o.mesh.triangles)
+                for (int k = 0; k < 3; ++k) triangles->push_back(o.mesh.positions[t[k]]);
+        mReceivers = std::move(triangles);
+        return mReceivers;
+    }
+
     // Fits the maps of this frame's light and casters: one map along the light's normal where
     // it holds every receiver that may be hidden, else a map per face of the cube; and starts
     // the first face.
@@ -346,19 +365,7 @@ private:
         p.subset.assign(ctx.casterSubset.begin(), ctx.casterSubset.end());
         p.setup = fitSampleMaps(ctx.scene, ctx.casters, p.subset, ctx.light, mOptions.samples,
                                 p.seed);
-        // Every object receives; a dynamic one may move anywhere without a new build: then
-        // every depth is kept.
-        const bool anyDynamic = std::any_of(ctx.scene.objects.begin(), ctx.scene.objects.end(),
-                                            [](const geometry::SceneObject& o) {
-                                                return !o.isStatic;
-                                            });
-        if (mOptions.cull && !anyDynamic) {
-            auto triangles = std::make_shared<std::vector<glm::vec3>>();
-            for (const geometry::SceneObject& o : ctx.scene.objects)
-                for (const glm::uvec3& t : o.mesh.triangles)
-                    for (int k = 0; k < 3; ++k) triangles->push_back(o.mesh.positions[t[k]]);
-            p.receivers = std::move(triangles);
-        }
+        if (mOptions.cull) p.receivers = receivers(ctx.scene);
         geometry::jitterSampleMapGrids(p.setup.frame, mOptions.resolution);
         geometry::Aabb scene;
         for (const geometry::SceneObject& o : ctx.scene.objects) scene.extend(o.mesh.bounds());
@@ -592,6 +599,8 @@ private:
     std::vector<int> mFaceIds;          // their cube faces (0 for the one map)
     bool mCube = false;         // the built maps are the cube's
     bool mCulled = false;       // the built maps keep only the depths receivers read
+    std::shared_ptr<const std::vector<glm::vec3>> mReceivers; // receivers(), once
+    bool mReceiversGathered = false;
     bool mFrameClipped = false; // the one map's frame was clipped
     // A view found receivers outside the one map where they may be hidden: the cube wherever
     // the one map's frame is clipped.
