@@ -57,13 +57,30 @@ int cubeFace(vec3 toP) {
     return y >= 0.0 ? 4 : 5;
 }
 
+// The face's frame: constant index for the one map (ONE_MAP); in the cube, the face picked per
+// pixel (a per-lane read of the uniform block, which llvmpipe does lane by lane: 3 M of the
+// lookup's 31 M instructions per frame on data/overlap.json at 256², where one map serves).
+struct PdsmFace {
+    vec4 b1, b2, axis, extent, texel;
+};
+PdsmFace pdsmFace(int face) {
+#ifdef ONE_MAP
+    return PdsmFace(pdsm.faceB1[0], pdsm.faceB2[0], pdsm.faceAxis[0], pdsm.faceExtent[0],
+                    pdsm.faceTexel[0]);
+#else
+    return PdsmFace(pdsm.faceB1[face], pdsm.faceB2[face], pdsm.faceAxis[face],
+                    pdsm.faceExtent[face], pdsm.faceTexel[face]);
+#endif
+}
+
+// Written without early returns: llvmpipe runs every statement for every SIMD group whatever
+// the branches decide (only a loop's extra iterations are skipped), and each return became
+// masks and masked stores around the rest; `shaded` says instead whether the pixel reads the
+// map, and its texels' counts are zero where it does not (data/overlap.json at 256²: 0.8 M of
+// 31 M instructions per frame).
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec4 position = texelFetch(tPosition, px, 0);
-    if (position.w == 0.0) {
-        oVisibility = 1.0; // no surface
-        return;
-    }
     vec3 P = position.xyz;
     vec3 N = texelFetch(tNormal, px, 0).xyz;
     vec3 c = pdsm.centre.xyz; // the map's light (the frame's, but while the next is built)
@@ -72,41 +89,37 @@ void main() {
 #else
     float front = 1.0;
 #endif
-    if (pdsm.centre.w == 0.0 || front == 0.0) {
-        oVisibility = front; // no casters, or the whole light behind P's plane
-        return;
-    }
-    int face = pdsm.cube.x != 0.0 ? cubeFace(P - c) : 0;
-    float layer = face >= 0 ? pdsm.faceB1[face].w : -1.0;
-    if (layer < 0.0) {
-        oVisibility = front; // at the centre, or a face with no receivers or no casters
-        return;
-    }
-    vec3 eu = pdsm.faceB1[face].xyz, ev = pdsm.faceB2[face].xyz, n = pdsm.faceAxis[face].xyz;
-    float zNear = pdsm.faceB2[face].w, sFar = pdsm.faceAxis[face].w, R = pdsm.cube.w;
-    vec4 extent = pdsm.faceExtent[face];
-    float texelSize = pdsm.faceTexel[face].x;
-    vec2 faceSize = pdsm.faceTexel[face].yz; // the face's columns and rows (of the R x R layer)
+    // Not read: no surface (V = 1), no casters, the whole light behind P's plane (V = front).
+    bool shaded = position.w != 0.0 && pdsm.centre.w != 0.0 && front != 0.0;
+#ifdef ONE_MAP
+    int face = 0;
+#else
+    int face = cubeFace(P - c);
+    shaded = shaded && face >= 0; // within the cube's zNear of the centre: lit
+    face = max(face, 0);
+#endif
+    PdsmFace fr = pdsmFace(face);
+    float layer = fr.b1.w;
+    shaded = shaded && layer >= 0.0; // a face with no receivers or no casters
+    vec3 eu = fr.b1.xyz, ev = fr.b2.xyz, n = fr.axis.xyz;
+    float zNear = fr.b2.w, sFar = fr.axis.w, R = pdsm.cube.w;
+    vec4 extent = fr.extent;
+    float texelSize = fr.texel.x;
+    vec2 faceSize = fr.texel.yz; // the face's columns and rows (of the R x R layer)
     // The offset along P's normal (shared/Pdsm.h).
     vec3 Q = pdsmOffsetReceiver(P, N, c, dot(P - c, n), pdsm.cube.z, texelSize);
     vec3 d = Q - c;
     float z = dot(d, n);
-    if (z <= zNear) {
-        oVisibility = front; // nearer to the light than every caster
-        return;
-    }
+    shaded = shaded && z > zNear; // nearer to the light than every caster: lit
     vec2 uv = (vec2(dot(d, eu), dot(d, ev)) / z - extent.xy) * extent.zw;
+#ifndef ONE_MAP
     // In the cube, P's face holds it; the offset may carry Q a little past the face's edge.
-    if (pdsm.cube.x != 0.0) uv = clamp(uv, vec2(0.0), vec2(1.0));
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
-        if (pdsm.basisU.w != 0.0) atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
-        oVisibility = front;
-        return;
-    }
-    if (pdsm.basisV.w != 0.0) {
-        oVisibility = front; // a probe of the one map's extent before it is built: counts only
-        return;
-    }
+    uv = clamp(uv, vec2(0.0), vec2(1.0));
+#endif
+    bool outside = any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
+    if (shaded && outside && pdsm.basisU.w != 0.0) atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
+    // A probe of the one map's extent before it is built (basisV.w) counts only.
+    shaded = shaded && !outside && pdsm.basisV.w == 0.0;
     // The 2 x 2 texels around Q's ray (two gathers: first groups and counts), weighted
     // bilinearly; a texel without points is lit. Each texel's function is read no deeper than
     // where its ray meets Q's tangent plane (the receiver plane): a surface the light grazes (a
@@ -116,15 +129,15 @@ void main() {
     // meeting a wall) a neighbouring ray meets Q's plane behind the wall (kaos2's first spawn
     // view with the lamp: dark lines along the wall's foot, 0.0068 mean error, 0.0007 without).
     // The plane's depth is held within RECEIVER_PLANE_SPAN texels of Q's (a ray nearly in the
-    // plane meets it far away). As a loop that runs only where one of the four holds a
-    // function, so that llvmpipe (which runs both sides of a branch under a lane mask) skips the
-    // searches for SIMD groups of lit pixels.
+    // plane meets it far away). As a loop of four only where one of the four holds a function:
+    // llvmpipe runs a loop's body once for a SIMD group even where no lane enters it (masked),
+    // and the other three times only for groups near a function.
     vec2 x = uv * faceSize - 0.5;
     vec2 base = floor(x);
     vec2 f = x - base;
     vec2 gather = (base + 1.0) / R;
     uvec4 firsts = textureGather(tIndex, vec3(gather, layer), 0);
-    uvec4 counts = textureGather(tIndex, vec3(gather, layer), 1);
+    uvec4 counts = shaded ? textureGather(tIndex, vec3(gather, layer), 1) : uvec4(0u);
     vec4 w = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
     // The gathered texels' columns and rows (x: (i0, j1), y: (i1, j1), z: (i1, j0), w: (i0, j0)).
     vec4 ci = base.x + vec4(0.5, 1.5, 1.5, 0.5), cj = base.y + vec4(1.5, 1.5, 0.5, 0.5);
@@ -142,5 +155,5 @@ void main() {
         v += w[k] * (counts[k] == 0u ? 1.0 : pdsmFunction(firsts[k], counts[k], tk));
     }
     if (texels == 0) v = 1.0;
-    oVisibility = min(v, front);
+    oVisibility = position.w == 0.0 ? 1.0 : shaded ? min(v, front) : front;
 }

@@ -927,17 +927,21 @@ float evaluatePdsmFunction(std::span<const std::uint32_t> data, std::uint32_t fi
         const std::uint32_t* w = data.data() + 3 * static_cast<std::size_t>(first + g);
         return glm::uvec3(w[0], w[1], w[2]);
     };
-    // The last group whose first point lies at or before t (the first group if none does).
-    std::uint32_t lo = 0, hi = (count - 1) / 4;
-    while (lo < hi) {
-        const std::uint32_t mid = (lo + hi + 1) >> 1;
-        const glm::uvec3 w = group(mid);
-        if (shader::pdsmPointDepth(shader::pdsmPointBits(w.x, w.y, w.z, 0u)) <= t)
-            lo = mid;
-        else
-            hi = mid - 1;
+    // The last group whose first point lies at or before t (the first group if none does):
+    // the first pass reads group 0, each later one the middle of what is left.
+    std::uint32_t lo = 0, hi = (count - 1) / 4, at = 0;
+    glm::uvec3 w(0u);
+    for (;;) {
+        const glm::uvec3 m = group(at);
+        if (at == 0 || shader::pdsmPointDepth(shader::pdsmPointBits(m.x, m.y, m.z, 0u)) <= t) {
+            lo = at;
+            w = m;
+        } else {
+            hi = at - 1;
+        }
+        if (lo >= hi) break;
+        at = (lo + hi + 1) >> 1;
     }
-    const glm::uvec3 w = group(lo);
     const std::uint32_t inGroup = std::min(count - 4 * lo, 4u);
     const std::uint32_t next = lo + 1 < (count + 3) / 4 ? lo + 1 : lo;
     const glm::uvec3 wn = group(next);

@@ -50,6 +50,24 @@ constexpr float kReceiverPlaneSpan = 16.0f;
 std::string spanDefine() {
     return "RECEIVER_PLANE_SPAN " + std::to_string(kReceiverPlaneSpan);
 }
+
+// The lookup's two programs: for the one map (ONE_MAP: its frame read by constant index) and for
+// the cube (a face per pixel).
+struct PdsmLookup {
+    PdsmLookup(const ShaderLoader& shaders, std::vector<std::string> defines)
+        : oneMap(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
+                 withOneMap(defines)),
+          cube(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}, defines) {}
+    const FullscreenPass& pick(bool isCube) const { return isCube ? cube : oneMap; }
+
+    FullscreenPass oneMap, cube;
+
+private:
+    static std::vector<std::string> withOneMap(std::vector<std::string> defines) {
+        defines.push_back("ONE_MAP");
+        return defines;
+    }
+};
 // Sample maps drawn (and read back) at a time.
 constexpr int kMapsPerBatch = 16;
 
@@ -57,11 +75,10 @@ class PdsmMethod final : public VisibilityMethod {
 public:
     explicit PdsmMethod(const MethodResources& r)
         : mResources{r.shaders, r.scene, {}}, mOptions(pdsmOptions(r.parameters)),
-          mLookup(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
-                  mOptions.ownPlane ? std::vector<std::string>{"OWN_PLANE", spanDefine()}
-                                    : std::vector<std::string>{spanDefine()}),
-          mLookupWithoutPlane(r.shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
-                              {spanDefine()}),
+          mLookup(r.shaders, mOptions.ownPlane
+                                 ? std::vector<std::string>{"OWN_PLANE", spanDefine()}
+                                 : std::vector<std::string>{spanDefine()}),
+          mLookupWithoutPlane(r.shaders, {spanDefine()}),
           mProduct(r.shaders, "pdsm-compose"),
           mUniforms({.size = sizeof(shader::PdsmUniforms), .label = "pdsm-uniforms"}),
           mStats({.size = PDSM_STAT_COUNT * sizeof(std::uint32_t), .label = "pdsm-stats"}),
@@ -120,7 +137,7 @@ public:
 
 private:
     // The deep maps of ctx.casterSubset (built or reused) and their lookup into V.
-    void executeDeep(const FrameContext& ctx, const FullscreenPass& lookup) {
+    void executeDeep(const FrameContext& ctx, const PdsmLookup& lookup) {
         mCurrentLookup = &lookup; // the probe's, in start()
         const bool cached = ensureMaps(ctx);
         std::uint32_t outside = runLookup(ctx, lookup);
@@ -176,7 +193,7 @@ private:
     // The lookup into V; the receivers it finds outside the maps where they may be hidden.
     // `probe`: instead, the one map's extent `probe` alone, before its functions are built (the
     // lookup counts the receivers outside it and reads nothing; V is written again after).
-    std::uint32_t runLookup(const FrameContext& ctx, const FullscreenPass& lookup,
+    std::uint32_t runLookup(const FrameContext& ctx, const PdsmLookup& lookup,
                             const geometry::PdsmGrid* probe = nullptr) {
         std::vector<const geometry::PdsmGrid*> grids;
         std::vector<int> ids;
@@ -230,7 +247,8 @@ private:
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
             glBindTextureUnit(TEXUNIT_PDSM_INDEX, mIndex.id());
             glBindTextureUnit(TEXUNIT_PDSM_DATA, mDataTexels.id());
-            lookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
+            lookup.pick(cube).execute(ctx.targets.visibilityFbo, ctx.targets.width,
+                                      ctx.targets.height);
         }
         std::uint32_t stats[PDSM_STAT_COUNT] = {};
         if (clipped) {
@@ -585,8 +603,8 @@ private:
 
     MethodResources mResources; // shaders and scene, for the dynamic objects' method
     PdsmOptions mOptions;
-    FullscreenPass mLookup, mLookupWithoutPlane;
-    const FullscreenPass* mCurrentLookup = nullptr; // this frame's (one of the two)
+    PdsmLookup mLookup, mLookupWithoutPlane;
+    const PdsmLookup* mCurrentLookup = nullptr; // this frame's (one of the two)
     VisibilityProduct mProduct;
     std::unique_ptr<VisibilityMethod> mDynamic; // auto, on the dynamic objects
     int mWidth = 0, mHeight = 0;
