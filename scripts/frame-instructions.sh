@@ -8,7 +8,9 @@
 # Per view and build: one run to fill Mesa's shader cache, then 1 and 6 frames (after the
 # warm-up frame); the per-frame count is their difference over 5. About a minute per run at
 # 256²; VIEWS (default: the wedge benches' views) and JOBS (default 2) in parallel.
-# Writes docs/frame-instructions.md. Usage: bash scripts/frame-instructions.sh COMMIT [build-dir]
+# Writes docs/frame-instructions.md (DOC: another file). BASELINE=METHOD also counts that method
+# on this tree, as a column beside (e.g. METHOD=pdsm BASELINE=hard: the soft frame over the hard
+# one in instructions). Usage: bash scripts/frame-instructions.sh COMMIT [build-dir]
 # Needs valgrind (the Debian package of that name; not needed to build or test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,19 +25,21 @@ BIN=$(realpath -m "$BUILD/bin/penumbra-render")
 METHOD=${METHOD:-wedges-bitmask}
 SIZE=${SIZE:-256x256}
 JOBS=${JOBS:-2}
+DOC=${DOC:-docs/frame-instructions.md}
+BASELINE=${BASELINE:-}
 [ -x "$BIN" ] || { echo "frame-instructions: build this tree first ($BIN missing)" >&2; exit 2; }
 source scripts/commit-build.sh
 commit_begin "$COMMIT" "$BUILD"
 source scripts/wedge-scenes.sh
 wedge_selected_views
 
-# count BIN VIEW TAG: the per-frame instructions in millions, into $OUT/TAG.
+# count BIN VIEW TAG [METHOD]: the per-frame instructions in millions, into $OUT/TAG.
 count() {
-    local bin=$1 entry=$2 tag=$3
+    local bin=$1 entry=$2 tag=$3 method=${4:-$METHOD}
     wedge_view "$entry"
     run() {
         LP_NUM_THREADS=0 valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file=/dev/null \
-            --smc-check=all "$bin" --scene "$scene" "${camera[@]}" --method "$METHOD" \
+            --smc-check=all "$bin" --scene "$scene" "${camera[@]}" --method "$method" \
             --size "$2" --frames "$1" --out "$OUT/$tag.render" --quiet 2>&1 |
             sed -n 's/.*I *refs: *//p' | tr -d ,
     }
@@ -55,18 +59,22 @@ export OUT METHOD SIZE
 jobs=()
 for i in "${!views[@]}"; do
     jobs+=("$OLD ${views[$i]} old-$i" "$BIN ${views[$i]} new-$i")
+    [ -z "$BASELINE" ] || jobs+=("$BIN ${views[$i]} base-$i $BASELINE")
 done
-printf '%s\n' "${jobs[@]}" | xargs -P "$JOBS" -L 1 bash -c 'count "$0" "$1" "$2"; echo "== $2 ${1}" >&2'
+printf '%s\n' "${jobs[@]}" | xargs -P "$JOBS" -L 1 bash -c 'count "$0" "$1" "$2" "$3"; echo "== $2 ${1}" >&2'
 
 rows=()
 for i in "${!views[@]}"; do
     wedge_view "${views[$i]}"
-    rows+=("$(/usr/bin/python3 - "$name" "$(cat "$OUT/old-$i")" "$(cat "$OUT/new-$i")" <<'PY'
+    base=nan
+    [ -z "$BASELINE" ] || base=$(cat "$OUT/base-$i")
+    rows+=("$(/usr/bin/python3 - "$name" "$(cat "$OUT/old-$i")" "$(cat "$OUT/new-$i")" "$base" "$BASELINE" <<'PY'
 import math, sys
-name, old, new = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
-ratio = "—" if math.isnan(old) or math.isnan(new) else f"{new / old:.3f}"
+name, old, new, base = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
+ratio = lambda a, b: "—" if math.isnan(a) or math.isnan(b) else f"{a / b:.3f}"
 fmt = lambda v: "—" if math.isnan(v) else f"{v:.0f}"
-print(f"| {name} | {fmt(old)} | {fmt(new)} | {ratio} |")
+extra = f" {fmt(base)} | {ratio(old, base)} | {ratio(new, base)} |" if sys.argv[5] else ""
+print(f"| {name} | {fmt(old)} | {fmt(new)} | {ratio(new, old)} |{extra}")
 PY
 )")
 done
@@ -75,12 +83,18 @@ done
     subject=$(commit_subject "$COMMIT")
     echo "Instructions per frame of \`$METHOD\` at $SIZE (millions; valgrind's count, llvmpipe on one"
     echo "thread), $short (\"old\": $subject) against this tree"
-    echo "(\"new\", $(tree_name docs/frame-instructions.md))."
+    echo "(\"new\", $(tree_name "$DOC"))."
+    [ -z "$BASELINE" ] || echo "Beside them, \`$BASELINE\` on this tree, and each frame over its."
     renderer=$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["gl_renderer"])' "$OUT/new-0.render/report.json")
     echo "GL_RENDERER $renderer, CPU $(cpu_name)."
     echo
-    echo "| view | old | new | new / old |"
-    echo "|---|---|---|---|"
+    if [ -z "$BASELINE" ]; then
+        echo "| view | old | new | new / old |"
+        echo "|---|---|---|---|"
+    else
+        echo "| view | old | new | new / old | $BASELINE | old / $BASELINE | new / $BASELINE |"
+        echo "|---|---|---|---|---|---|---|"
+    fi
     printf '%s\n' "${rows[@]}"
-} >docs/frame-instructions.md
-cat docs/frame-instructions.md
+} >"$DOC"
+cat "$DOC"
