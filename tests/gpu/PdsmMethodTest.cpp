@@ -300,7 +300,8 @@ TEST_F(PdsmMethod, ViewerFramesKeepTheLastMapWhileTheNextIsBuilt) {
     gpu::RenderSettings s = testutil::frameSettings("pdsm", 64, 64);
     s.parameters = {{"samples", "64"}, {"resolution", "256"}};
     s.waitForGpu = false;
-    sr.renderer.renderFrame(s); // the first map: built before the frame's lookup
+    // The first map: built before the frame's lookup, its 64 sample maps in that frame.
+    EXPECT_EQ(testutil::counter(sr.renderer.renderFrame(s), "pdsm_maps_drawn"), 64.0);
     const geometry::FloatImage before = sr.renderer.visibility();
     geometry::RectLight moved = scene.light;
     moved.center.x += 0.5f;
@@ -310,12 +311,20 @@ TEST_F(PdsmMethod, ViewerFramesKeepTheLastMapWhileTheNextIsBuilt) {
     const geometry::FloatImage during = sr.renderer.visibility();
     int frames = 1;
     gpu::FrameStats st = next;
+    // A batch of 16 sample maps a frame at most (the 64 of the first map drawn in its frame).
+    double drawn = testutil::counter(next, "pdsm_maps_drawn"), most = drawn;
     while (testutil::counter(st, "pdsm_building") == 1.0 && frames < 10000) {
         st = sr.renderer.renderFrame(s);
         ++frames;
+        drawn += testutil::counter(st, "pdsm_maps_drawn");
+        most = std::max(most, testutil::counter(st, "pdsm_maps_drawn"));
     }
-    std::printf("  the moved light's map was ready after %d frames\n", frames);
+    std::printf("  the moved light's map was ready after %d frames, %.0f sample maps drawn, at "
+                "most %.0f a frame\n",
+                frames, drawn, most);
     ASSERT_EQ(testutil::counter(st, "pdsm_building"), 0.0);
+    EXPECT_EQ(drawn, 64.0);
+    EXPECT_EQ(most, 16.0);
     s.waitForGpu = true;
     testutil::SceneRenderer headless(scene);
     headless.renderer.renderFrame(s);
@@ -461,6 +470,43 @@ TEST_F(PdsmMethod, TheCubeIsBuiltAtOnceWhereTheOneMapWouldLeaveReceiversOut) {
     EXPECT_EQ(testutil::counter(then, "pdsm_cube_probed"), 0.0);
     EXPECT_GT(testutil::counter(then, "pdsm_first_map_ms"), 0.0);
     EXPECT_TRUE(sameImage(stepwise.renderer.visibility(), cubeV));
+}
+
+// The viewer's background build of the cube around a lamp in a room: after the light moves, the
+// faces' sample maps drawn a batch a frame and merged in turn, then the same V as a headless frame.
+TEST_F(PdsmMethod, ViewerFramesBuildTheCubeFaceByFace) {
+    const geometry::Scene room = roomWithCrate();
+    testutil::SceneRenderer sr(room);
+    gpu::RenderSettings s = testutil::frameSettings("pdsm", 64, 64);
+    s.parameters = {{"samples", "32"}, {"resolution", "128"}};
+    s.waitForGpu = false;
+    const gpu::FrameStats first = sr.renderer.renderFrame(s);
+    ASSERT_EQ(testutil::counter(first, "pdsm_cube"), 1.0);
+    const double faces = testutil::counter(first, "pdsm_faces");
+    EXPECT_EQ(testutil::counter(first, "pdsm_maps_drawn"), 32.0 * faces);
+    geometry::RectLight moved = room.light;
+    moved.center.x += 0.3f;
+    s.light = moved;
+    gpu::FrameStats st = sr.renderer.renderFrame(s);
+    int frames = 1;
+    double drawn = testutil::counter(st, "pdsm_maps_drawn"), most = drawn;
+    while (testutil::counter(st, "pdsm_building") == 1.0 && frames < 10000) {
+        st = sr.renderer.renderFrame(s);
+        ++frames;
+        drawn += testutil::counter(st, "pdsm_maps_drawn");
+        most = std::max(most, testutil::counter(st, "pdsm_maps_drawn"));
+    }
+    std::printf("  %.0f faces: the moved light's cube ready after %d frames, %.0f sample maps "
+                "drawn, at most %.0f a frame\n",
+                faces, frames, drawn, most);
+    ASSERT_EQ(testutil::counter(st, "pdsm_building"), 0.0);
+    EXPECT_EQ(testutil::counter(st, "pdsm_cube"), 1.0);
+    EXPECT_EQ(drawn, 32.0 * testutil::counter(st, "pdsm_faces"));
+    EXPECT_EQ(most, 16.0);
+    s.waitForGpu = true;
+    testutil::SceneRenderer headless(room);
+    headless.renderer.renderFrame(s);
+    EXPECT_TRUE(sameImage(sr.renderer.visibility(), headless.renderer.visibility()));
 }
 
 // cull=on keeps the functions only at the depths where the receivers' surfaces read them, the

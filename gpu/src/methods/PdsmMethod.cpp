@@ -139,6 +139,7 @@ private:
     // The deep maps of ctx.casterSubset (built or reused) and their lookup into V.
     void executeDeep(const FrameContext& ctx, const PdsmLookup& lookup) {
         mCurrentLookup = &lookup; // the probe's, in start()
+        mMapsDrawn = 0;
         const bool cached = ensureMaps(ctx);
         std::uint32_t outside = runLookup(ctx, lookup);
         // One map that leaves receivers of this view outside it where they may be hidden (its
@@ -279,6 +280,9 @@ private:
         }
         ctx.addCounter("pdsm_cached", cached ? 1.0 : 0.0);
         ctx.addCounter("pdsm_building", mPending ? 1.0 : 0.0);
+        // Sample maps drawn and read back in this frame: every face's at once headless, a batch
+        // (kMapsPerBatch) a frame in the viewer while the last maps are drawn.
+        ctx.addCounter("pdsm_maps_drawn", static_cast<double>(mMapsDrawn));
         ctx.addCounter("pdsm_building_percent",
                        mPending ? 100.0 * mPending->rows->load() / std::max(mPending->totalRows, 1)
                                 : 0.0);
@@ -340,6 +344,10 @@ private:
         geometry::PcssFrame cubeFrame;
         std::vector<geometry::PdsmFace> faces;
         std::size_t next = 0; // the next face whose maps to draw
+        // Of that face: its sample maps drawn and read back so far (the viewer draws a batch a
+        // frame), and where they are read back to.
+        std::size_t drawn = 0;
+        std::shared_ptr<std::vector<float>> texels;
         std::future<geometry::Pdsm> current;
         std::vector<geometry::Pdsm> built;
         double mapsMs = 0.0;
@@ -420,42 +428,53 @@ private:
         for (const geometry::PdsmFace& face : p.faces) p.totalRows += face.grid.rowCount();
         p.report = ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
         p.mapsMs = msSince(t0); // the fit (the cube's walks every caster triangle per face)
-        drawNext(ctx, p);
+        drawNext(ctx, p, ctx.settings.waitForGpu || !mBuilt);
         return p;
     }
 
-    // Draws the next face's sample maps, reads them back, and starts merging them into its
-    // deep map on a CPU thread.
-    void drawNext(const FrameContext& ctx, Pending& p) {
+    // Draws the next face's sample maps and reads them back: all of them (`all`: headless, or
+    // the first maps), else one batch of kMapsPerBatch (the viewer, while it draws the last
+    // maps: a level's face took about 1 s for its 256 maps of 512², one frame held that long
+    // per face); once the face's maps are all read back, starts merging them into its deep map
+    // on a CPU thread.
+    void drawNext(const FrameContext& ctx, Pending& p, bool all) {
         if (p.next >= p.faces.size()) return;
         const auto t0 = Clock::now();
         const geometry::PdsmFace& face = p.faces[p.next];
         const geometry::SampleMapFrame& f = face.frame;
         const int R = mOptions.resolution;
         const std::size_t layer = static_cast<std::size_t>(R) * static_cast<std::size_t>(R);
-        // One read-back buffer, kept from face to face and build to build (a light moved every
-        // frame would otherwise allocate and free k R^2 floats per face per frame); a new one
-        // only while a merge still holds it.
-        if (!mReadBack || mReadBack.use_count() > 1)
-            mReadBack = std::make_shared<std::vector<float>>();
-        std::shared_ptr<std::vector<float>> texels = mReadBack;
+        if (p.drawn == 0) {
+            // One read-back buffer, kept from face to face and build to build (a light moved
+            // every frame would otherwise allocate and free k R^2 floats per face per frame); a
+            // new one only while a merge or another build still holds it.
+            if (!mReadBack || mReadBack.use_count() > 1)
+                mReadBack = std::make_shared<std::vector<float>>();
+            p.texels = mReadBack;
+            if (!f.empty) p.texels->resize(layer * f.views.size());
+        }
         if (!f.empty) {
             ScopedPass pass(&ctx.timers, "pdsm-sample-maps");
-            texels->resize(layer * f.views.size());
-            for (std::size_t first = 0; first < f.views.size();
-                 first += static_cast<std::size_t>(mMaps->layers())) {
+            while (p.drawn < f.views.size()) {
                 const std::size_t count = std::min(static_cast<std::size_t>(mMaps->layers()),
-                                                   f.views.size() - first);
-                mMaps->draw(f, first, count, p.setup.objects, ctx.sceneGeometry, kMapSlopeBias);
+                                                   f.views.size() - p.drawn);
+                mMaps->draw(f, p.drawn, count, p.setup.objects, ctx.sceneGeometry,
+                            kMapSlopeBias);
                 glGetTextureSubImage(mMaps->maps().id(), 0, 0, 0, 0, R, R,
                                      static_cast<GLsizei>(count), GL_DEPTH_COMPONENT, GL_FLOAT,
                                      static_cast<GLsizei>(count * layer * sizeof(float)),
-                                     texels->data() + first * layer);
+                                     p.texels->data() + p.drawn * layer);
+                p.drawn += count;
+                mMapsDrawn += count;
+                if (!all) break;
             }
         }
         const double ms = msSince(t0);
         p.mapsMs += ms;
         ctx.addCpuTime("pdsm-sample-maps", ms);
+        if (!f.empty && p.drawn < f.views.size()) return; // the rest in the next frames
+        std::shared_ptr<std::vector<float>> texels = std::move(p.texels);
+        p.drawn = 0;
         geometry::PdsmBuildSettings settings{.tolerance = mOptions.tolerance,
                                              .noise = mOptions.noise,
                                              .receivers = p.receivers,
@@ -493,7 +512,9 @@ private:
                 p.built.push_back(p.current.get());
             }
             if (p.next >= p.faces.size()) return true;
-            drawNext(ctx, p);
+            const std::size_t face = p.next;
+            drawNext(ctx, p, wait);
+            if (p.next == face) return false; // its maps go on in the next frames
         }
     }
 
@@ -613,6 +634,7 @@ private:
     Handle<TextureDeleter> mDataTexels;
     std::optional<SampleMapPass> mMaps;
     std::shared_ptr<std::vector<float>> mReadBack; // the sample maps read back (drawNext)
+    std::size_t mMapsDrawn = 0;                     // in this frame
     std::vector<geometry::Pdsm> mFaces; // the built maps, a layer of mIndex each
     std::vector<int> mFaceIds;          // their cube faces (0 for the one map)
     bool mCube = false;         // the built maps are the cube's
