@@ -210,6 +210,28 @@ TEST_F(PdsmMethod, AgainstTheReferenceOnDataScenes) {
     }
 }
 
+// The viewer's frames after a moved light, from `st` (the first of them) until the background
+// build is adopted: the last frame's stats, the frames, and the sample maps drawn in all and in
+// the busiest frame.
+struct BackgroundBuild {
+    gpu::FrameStats last;
+    int frames = 1;
+    double drawn = 0.0, most = 0.0;
+};
+BackgroundBuild framesUntilBuilt(testutil::SceneRenderer& sr, const gpu::RenderSettings& s,
+                                 gpu::FrameStats st) {
+    BackgroundBuild b;
+    b.drawn = b.most = testutil::counter(st, "pdsm_maps_drawn");
+    while (testutil::counter(st, "pdsm_building") == 1.0 && b.frames < 10000) {
+        st = sr.renderer.renderFrame(s);
+        ++b.frames;
+        b.drawn += testutil::counter(st, "pdsm_maps_drawn");
+        b.most = std::max(b.most, testutil::counter(st, "pdsm_maps_drawn"));
+    }
+    b.last = st;
+    return b;
+}
+
 // Equal pixel for pixel, NaN (no surface) where the other is NaN.
 bool sameImage(const geometry::FloatImage& a, const geometry::FloatImage& b) {
     if (a.data.size() != b.data.size()) return false;
@@ -309,22 +331,14 @@ TEST_F(PdsmMethod, ViewerFramesKeepTheLastMapWhileTheNextIsBuilt) {
     const gpu::FrameStats next = sr.renderer.renderFrame(s);
     EXPECT_EQ(testutil::counter(next, "pdsm_building"), 1.0);
     const geometry::FloatImage during = sr.renderer.visibility();
-    int frames = 1;
-    gpu::FrameStats st = next;
     // A batch of 16 sample maps a frame at most (the 64 of the first map drawn in its frame).
-    double drawn = testutil::counter(next, "pdsm_maps_drawn"), most = drawn;
-    while (testutil::counter(st, "pdsm_building") == 1.0 && frames < 10000) {
-        st = sr.renderer.renderFrame(s);
-        ++frames;
-        drawn += testutil::counter(st, "pdsm_maps_drawn");
-        most = std::max(most, testutil::counter(st, "pdsm_maps_drawn"));
-    }
+    const BackgroundBuild b = framesUntilBuilt(sr, s, next);
     std::printf("  the moved light's map was ready after %d frames, %.0f sample maps drawn, at "
                 "most %.0f a frame\n",
-                frames, drawn, most);
-    ASSERT_EQ(testutil::counter(st, "pdsm_building"), 0.0);
-    EXPECT_EQ(drawn, 64.0);
-    EXPECT_EQ(most, 16.0);
+                b.frames, b.drawn, b.most);
+    ASSERT_EQ(testutil::counter(b.last, "pdsm_building"), 0.0);
+    EXPECT_EQ(b.drawn, 64.0);
+    EXPECT_EQ(b.most, 16.0);
     s.waitForGpu = true;
     testutil::SceneRenderer headless(scene);
     headless.renderer.renderFrame(s);
@@ -487,22 +501,14 @@ TEST_F(PdsmMethod, ViewerFramesBuildTheCubeFaceByFace) {
     geometry::RectLight moved = room.light;
     moved.center.x += 0.3f;
     s.light = moved;
-    gpu::FrameStats st = sr.renderer.renderFrame(s);
-    int frames = 1;
-    double drawn = testutil::counter(st, "pdsm_maps_drawn"), most = drawn;
-    while (testutil::counter(st, "pdsm_building") == 1.0 && frames < 10000) {
-        st = sr.renderer.renderFrame(s);
-        ++frames;
-        drawn += testutil::counter(st, "pdsm_maps_drawn");
-        most = std::max(most, testutil::counter(st, "pdsm_maps_drawn"));
-    }
+    const BackgroundBuild b = framesUntilBuilt(sr, s, sr.renderer.renderFrame(s));
     std::printf("  %.0f faces: the moved light's cube ready after %d frames, %.0f sample maps "
                 "drawn, at most %.0f a frame\n",
-                faces, frames, drawn, most);
-    ASSERT_EQ(testutil::counter(st, "pdsm_building"), 0.0);
-    EXPECT_EQ(testutil::counter(st, "pdsm_cube"), 1.0);
-    EXPECT_EQ(drawn, 32.0 * testutil::counter(st, "pdsm_faces"));
-    EXPECT_EQ(most, 16.0);
+                faces, b.frames, b.drawn, b.most);
+    ASSERT_EQ(testutil::counter(b.last, "pdsm_building"), 0.0);
+    EXPECT_EQ(testutil::counter(b.last, "pdsm_cube"), 1.0);
+    EXPECT_EQ(b.drawn, 32.0 * testutil::counter(b.last, "pdsm_faces"));
+    EXPECT_EQ(b.most, 16.0);
     s.waitForGpu = true;
     testutil::SceneRenderer headless(room);
     headless.renderer.renderFrame(s);
