@@ -110,14 +110,23 @@ void main() {
     vec3 Q = pdsmOffsetReceiver(P, N, c, dot(P - c, n), pdsm.cube.z, texelSize);
     vec3 d = Q - c;
     float z = dot(d, n);
-    shaded = shaded && z > zNear; // nearer to the light than every caster: lit
+    // Nearer to the light than the face's zNear: lit. Nearer than every caster, unless the face
+    // is clipped (texel.w: a caster nearer than the samples' own depth along its axis, a shelf
+    // under the light, a wall just behind it); then such a receiver may be hidden: counted below
+    // with those outside the map.
+    bool beforeNear = z <= zNear;
+    bool mayBeHidden = shaded && beforeNear && fr.texel.w != 0.0;
+    shaded = shaded && !beforeNear;
     vec2 uv = (vec2(dot(d, eu), dot(d, ev)) / z - extent.xy) * extent.zw;
 #ifndef ONE_MAP
     // In the cube, P's face holds it; the offset may carry Q a little past the face's edge.
     uv = clamp(uv, vec2(0.0), vec2(1.0));
 #endif
     bool outside = any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
-    if (shaded && outside && pdsm.basisU.w != 0.0) atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
+    // (A probe of the one map counts only those outside its extent, below.)
+    mayBeHidden = mayBeHidden && pdsm.basisV.w == 0.0;
+    if ((shaded && outside && pdsm.basisU.w != 0.0) || mayBeHidden)
+        atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
     // A probe of the one map's extent before it is built (basisV.w) counts only.
     shaded = shaded && !outside && pdsm.basisV.w == 0.0;
     // The 2 x 2 texels around Q's ray (two gathers: first groups and counts), weighted

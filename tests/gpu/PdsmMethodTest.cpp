@@ -253,6 +253,7 @@ TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
         const char* level;
         double mean, hard; // measured: pdsm's and hard's mean |dV|
         std::size_t off;   // measured: pdsm's pixels off by > 0.05
+        double outside;    // measured: receivers nearer than a clipped face's zNear (counted)
     };
     // Measured: kaos2 0.00077 (hard 0.00000: no shadow in the view; 29 pixels at the walls'
     // creases and on the ramps the light grazes), oa_dm5 0.00614 (262: the steps' risers below
@@ -261,9 +262,13 @@ TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
     // default bias 0.05, 0.00653 and 320, and kaos2 0.00107 and 36). With every depth kept
     // (cull=off): 0.00077 (29) and 0.00608 (257), in 3.4 and 1.9 times the points: a texel's
     // ray crosses a wall, then rock, then the next room, and V behind the walls, where no
-    // receiver reads it, was most of what the functions held.
-    for (const Case& c :
-         {Case{"kaos2.glb", 0.00077, 0.0, 29}, Case{"oa_dm5.glb", 0.00614, 0.01799, 262}}) {
+    // receiver reads it, was most of what the functions held. Receivers nearer to the lamp
+    // than their face's zNear, where that face is clipped (a caster nearer than the samples'
+    // own depth along its axis), may be hidden and are drawn lit: counted as outside the deep
+    // map, none on kaos2's view, 23 on oa_dm5's (the ceiling beside the lamp, lit in the
+    // reference).
+    for (const Case& c : {Case{"kaos2.glb", 0.00077, 0.0, 29, 0.0},
+                          Case{"oa_dm5.glb", 0.00614, 0.01799, 262, 23.0}}) {
         SCOPED_TRACE(c.level);
         const geometry::Scene scene = testutil::levelWithLamp(c.level, 0);
         const Rendered r = testutil::render(scene, "pdsm", 128, 72, 1,
@@ -285,7 +290,7 @@ TEST_F(PdsmMethod, LevelSpawnViewsWithTheLamp) {
         EXPECT_EQ(testutil::counter(r.stats, "pdsm_cube"), 1.0);
         EXPECT_EQ(testutil::counter(r.stats, "pdsm_cube_probed"), 1.0); // no one map built
         EXPECT_GE(testutil::counter(r.stats, "pdsm_faces"), 5.0);
-        EXPECT_EQ(testutil::counter(r.stats, "pdsm_pixels_outside"), 0.0);
+        EXPECT_LE(testutil::counter(r.stats, "pdsm_pixels_outside"), c.outside * 1.1);
         EXPECT_LT(d.mean, c.mean + 0.0005);
         EXPECT_LE(d.off, c.off + c.off / 10);
         EXPECT_LT(dh.mean, c.hard + 0.001);
@@ -383,6 +388,36 @@ TEST_F(PdsmMethod, CastersReachingTheLightsPlaneAreCountedAsClipped) {
     EXPECT_EQ(testutil::counter(st, "pdsm_clipped"), 1.0);
     std::printf("  light level with the sphere: %g receivers outside the clipped deep map\n",
                 testutil::counter(st, "pdsm_pixels_outside"));
+}
+
+// light-grazing: a shelf 4 mm under the light, a wall 4 mm behind its back edge. The cube's side
+// faces along the light's axes hold the wall under and beside the shelf; their samples lie up
+// to the light's half width ahead of and behind the centre, and each face's zNear beyond them.
+// Each view looks from its own near plane (as near as the furthest ahead's), so the shelf
+// between it and zNear hides the wall from it; with every near plane at the face's zNear
+// (before) the wall beside the shelf's end was drawn lit: 0.0373 mean, 10.3 % of pixels off by
+// > 0.05 (the same sizes, penumbra-render's report). What is left: the front face's views,
+// capped at 71.6° off the light's normal, do not see the shelf from the far samples at the
+// wall's grazing angles (0.66 % off with a cap of 6, at 2.2 times the precompute and kaos2's
+// spawn view 0.0021 against 0.0006: not taken), and the wall just behind the light lies nearer
+// than its face's zNear: drawn lit and counted as outside the deep map.
+TEST_F(PdsmMethod, CastersNearerThanASideFacesNearPlaneStillHide) {
+    const auto scene = geometry::loadScene(testutil::dataPath("stability/light-grazing.json"));
+    const Rendered ref = testutil::render(scene, "reference", 128, 128, 256);
+    const Rendered r = testutil::render(scene, "pdsm", 128, 128, 1,
+                                        {{"samples", "64"}, {"resolution", "256"}});
+    const Diff d = diff(r, ref);
+    const double outside = testutil::counter(r.stats, "pdsm_pixels_outside");
+    std::printf("  light-grazing 128²: pdsm (k = 64, 256²) vs reference N = 256: mean %.5f, %zu "
+                "of %zu pixels off by > 0.05, %g faces, %.0f receivers outside\n",
+                d.mean, d.off, d.pixels, testutil::counter(r.stats, "pdsm_faces"), outside);
+    EXPECT_EQ(testutil::counter(r.stats, "pdsm_cube"), 1.0);
+    EXPECT_EQ(testutil::counter(r.stats, "pdsm_clipped"), 1.0);
+    // Measured: 0.01670, 493 off, 143 outside.
+    EXPECT_LT(d.mean, 0.01670 + 0.0005);
+    EXPECT_LE(d.off, 493u + 493u / 10);
+    EXPECT_GT(outside, 0.0);
+    EXPECT_LE(outside, 143.0 * 1.1);
 }
 
 // Objects marked dynamic ("static": false) stay out of the deep map; auto shadows them each

@@ -97,11 +97,12 @@ struct MapLayer {
 };
 
 // A texel ray's depth as one view sees it: the view's own reversed depth s_v = zNear_v / z_v
-// along the line through its map is affine in the walk's parameter u in [0, 1], from 1 (the
-// deep map's t = 0) to sFar_v (t = 1); and t of u. For a view in the light's plane (depth 0)
+// along the line through its map is affine in the walk's parameter u in [0, 1], from sNear_v (the
+// deep map's t = 0; 1 where the view's near plane is the frame's) to sFar_v (t = 1); and t of u. For a view in the light's plane (depth 0)
 // t = u; a view `depth` ahead of the centre along the map's axis sees the ray's point at
 // centre depth z at its own z - depth, so that 1 / (z - depth) is affine in u, not 1 / z.
 struct LineDepth {
+    float sNear = 1.0f;  // the view's s at u = 0 (below 1 where its near plane is its own)
     float sFar = 0.0f;   // the view's s at u = 1
     float depth = 0.0f;  // the view's origin's depth from the centre
     float w0 = 0.0f, w1 = 0.0f; // 1 / (z - depth) at u = 0 and u = 1
@@ -116,7 +117,7 @@ struct LineDepth {
 // Hidden intervals of u in [uLo, uHi] (within [0, 1]) along one line through one map (texel
 // units, P(u) = p0 + u (p1 - p0)), as events of the deep map's depth code: code << 1 | 1 where
 // one starts, code << 1 where one ends (none at the line's end, u = 1). A point of the line is
-// hidden where its texel stores a value above s_v (1 + bias), s_v = 1 - u (1 - line.sFar).
+// hidden where its texel stores a value above s_v (1 + bias), s_v = sNear - u (sNear - sFar).
 void walkMap(glm::vec2 p0, glm::vec2 p1, float uLo, float uHi, const MapLayer& map,
              const LineDepth& line, float bias, std::vector<std::uint32_t>& events) {
     const glm::vec2 d = p1 - p0;
@@ -134,10 +135,10 @@ void walkMap(glm::vec2 p0, glm::vec2 p1, float uLo, float uHi, const MapLayer& m
         tB = std::min(tB, t1);
     }
     if (!(tA < tB)) return;
-    const float depthSpan = 1.0f - line.sFar;
+    const float depthSpan = line.sNear - line.sFar;
     // t beyond which a stored value hides the line.
     const auto hiddenFrom = [&](float stored) {
-        return (1.0f - stored / (1.0f + bias)) / depthSpan;
+        return (line.sNear - stored / (1.0f + bias)) / depthSpan;
     };
     bool open = false;
     float openStart = 0.0f, openEnd = 0.0f;
@@ -257,6 +258,13 @@ std::vector<PdsmFace> fitPdsmCube(const PcssFrame& cube, const RectLight& light,
         f.empty = false;
         f.clipped = nearest < minNear;
         f.zNear = std::max(0.999f * nearest, minNear);
+        // A view behind the one furthest ahead gets a near plane as near as that one's (the
+        // gap minNear - ahead, or up to the nearest caster), not the frame's zNear - depth: the
+        // casters between it and the frame's zNear (a shelf under the light, seen from a side
+        // face) hide receivers beyond zNear from it.
+        const float ownNear = f.zNear - ahead;
+        for (SampleMapView& v : f.views)
+            if (f.zNear - v.depth > ownNear) v.near = ownNear;
         const float deepest = deepestReceiver(scene, c, s.axis, 0.0f, f.zNear);
         f.zFar = deepest;
         f.half = cube.halfSize;
@@ -715,11 +723,15 @@ float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMap
         const glm::vec2 inv = 1.0f / (v.hi - v.lo);
         LineDepth line;
         glm::vec2 p0, p1;
+        // The view's reversed depth s = near / z from its near plane (zNear - depth unless its
+        // own, SampleMapView::near).
+        const float near = frame.viewNear(k);
         if (v.depth == 0.0f) {
             // m - d s / zNear in map k, at s = 1 (t = 0) and s = sFar (t = 1), in texels.
             p0 = (m - d / grid.zNear - v.lo) * inv * size;
             p1 = (m - d * (grid.sFar / grid.zNear) - v.lo) * inv * size;
-            line.sFar = grid.sFar;
+            line.sNear = near / grid.zNear;
+            line.sFar = near * grid.sFar / grid.zNear;
         } else {
             // From the view, the ray's point at centre depth z lies at m + (depth m - d) w,
             // w = 1 / (z - depth): affine in w, from zNear (t = 0) to zNear / sFar (t = 1).
@@ -728,7 +740,9 @@ float staircase(const SampleMapFrame& frame, const PdsmGrid& grid, const PdsmMap
             line.w1 = 1.0f / (grid.zNear / grid.sFar - v.depth);
             line.zNear = grid.zNear;
             line.gridSFar = grid.sFar;
-            line.sFar = (grid.zNear - v.depth) * line.w1;
+            // s = near w.
+            line.sNear = near * line.w0;
+            line.sFar = near * line.w1;
             p0 = (m + (v.depth * m - d) * line.w0 - v.lo) * inv * size;
             p1 = (m + (v.depth * m - d) * line.w1 - v.lo) * inv * size;
         }

@@ -79,7 +79,7 @@ glm::mat4 SampleMapFrame::projection(std::size_t i) const {
     const glm::vec3 ry = (2.0f * ev - (v.lo.y + v.hi.y) * n) / (v.hi.y - v.lo.y);
     const glm::vec4 rows[4] = {glm::vec4(rx, -glm::dot(rx, v.origin)),
                                glm::vec4(ry, -glm::dot(ry, v.origin)),
-                               glm::vec4(0.0f, 0.0f, 0.0f, zNear - v.depth),
+                               glm::vec4(0.0f, 0.0f, 0.0f, viewNear(i)),
                                glm::vec4(n, -glm::dot(n, v.origin))};
     glm::mat4 m(0.0f);
     for (int r = 0; r < 4; ++r)

@@ -231,7 +231,8 @@ private:
             u.faceExtent[k] = glm::vec4(g.lo, 1.0f / side);
             const glm::vec2 size(static_cast<float>(g.resolution),
                                  static_cast<float>(g.rowCount()));
-            u.faceTexel[k] = glm::vec4(std::max(side.x / size.x, side.y / size.y), size, 0.0f);
+            u.faceTexel[k] = glm::vec4(std::max(side.x / size.x, side.y / size.y), size,
+                                       g.clipped ? 1.0f : 0.0f);
         }
         mUniforms.upload(&u, sizeof(u));
         // The lookup counts receivers outside the map only where it is clipped (elsewhere none

@@ -38,9 +38,13 @@ struct SampleMapView {
     // The origin's depth along n from the light's centre: 0 for samples of a map looking along
     // the light's normal (every sample lies in the light's plane); a map looking along one of
     // the light's lateral axes (pdsm's cube faces) sees its samples ahead of or behind the
-    // centre. The view's near plane lies at the frame's zNear from the centre, zNear - depth
-    // from its origin, and it stores (zNear - depth) / z of its own depth z.
+    // centre.
     float depth = 0.0f;
+    // The view's near plane, from its origin along n (SampleMapFrame::viewNear); it stores
+    // near / z of its own depth z. 0: at the frame's zNear from the centre, zNear - depth from
+    // the origin. pdsm's cube faces give a view behind the centre a nearer plane of its own, so
+    // that it sees the casters between it and the frame's zNear (a shelf beside the light).
+    float near = 0.0f;
 };
 
 struct SampleMapFrame {
@@ -64,8 +68,13 @@ struct SampleMapFrame {
     float zNear = 0.0f;
     bool clipped = false; // the box reached behind a sample or past the cap (see above)
 
+    // View i's near plane from its origin along n: its own (SampleMapView::near) or zNear - depth.
+    float viewNear(std::size_t i) const {
+        const SampleMapView& v = views[i];
+        return v.near > 0.0f ? v.near : zNear - v.depth;
+    }
     // World -> clip of view i's shadow pass, for glClipControl(LOWER_LEFT, ZERO_TO_ONE):
-    // x, y over [lo, hi], depth zNear_i / z (1 at zNear_i = zNear - depth, 0 infinitely far;
+    // x, y over [lo, hi], depth near_i / z (1 at near_i = viewNear(i), 0 infinitely far;
     // reversed).
     glm::mat4 projection(std::size_t i) const;
 };
