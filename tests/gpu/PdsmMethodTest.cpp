@@ -217,16 +217,29 @@ struct BackgroundBuild {
     gpu::FrameStats last;
     int frames = 1;
     double drawn = 0.0, most = 0.0;
+    // pdsm_building_percent: in the first frame, and whether it rose from frame to frame (never
+    // down, and up in every frame that drew maps) while building.
+    double firstPercent = 0.0;
+    bool percentRose = true;
 };
 BackgroundBuild framesUntilBuilt(testutil::SceneRenderer& sr, const gpu::RenderSettings& s,
                                  gpu::FrameStats st) {
     BackgroundBuild b;
     b.drawn = b.most = testutil::counter(st, "pdsm_maps_drawn");
+    b.firstPercent = testutil::counter(st, "pdsm_building_percent");
+    double percent = b.firstPercent;
     while (testutil::counter(st, "pdsm_building") == 1.0 && b.frames < 10000) {
         st = sr.renderer.renderFrame(s);
         ++b.frames;
-        b.drawn += testutil::counter(st, "pdsm_maps_drawn");
-        b.most = std::max(b.most, testutil::counter(st, "pdsm_maps_drawn"));
+        const double drawn = testutil::counter(st, "pdsm_maps_drawn");
+        b.drawn += drawn;
+        b.most = std::max(b.most, drawn);
+        if (testutil::counter(st, "pdsm_building") == 1.0) {
+            const double now = testutil::counter(st, "pdsm_building_percent");
+            if (now < percent || (drawn > 0.0 && now <= percent) || now > 100.0)
+                b.percentRose = false;
+            percent = now;
+        }
     }
     b.last = st;
     return b;
@@ -339,11 +352,14 @@ TEST_F(PdsmMethod, ViewerFramesKeepTheLastMapWhileTheNextIsBuilt) {
     // A batch of 16 sample maps a frame at most (the 64 of the first map drawn in its frame).
     const BackgroundBuild b = framesUntilBuilt(sr, s, next);
     std::printf("  the moved light's map was ready after %d frames, %.0f sample maps drawn, at "
-                "most %.0f a frame\n",
-                b.frames, b.drawn, b.most);
+                "most %.0f a frame; building %.1f %% after the first\n",
+                b.frames, b.drawn, b.most, b.firstPercent);
     ASSERT_EQ(testutil::counter(b.last, "pdsm_building"), 0.0);
     EXPECT_EQ(b.drawn, 64.0);
     EXPECT_EQ(b.most, 16.0);
+    // The progress counts the maps drawn too (16 of 64 maps and 256 rows: 5 %).
+    EXPECT_NEAR(b.firstPercent, 100.0 * 16.0 / (64.0 + 256.0), 1e-9);
+    EXPECT_TRUE(b.percentRose);
     s.waitForGpu = true;
     testutil::SceneRenderer headless(scene);
     headless.renderer.renderFrame(s);
@@ -398,7 +414,7 @@ TEST_F(PdsmMethod, CastersReachingTheLightsPlaneAreCountedAsClipped) {
 // (before) the wall beside the shelf's end was drawn lit: 0.0373 mean, 10.3 % of pixels off by
 // > 0.05 (the same sizes, penumbra-render's report). What is left: the front face's views,
 // capped at 71.6° off the light's normal, do not see the shelf from the far samples at the
-// wall's grazing angles (0.66 % off with a cap of 6, at 2.2 times the precompute and kaos2's
+// wall's grazing angles (0.66 % off with a cap of 6, at about twice the precompute and kaos2's
 // spawn view 0.0021 against 0.0006: not taken), and the wall just behind the light lies nearer
 // than its face's zNear: drawn lit and counted as outside the deep map.
 TEST_F(PdsmMethod, CastersNearerThanASideFacesNearPlaneStillHide) {
@@ -538,12 +554,14 @@ TEST_F(PdsmMethod, ViewerFramesBuildTheCubeFaceByFace) {
     s.light = moved;
     const BackgroundBuild b = framesUntilBuilt(sr, s, sr.renderer.renderFrame(s));
     std::printf("  %.0f faces: the moved light's cube ready after %d frames, %.0f sample maps "
-                "drawn, at most %.0f a frame\n",
-                faces, b.frames, b.drawn, b.most);
+                "drawn, at most %.0f a frame; building %.1f %% after the first\n",
+                faces, b.frames, b.drawn, b.most, b.firstPercent);
     ASSERT_EQ(testutil::counter(b.last, "pdsm_building"), 0.0);
     EXPECT_EQ(testutil::counter(b.last, "pdsm_cube"), 1.0);
     EXPECT_EQ(b.drawn, 32.0 * testutil::counter(b.last, "pdsm_faces"));
     EXPECT_EQ(b.most, 16.0);
+    EXPECT_GT(b.firstPercent, 0.0); // the first face's first batch of maps
+    EXPECT_TRUE(b.percentRose);
     s.waitForGpu = true;
     testutil::SceneRenderer headless(room);
     headless.renderer.renderFrame(s);

@@ -284,9 +284,7 @@ private:
         // Sample maps drawn and read back in this frame: every face's at once headless, a batch
         // (kMapsPerBatch) a frame in the viewer while the last maps are drawn.
         ctx.addCounter("pdsm_maps_drawn", static_cast<double>(mMapsDrawn));
-        ctx.addCounter("pdsm_building_percent",
-                       mPending ? 100.0 * mPending->rows->load() / std::max(mPending->totalRows, 1)
-                                : 0.0);
+        ctx.addCounter("pdsm_building_percent", mPending ? buildingPercent(*mPending) : 0.0);
         ctx.addCounter("pdsm_samples", anyCasters ? static_cast<double>(mOptions.samples) : 0.0);
         ctx.addCounter("pdsm_faces", static_cast<double>(mFaces.size()));
         ctx.addCounter("pdsm_cube", mCube ? 1.0 : 0.0);
@@ -333,6 +331,7 @@ private:
     struct Pending {
         std::shared_ptr<std::atomic<int>> rows; // rows merged so far, over every face
         int totalRows = 0;                      // the faces' rows
+        std::size_t mapsDone = 0, totalMaps = 0; // sample maps read back, over every face
         geometry::RectLight light;
         std::uint32_t seed = 0;
         std::vector<std::uint32_t> subset;
@@ -354,6 +353,15 @@ private:
         double mapsMs = 0.0;
         std::function<void(int, int)> report; // the headless progress
     };
+
+    // How far a build has come: its sample maps read back and its rows merged, each a unit
+    // (the viewer draws the maps a batch a frame, then merges the face's rows on a CPU thread:
+    // counted by rows alone, the bar stood at 0 while a face's maps were drawn).
+    static double buildingPercent(const Pending& p) {
+        const double done = static_cast<double>(p.mapsDone) + p.rows->load();
+        const double total = static_cast<double>(p.totalMaps) + p.totalRows;
+        return 100.0 * done / std::max(total, 1.0);
+    }
 
     bool stale(const FrameContext& ctx) const {
         return !mBuilt || !(ctx.light == mLight) || ctx.settings.seed != mSeed ||
@@ -426,7 +434,10 @@ private:
                 geometry::jitterSampleMapGrids(face.frame, mOptions.resolution);
         }
         p.rows = std::make_shared<std::atomic<int>>(0);
-        for (const geometry::PdsmFace& face : p.faces) p.totalRows += face.grid.rowCount();
+        for (const geometry::PdsmFace& face : p.faces) {
+            p.totalRows += face.grid.rowCount();
+            if (!face.frame.empty) p.totalMaps += face.frame.views.size();
+        }
         p.report = ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
         p.mapsMs = msSince(t0); // the fit (the cube's walks every caster triangle per face)
         drawNext(ctx, p, ctx.settings.waitForGpu || !mBuilt);
@@ -466,6 +477,7 @@ private:
                                      static_cast<GLsizei>(count * layer * sizeof(float)),
                                      p.texels->data() + p.drawn * layer);
                 p.drawn += count;
+                p.mapsDone += count;
                 mMapsDrawn += count;
                 if (!all) break;
             }
