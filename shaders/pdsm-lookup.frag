@@ -110,10 +110,10 @@ void main() {
     vec3 Q = pdsmOffsetReceiver(P, N, c, dot(P - c, n), pdsm.cube.z, texelSize);
     vec3 d = Q - c;
     float z = dot(d, n);
-    // Nearer to the light than the face's zNear: lit. Nearer than every caster, unless the face
-    // is clipped (texel.w: a caster nearer than the samples' own depth along its axis, a shelf
-    // under the light, a wall just behind it); then such a receiver may be hidden: counted below
-    // with those outside the map.
+    // Nearer to the light than the face's zNear: lit. Nearer than every caster, unless zNear was
+    // held beyond one (texel.w: a caster nearer than the samples' own depth along the face's
+    // axis, a shelf under the light, a wall just behind it); then such a receiver may be
+    // hidden: counted below with those outside the map.
     bool beforeNear = z <= zNear;
     bool mayBeHidden = shaded && beforeNear && fr.texel.w != 0.0;
     shaded = shaded && !beforeNear;

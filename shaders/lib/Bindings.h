@@ -274,8 +274,8 @@ PENUMBRA_UBO_BEGIN(PdsmUniforms, BINDING_PDSM_UBO)
     vec4 faceAxis[6];   // xyz: its depth axis, w: sFar
     vec4 faceExtent[6]; // xy: lo in m = (x, y) / z, zw: 1 / (hi - lo)
     // x: a texel's world size per unit of depth (the larger side's), yz: the face's columns and
-    // rows (a side face's band fills the first rows of its R x R layer), w: 1 if the face is
-    // clipped (a receiver nearer than its zNear may be hidden: counted)
+    // rows (a side face's band fills the first rows of its R x R layer), w: 1 if a caster may
+    // lie nearer than its zNear (PdsmGrid::nearClipped: a receiver nearer may be hidden, counted)
     vec4 faceTexel[6];
 PENUMBRA_UBO_END(PdsmUniforms, pdsm)
 

@@ -218,6 +218,7 @@ PdsmGrid fitPdsmGrid(const SampleMapFrame& f, const glm::vec3& lightCentre, cons
     g.lo = f.centreLo - slack;
     g.hi = f.centreHi + slack;
     g.clipped = f.clipped;
+    g.nearClipped = f.clipped; // the frame does not say whether near or beside
     for (int a = 0; a < 2; ++a) {
         if (g.lo[a] < -kSampleMapMaxTan || g.hi[a] > kSampleMapMaxTan) g.clipped = true;
         g.lo[a] = std::max(g.lo[a], -kSampleMapMaxTan);
@@ -257,6 +258,7 @@ std::vector<PdsmFace> fitPdsmCube(const PcssFrame& cube, const RectLight& light,
         if (nearest == 0.0f) continue; // no caster within reach: lit
         f.empty = false;
         f.clipped = nearest < minNear;
+        face.grid.nearClipped = f.clipped;
         f.zNear = std::max(0.999f * nearest, minNear);
         // A view behind the one furthest ahead gets a near plane as near as that one's (the
         // gap minNear - ahead, or up to the nearest caster), not the frame's zNear - depth: the

@@ -232,7 +232,7 @@ private:
             const glm::vec2 size(static_cast<float>(g.resolution),
                                  static_cast<float>(g.rowCount()));
             u.faceTexel[k] = glm::vec4(std::max(side.x / size.x, side.y / size.y), size,
-                                       g.clipped ? 1.0f : 0.0f);
+                                       g.nearClipped ? 1.0f : 0.0f);
         }
         mUniforms.upload(&u, sizeof(u));
         // The lookup counts receivers outside the map only where it is clipped (elsewhere none

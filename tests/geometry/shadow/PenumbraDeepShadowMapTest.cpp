@@ -489,6 +489,7 @@ TEST(PenumbraDeepShadowMap, SideFaceMapsGiveTheSharesOfTheSameSamples) {
     const geometry::PdsmGrid& g = side->grid;
     ASSERT_EQ(g.n, glm::vec3(1, 0, 0));
     EXPECT_FALSE(f.clipped);
+    EXPECT_FALSE(g.nearClipped);
     float deepest = 0.0f;
     for (const geometry::SampleMapView& v : f.views) deepest = std::max(deepest, v.depth);
     EXPECT_GT(deepest, 0.4f); // the samples lie ahead of the centre along the axis
@@ -582,6 +583,7 @@ TEST(PenumbraDeepShadowMap, SideFaceViewsBehindTheCentreSeeCastersNearerThanItsN
     const geometry::PdsmGrid& g = side->grid;
     ASSERT_EQ(g.n, glm::vec3(-1, 0, 0));
     EXPECT_TRUE(f.clipped);
+    EXPECT_TRUE(g.nearClipped); // a wall point nearer than zNear may be hidden: counted
     float ahead = -1.0f;
     for (const geometry::SampleMapView& v : f.views) ahead = std::max(ahead, v.depth);
     EXPECT_GT(ahead, 0.4f);

@@ -56,6 +56,10 @@ struct PdsmGrid {
     // The extent was capped at kSampleMapMaxTan, or the sample frame is clipped: receivers the
     // map does not hold may be hidden (the lookup counts them).
     bool clipped = false;
+    // A caster may lie nearer to the centre than zNear (a cube face's zNear held beyond its
+    // samples' own depth; for the one map, its frame clipped at all): a receiver nearer than
+    // zNear, drawn lit, may then be hidden (the lookup counts it).
+    bool nearClipped = false;
     bool empty = true; // no casters: every receiver lit
 
     int rowCount() const { return rows > 0 ? rows : resolution; }
