@@ -96,11 +96,12 @@ struct MapLayer {
     int R, blocks;
 };
 
-// A texel ray's depth as one view sees it: the view's own reversed depth s_v = zNear_v / z_v
-// along the line through its map is affine in the walk's parameter u in [0, 1], from sNear_v (the
-// deep map's t = 0; 1 where the view's near plane is the frame's) to sFar_v (t = 1); and t of u. For a view in the light's plane (depth 0)
-// t = u; a view `depth` ahead of the centre along the map's axis sees the ray's point at
-// centre depth z at its own z - depth, so that 1 / (z - depth) is affine in u, not 1 / z.
+// A texel ray's depth as one view sees it: the view's own reversed depth s_v = near_v / z_v
+// along the line through its map is affine in the walk's parameter u in [0, 1], from sNear_v
+// (the deep map's t = 0; 1 where the view's near plane is the frame's) to sFar_v (t = 1); and t
+// of u. For a view in the light's plane (depth 0) t = u; a view `depth` ahead of the centre
+// along the map's axis sees the ray's point at centre depth z at its own z - depth, so that
+// 1 / (z - depth) is affine in u, not 1 / z.
 struct LineDepth {
     float sNear = 1.0f;  // the view's s at u = 0 (below 1 where its near plane is its own)
     float sFar = 0.0f;   // the view's s at u = 1
