@@ -331,7 +331,6 @@ private:
     struct Pending {
         std::shared_ptr<std::atomic<int>> rows; // rows merged so far, over every face
         int totalRows = 0;                      // the faces' rows
-        std::size_t mapsDone = 0, totalMaps = 0; // sample maps read back, over every face
         geometry::RectLight light;
         std::uint32_t seed = 0;
         std::vector<std::uint32_t> subset;
@@ -358,8 +357,15 @@ private:
     // (the viewer draws the maps a batch a frame, then merges the face's rows on a CPU thread:
     // counted by rows alone, the bar stood at 0 while a face's maps were drawn).
     static double buildingPercent(const Pending& p) {
-        const double done = static_cast<double>(p.mapsDone) + p.rows->load();
-        const double total = static_cast<double>(p.totalMaps) + p.totalRows;
+        std::size_t maps = 0, mapsDone = p.drawn; // the faces before p.next are all read back
+        for (std::size_t k = 0; k < p.faces.size(); ++k) {
+            const geometry::SampleMapFrame& f = p.faces[k].frame;
+            const std::size_t n = f.empty ? 0 : f.views.size();
+            maps += n;
+            if (k < p.next) mapsDone += n;
+        }
+        const double done = static_cast<double>(mapsDone) + p.rows->load();
+        const double total = static_cast<double>(maps) + p.totalRows;
         return 100.0 * done / std::max(total, 1.0);
     }
 
@@ -434,10 +440,7 @@ private:
                 geometry::jitterSampleMapGrids(face.frame, mOptions.resolution);
         }
         p.rows = std::make_shared<std::atomic<int>>(0);
-        for (const geometry::PdsmFace& face : p.faces) {
-            p.totalRows += face.grid.rowCount();
-            if (!face.frame.empty) p.totalMaps += face.frame.views.size();
-        }
+        for (const geometry::PdsmFace& face : p.faces) p.totalRows += face.grid.rowCount();
         p.report = ctx.settings.waitForGpu ? ctx.settings.progress : std::function<void(int, int)>{};
         p.mapsMs = msSince(t0); // the fit (the cube's walks every caster triangle per face)
         drawNext(ctx, p, ctx.settings.waitForGpu || !mBuilt);
@@ -477,7 +480,6 @@ private:
                                      static_cast<GLsizei>(count * layer * sizeof(float)),
                                      p.texels->data() + p.drawn * layer);
                 p.drawn += count;
-                p.mapsDone += count;
                 mMapsDrawn += count;
                 if (!all) break;
             }
