@@ -27,9 +27,17 @@
 //   receiver hides the rest, as `raytrace` counts it). A minimum, not a product: the samples
 //   behind the plane are often also hidden in the maps (the surface P lies on is a caster
 //   there), and the deep map keeps only how many samples are hidden, not which.
+// - The constants (the light, PdsmUniforms' fields; the one map's face) come as flat varyings
+//   from pdsm-lookup.vert, which says why; the cube's faces, picked per pixel, from the block.
 #include "lib/Bindings.h"
-#include "lib/Horizon.glsl"
 #include "lib/Pdsm.glsl"
+#include "shared/Horizon.h"
+
+flat in vec3 fLightCentre, fLightU, fLightV;
+flat in vec4 fCentre, fCube, fBasisU, fBasisV, fNormal;
+#ifdef ONE_MAP
+flat in vec4 fFaceB1, fFaceB2, fFaceAxis, fFaceExtent, fFaceTexel;
+#endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
 layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
@@ -48,11 +56,11 @@ layout(location = 0) out float oVisibility;
 // The cube face whose map holds a point at toP from the centre (geometry::PcssFrame::faceOf),
 // -1 within the cube's zNear of the centre.
 int cubeFace(vec3 toP) {
-    float x = dot(toP, pdsm.basisU.xyz), y = dot(toP, pdsm.basisV.xyz);
-    float z = dot(toP, pdsm.normal.xyz);
+    float x = dot(toP, fBasisU.xyz), y = dot(toP, fBasisV.xyz);
+    float z = dot(toP, fNormal.xyz);
     float a = max(abs(x), abs(y));
-    if (a <= pdsm.cube.y * abs(z)) return abs(z) > pdsm.normal.w ? (z > 0.0 ? 0 : 1) : -1;
-    if (a <= pdsm.normal.w) return -1;
+    if (a <= fCube.y * abs(z)) return abs(z) > fNormal.w ? (z > 0.0 ? 0 : 1) : -1;
+    if (a <= fNormal.w) return -1;
     if (abs(x) >= abs(y)) return x >= 0.0 ? 2 : 3;
     return y >= 0.0 ? 4 : 5;
 }
@@ -65,8 +73,7 @@ struct PdsmFace {
 };
 PdsmFace pdsmFace(int face) {
 #ifdef ONE_MAP
-    return PdsmFace(pdsm.faceB1[0], pdsm.faceB2[0], pdsm.faceAxis[0], pdsm.faceExtent[0],
-                    pdsm.faceTexel[0]);
+    return PdsmFace(fFaceB1, fFaceB2, fFaceAxis, fFaceExtent, fFaceTexel);
 #else
     return PdsmFace(pdsm.faceB1[face], pdsm.faceB2[face], pdsm.faceAxis[face],
                     pdsm.faceExtent[face], pdsm.faceTexel[face]);
@@ -83,14 +90,15 @@ void main() {
     vec4 position = texelFetch(tPosition, px, 0);
     vec3 P = position.xyz;
     vec3 N = texelFetch(tNormal, px, 0).xyz;
-    vec3 c = pdsm.centre.xyz; // the map's light (the frame's, but while the next is built)
+    vec3 c = fCentre.xyz; // the map's light (the frame's, but while the next is built)
 #ifdef OWN_PLANE
-    float front = horizonFraction(P, N);
+    // The share of the frame's light in front of P's plane (lib/Horizon.glsl's horizonFraction).
+    float front = horizonShare(dot(N, fLightCentre - P), dot(N, fLightU), dot(N, fLightV));
 #else
     float front = 1.0;
 #endif
     // Not read: no surface (V = 1), no casters, the whole light behind P's plane (V = front).
-    bool shaded = position.w != 0.0 && pdsm.centre.w != 0.0 && front != 0.0;
+    bool shaded = position.w != 0.0 && fCentre.w != 0.0 && front != 0.0;
 #ifdef ONE_MAP
     int face = 0;
 #else
@@ -102,12 +110,12 @@ void main() {
     float layer = fr.b1.w;
     shaded = shaded && layer >= 0.0; // a face with no receivers or no casters
     vec3 eu = fr.b1.xyz, ev = fr.b2.xyz, n = fr.axis.xyz;
-    float zNear = fr.b2.w, sFar = fr.axis.w, R = pdsm.cube.w;
+    float zNear = fr.b2.w, sFar = fr.axis.w, R = fCube.w;
     vec4 extent = fr.extent;
     float texelSize = fr.texel.x;
     vec2 faceSize = fr.texel.yz; // the face's columns and rows (of the R x R layer)
     // The offset along P's normal (shared/Pdsm.h).
-    vec3 Q = pdsmOffsetReceiver(P, N, c, dot(P - c, n), pdsm.cube.z, texelSize);
+    vec3 Q = pdsmOffsetReceiver(P, N, c, dot(P - c, n), fCube.z, texelSize);
     vec3 d = Q - c;
     float z = dot(d, n);
     // Nearer to the light than the face's zNear: lit. Nearer than every caster, unless zNear was
@@ -124,11 +132,11 @@ void main() {
 #endif
     bool outside = any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
     // (A probe of the one map counts only those outside its extent, below.)
-    mayBeHidden = mayBeHidden && pdsm.basisV.w == 0.0;
-    if ((shaded && outside && pdsm.basisU.w != 0.0) || mayBeHidden)
+    mayBeHidden = mayBeHidden && fBasisV.w == 0.0;
+    if ((shaded && outside && fBasisU.w != 0.0) || mayBeHidden)
         atomicAdd(pdsmStats[PDSM_STAT_OUTSIDE], 1u);
     // A probe of the one map's extent before it is built (basisV.w) counts only.
-    shaded = shaded && !outside && pdsm.basisV.w == 0.0;
+    shaded = shaded && !outside && fBasisV.w == 0.0;
     // The 2 x 2 texels around Q's ray (two gathers: first groups and counts), weighted
     // bilinearly; a texel without points is lit. Each texel's function is read no deeper than
     // where its ray meets Q's tangent plane (the receiver plane): a surface the light grazes (a

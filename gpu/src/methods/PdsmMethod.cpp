@@ -56,8 +56,9 @@ std::string spanDefine() {
 struct PdsmLookup {
     PdsmLookup(const ShaderLoader& shaders, std::vector<std::string> defines)
         : oneMap(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
-                 withOneMap(defines)),
-          cube(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}, defines) {}
+                 withOneMap(defines), "pdsm-lookup.vert"),
+          cube(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}, defines,
+               "pdsm-lookup.vert") {}
     const FullscreenPass& pick(bool isCube) const { return isCube ? cube : oneMap; }
 
     FullscreenPass oneMap, cube;

@@ -4,8 +4,8 @@ namespace gpu {
 
 FullscreenPass::FullscreenPass(const ShaderLoader& shaders, const char* fragment,
                                const char* label, const PipelineState& state,
-                               std::vector<std::string> defines)
-    : mProgram(shaders.load({.stages = {{GL_VERTEX_SHADER, "fullscreen.vert"},
+                               std::vector<std::string> defines, const char* vertex)
+    : mProgram(shaders.load({.stages = {{GL_VERTEX_SHADER, vertex},
                                         {GL_FRAGMENT_SHADER, fragment}},
                              .defines = std::move(defines),
                              .label = label})),

@@ -13,8 +13,10 @@ namespace gpu {
 
 class FullscreenPass {
 public:
+    // `vertex`: fullscreen.vert, or a shader drawing the same triangle with more outputs.
     FullscreenPass(const ShaderLoader& shaders, const char* fragment, const char* label,
-                   const PipelineState& state, std::vector<std::string> defines = {});
+                   const PipelineState& state, std::vector<std::string> defines = {},
+                   const char* vertex = "fullscreen.vert");
     // Optionally scissored to `scissor` (the pass's own state otherwise).
     void execute(const Framebuffer& target, int width, int height,
                  const ScissorRect* scissor = nullptr) const;
