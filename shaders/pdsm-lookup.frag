@@ -37,6 +37,8 @@ flat in vec3 fLightCentre, fLightU, fLightV;
 flat in vec4 fCentre, fCube, fBasisU, fBasisV, fNormal;
 #ifdef ONE_MAP
 flat in vec4 fFaceB1, fFaceB2, fFaceAxis, fFaceExtent, fFaceTexel;
+#else
+flat in vec4 fFaceFrame[6], fFaceExtents[6], fFaceTexels[6];
 #endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
@@ -65,18 +67,32 @@ int cubeFace(vec3 toP) {
     return y >= 0.0 ? 4 : 5;
 }
 
-// The face's frame: constant index for the one map (ONE_MAP); in the cube, the face picked per
-// pixel (a per-lane read of the uniform block, which llvmpipe does lane by lane: 3 M of the
-// lookup's 31 M instructions per frame on data/overlap.json at 256², where one map serves).
+// The face's frame: the one map's (ONE_MAP); in the cube, the face picked per pixel, its axes
+// those of pcss's faces (geometry::fitPcssFrame: 0 and 1 along ±n with (eu, ev); 2 and 3
+// along ±eu with (ev, n); 4 and 5 along ±ev with (eu, n)), its numbers chosen among the six
+// by selects (an array read per lane is a read lane by lane; from the uniform block it took
+// 3 M of the lookup's 31 M instructions per frame on data/overlap.json at 256²).
 struct PdsmFace {
     vec4 b1, b2, axis, extent, texel;
 };
+#ifndef ONE_MAP
+vec4 pickFace(vec4 a0, vec4 a1, vec4 a2, vec4 a3, vec4 a4, vec4 a5, int k) {
+    return k == 0 ? a0 : k == 1 ? a1 : k == 2 ? a2 : k == 3 ? a3 : k == 4 ? a4 : a5;
+}
+#define PDSM_PICK(a, k) pickFace(a[0], a[1], a[2], a[3], a[4], a[5], k)
+#endif
 PdsmFace pdsmFace(int face) {
 #ifdef ONE_MAP
     return PdsmFace(fFaceB1, fFaceB2, fFaceAxis, fFaceExtent, fFaceTexel);
 #else
-    return PdsmFace(pdsm.faceB1[face], pdsm.faceB2[face], pdsm.faceAxis[face],
-                    pdsm.faceExtent[face], pdsm.faceTexel[face]);
+    vec3 axis = face < 2 ? fNormal.xyz : face < 4 ? fBasisU.xyz : fBasisV.xyz;
+    axis = (face & 1) != 0 ? -axis : axis;
+    vec3 b1 = face == 2 || face == 3 ? fBasisV.xyz : fBasisU.xyz;
+    vec3 b2 = face < 2 ? fBasisV.xyz : fNormal.xyz;
+    vec4 frame = PDSM_PICK(fFaceFrame, face);
+    vec4 texel = PDSM_PICK(fFaceTexels, face);
+    return PdsmFace(vec4(b1, frame.x), vec4(b2, frame.y), vec4(axis, frame.z),
+                    PDSM_PICK(fFaceExtents, face), vec4(frame.w, texel.xyz));
 #endif
 }
 

@@ -10,6 +10,10 @@ flat out vec3 fLightCentre, fLightU, fLightV; // the frame's light (the receiver
 flat out vec4 fCentre, fCube, fBasisU, fBasisV, fNormal; // PdsmUniforms' fields of those names
 #ifdef ONE_MAP
 flat out vec4 fFaceB1, fFaceB2, fFaceAxis, fFaceExtent, fFaceTexel; // face 0's
+#else
+// The cube's faces (their axes follow from the light's, pdsm-lookup.frag): per face k, its
+// layer, zNear, sFar and texel size; its extent; its columns, rows and nearClipped flag.
+flat out vec4 fFaceFrame[6], fFaceExtents[6], fFaceTexels[6];
 #endif
 
 void main() {
@@ -29,6 +33,13 @@ void main() {
     fFaceAxis = pdsm.faceAxis[0];
     fFaceExtent = pdsm.faceExtent[0];
     fFaceTexel = pdsm.faceTexel[0];
+#else
+    for (int k = 0; k < 6; ++k) {
+        fFaceFrame[k] = vec4(pdsm.faceB1[k].w, pdsm.faceB2[k].w, pdsm.faceAxis[k].w,
+                             pdsm.faceTexel[k].x);
+        fFaceExtents[k] = pdsm.faceExtent[k];
+        fFaceTexels[k] = vec4(pdsm.faceTexel[k].yzw, 0.0);
+    }
 #endif
     gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
 }
