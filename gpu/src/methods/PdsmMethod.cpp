@@ -51,23 +51,28 @@ std::string spanDefine() {
     return "RECEIVER_PLANE_SPAN " + std::to_string(kReceiverPlaneSpan);
 }
 
-// The lookup's two programs: for the one map (ONE_MAP: its frame read by constant index) and for
-// the cube (a face per pixel).
+// The lookup's programs: for the one map (ONE_MAP: its frame in constants) and for the cube (a
+// face per pixel), each with the count of receivers outside the maps where they are clipped
+// (COUNT_OUTSIDE: an atomic every SIMD group pays) and without it.
 struct PdsmLookup {
-    PdsmLookup(const ShaderLoader& shaders, std::vector<std::string> defines)
-        : oneMap(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
-                 withOneMap(defines), "pdsm-lookup.vert"),
-          cube(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{}, defines,
-               "pdsm-lookup.vert") {}
-    const FullscreenPass& pick(bool isCube) const { return isCube ? cube : oneMap; }
-
-    FullscreenPass oneMap, cube;
+    PdsmLookup(const ShaderLoader& shaders, const std::vector<std::string>& defines)
+        : oneMap(pass(shaders, defines, {"ONE_MAP"})),
+          cube(pass(shaders, defines, {})),
+          oneMapCounting(pass(shaders, defines, {"ONE_MAP", "COUNT_OUTSIDE"})),
+          cubeCounting(pass(shaders, defines, {"COUNT_OUTSIDE"})) {}
+    const FullscreenPass& pick(bool isCube, bool counting) const {
+        return counting ? (isCube ? cubeCounting : oneMapCounting) : (isCube ? cube : oneMap);
+    }
 
 private:
-    static std::vector<std::string> withOneMap(std::vector<std::string> defines) {
-        defines.push_back("ONE_MAP");
-        return defines;
+    static FullscreenPass pass(const ShaderLoader& shaders, std::vector<std::string> defines,
+                               std::initializer_list<const char*> more) {
+        for (const char* d : more) defines.push_back(d);
+        return FullscreenPass(shaders, "pdsm-lookup.frag", "pdsm-lookup", PipelineState{},
+                              std::move(defines), "pdsm-lookup.vert");
     }
+
+    FullscreenPass oneMap, cube, oneMapCounting, cubeCounting;
 };
 // Sample maps drawn (and read back) at a time.
 constexpr int kMapsPerBatch = 16;
@@ -250,7 +255,7 @@ private:
             glBindTextureUnit(TEXUNIT_NORMAL, ctx.targets.normal.id());
             glBindTextureUnit(TEXUNIT_PDSM_INDEX, mIndex.id());
             glBindTextureUnit(TEXUNIT_PDSM_DATA, mDataTexels.id());
-            lookup.pick(cube).execute(ctx.targets.visibilityFbo, ctx.targets.width,
+            lookup.pick(cube, clipped).execute(ctx.targets.visibilityFbo, ctx.targets.width,
                                       ctx.targets.height);
         }
         std::uint32_t stats[PDSM_STAT_COUNT] = {};
