@@ -27,8 +27,9 @@
 //   receiver hides the rest, as `raytrace` counts it). A minimum, not a product: the samples
 //   behind the plane are often also hidden in the maps (the surface P lies on is a caster
 //   there), and the deep map keeps only how many samples are hidden, not which.
-// - The constants (the light, PdsmUniforms' fields; the one map's face) come as flat varyings
-//   from pdsm-lookup.vert, which says why; the cube's faces, picked per pixel, from the block.
+// - The constants (the light, PdsmUniforms' fields, the faces' numbers) come as flat varyings
+//   from pdsm-lookup.vert, which says why; in the cube, a face's picked per pixel by selects,
+//   its axes derived from the light's (PdsmMethod checks that the built faces have them).
 #include "lib/Bindings.h"
 #include "lib/Pdsm.glsl"
 #include "shared/Horizon.h"

@@ -31,6 +31,7 @@
 #include <future>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -230,6 +231,19 @@ private:
             const geometry::PdsmGrid& g = *grids[f];
             if (g.empty) continue;
             const int k = ids[f];
+            // The cube's lookup derives a face's axes from the light's as pcss's faces have
+            // them (pdsm-lookup.frag's pdsmFace, these statements); a face built with others
+            // would be misread.
+            if (cube) {
+                const geometry::PcssFrame& p = mCubeFrame;
+                glm::vec3 axis = k < 2 ? p.normal : k < 4 ? p.eu : p.ev;
+                if (k & 1) axis = -axis;
+                const glm::vec3 b1 = k == 2 || k == 3 ? p.ev : p.eu;
+                const glm::vec3 b2 = k < 2 ? p.ev : p.normal;
+                if (g.eu != b1 || g.ev != b2 || g.n != axis)
+                    throw std::logic_error("pdsm: the cube's face " + std::to_string(k) +
+                                           " was built with axes other than pcss's");
+            }
             const glm::vec2 side = g.hi - g.lo;
             u.faceB1[k] = glm::vec4(g.eu, static_cast<float>(f));
             u.faceB2[k] = glm::vec4(g.ev, g.zNear);
