@@ -52,7 +52,7 @@ std::string spanDefine() {
     return "RECEIVER_PLANE_SPAN " + std::to_string(kReceiverPlaneSpan);
 }
 
-// The lookup's programs: for the one map (ONE_MAP: its frame in constants) and for the cube (a
+// The lookup's programs: for the one map (ONE_MAP: its one face's frame) and for the cube (a
 // face per pixel), each with the count of receivers outside the maps where they are clipped
 // (COUNT_OUTSIDE: an atomic every SIMD group pays) and without it.
 struct PdsmLookup {
@@ -231,19 +231,6 @@ private:
             const geometry::PdsmGrid& g = *grids[f];
             if (g.empty) continue;
             const int k = ids[f];
-            // The cube's lookup derives a face's axes from the light's as pcss's faces have
-            // them (pdsm-lookup.frag's pdsmFace, these statements); a face built with others
-            // would be misread.
-            if (cube) {
-                const geometry::PcssFrame& p = mCubeFrame;
-                glm::vec3 axis = k < 2 ? p.normal : k < 4 ? p.eu : p.ev;
-                if (k & 1) axis = -axis;
-                const glm::vec3 b1 = k == 2 || k == 3 ? p.ev : p.eu;
-                const glm::vec3 b2 = k < 2 ? p.ev : p.normal;
-                if (g.eu != b1 || g.ev != b2 || g.n != axis)
-                    throw std::logic_error("pdsm: the cube's face " + std::to_string(k) +
-                                           " was built with axes other than pcss's");
-            }
             const glm::vec2 side = g.hi - g.lo;
             u.faceB1[k] = glm::vec4(g.eu, static_cast<float>(f));
             u.faceB2[k] = glm::vec4(g.ev, g.zNear);
@@ -572,6 +559,21 @@ private:
         mCulled = p.receivers != nullptr;
         mFrameClipped = p.frameClipped;
         mCubeFrame = p.cubeFrame;
+        // The cube's lookup derives a face's axes from the light's as pcss's faces have them
+        // (pdsm-lookup.frag's pdsmFace, these statements): a face built with others would be
+        // misread. Checked once per build.
+        if (mCube)
+            for (std::size_t f = 0; f < mFaces.size(); ++f) {
+                const int k = p.faces[f].face;
+                const geometry::PdsmGrid& g = mFaces[f].grid;
+                glm::vec3 axis = k < 2 ? mCubeFrame.normal : k < 4 ? mCubeFrame.eu : mCubeFrame.ev;
+                if (k & 1) axis = -axis;
+                const glm::vec3 b1 = k == 2 || k == 3 ? mCubeFrame.ev : mCubeFrame.eu;
+                const glm::vec3 b2 = k < 2 ? mCubeFrame.ev : mCubeFrame.normal;
+                if (!g.empty && (g.eu != b1 || g.ev != b2 || g.n != axis))
+                    throw std::logic_error("pdsm: the cube's face " + std::to_string(k) +
+                                           " was built with axes other than pcss's");
+            }
         mLight = p.light;
         mSeed = p.seed;
         mSubset = std::move(p.subset);
