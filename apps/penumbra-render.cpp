@@ -58,6 +58,7 @@ struct Options {
     std::string outDir = "out";
     int samples = 1024;
     int frames = 1;
+    int warmup = 0;       // --warmup N: frames rendered first and left out of every time
     std::uint32_t seed = 1;
     std::string comparePath;
     float errorScale = geometry::kDefaultErrorScale;
@@ -86,6 +87,8 @@ int run(const Options& opt) {
     apps::checkSamples(opt.samples);
     if (opt.frames < 1 || opt.frames > 10000)
         throw geometry::InputError("--frames must be between 1 and 10000");
+    if (opt.warmup < 0 || opt.warmup > 10000)
+        throw geometry::InputError("--warmup must be between 0 and 10000");
     if (!(opt.errorScale > 0.0f && opt.errorScale <= 1.0f))
         throw geometry::InputError("--error-scale must be in (0, 1]");
     const gpu::DebugViewInfo& debugView = gpu::findDebugView(opt.debugView);
@@ -176,8 +179,9 @@ int run(const Options& opt) {
         if (added) order.push_back(name);
         it->second[static_cast<std::size_t>(frame)] += ms;
     };
-    for (int f = 0; f < frames; ++f) {
+    for (int f = -opt.warmup; f < frames; ++f) {
         last = renderer.renderFrame(settings);
+        if (f < 0) continue; // a warm-up frame
         frameMs.push_back(last.frameMs);
         for (const auto& p : last.gpu) record(gpuMs, gpuOrder, p.name, p.ms, f);
         for (const auto& c : last.cpu) record(cpuMs, cpuOrder, c.name, c.ms, f);
@@ -192,7 +196,8 @@ int run(const Options& opt) {
     report["scene"] = opt.scenePath;
     report["parameters"] = {{"samples", method.usesSamples ? opt.samples : 1},
                             {"seed", opt.seed},
-                            {"frames", frames}};
+                            {"frames", frames},
+                            {"warmup", opt.warmup}};
     for (const gpu::ParameterValue& p : parameters) // every one the method has, as used
         report["parameters"][p.name] = parameterJson(p.value);
     report["size"] = {width, height};
@@ -272,6 +277,7 @@ int run(const Options& opt) {
     report["gpu_ms"] = gpuJson;
     report["cpu_ms"] = cpuJson;
     report["frame_ms"] = median(frameMs);
+    report["frame_ms_each"] = frameMs; // in order, after the warm-up
     report["timing_note"] = "medians over frames of each pass's time in the frame (summed "
                             "where it ran twice, 0 ms where it was skipped); gpu_ms from GL "
                             "timestamp queries on the renderer named in gl_renderer (software "
@@ -356,6 +362,10 @@ int main(int argc, char** argv) {
     app.add_option("--out", opt.outDir, "output directory")->capture_default_str();
     apps::addSamplesOption(app, opt.samples, "light samples per pixel (reference, raytrace)");
     app.add_option("--frames", opt.frames, "frames to render; times are medians")
+        ->capture_default_str();
+    app.add_option("--warmup", opt.warmup,
+                   "frames rendered before --frames and left out of every time (the first "
+                   "builds what a method precomputes; on llvmpipe the next few run slower)")
         ->capture_default_str();
     std::int64_t seed = opt.seed; // checked by apps::checkSeed
     app.add_option("--seed", seed, "sample pattern seed (reference, raytrace)")

@@ -3,8 +3,9 @@
 # the data/ scenes, the stability suite's hard cases, two levels' first spawn views with the
 # viewer's lamp) at 256x256, against `reference` N = 1024 of the same view: pdsm's error (and
 # sample-maps' with the same 256 samples and wedges-bitmask's beside it), its frame over hard's
-# (ROUNDS alternating runs, each the median of 5 frames after the first, which builds the deep
-# map), whether it built one map or the cube around the light, its precompute, memory and
+# once both are warm (ROUNDS alternating runs of 30 frames each: the medians of frames 11-30;
+# the first builds the deep map, and on llvmpipe every pass of the next few frames runs up to
+# 1.7x slower, both methods'; frames 2-6, the measure of the runs before, beside it), whether it built one map or the cube around the light, its precompute, memory and
 # function lengths and the share of the depths kept for the receivers. Then the compression's
 # noise bound, its tolerance, the samples, the receiver offset (bias) and cull=off swept on two
 # scenes, and the noise bound, the offset and cull=off on the levels' views. Writes
@@ -32,9 +33,9 @@ for entry in "${wedge_views[@]}"; do
             --out "$o/reference" --quiet
     ref=(--compare "$o/reference/visibility.pfm")
     for run in $(seq "$rounds"); do
-        render --scene "$scene" "${camera[@]}" --method hard --frames 6 --size "$size" \
+        render --scene "$scene" "${camera[@]}" --method hard --frames 30 --size "$size" \
             --out "$o/hard-$run" --quiet
-        render --scene "$scene" "${camera[@]}" --method pdsm --frames 6 --size "$size" \
+        render --scene "$scene" "${camera[@]}" --method pdsm --frames 30 --size "$size" \
             --out "$o/pdsm-$run" "${ref[@]}" --quiet
     done
     render --scene "$scene" "${camera[@]}" --method sample-maps --param samples=256 \
@@ -84,15 +85,17 @@ print("<!-- written by scripts/bench-pdsm.sh; do not edit by hand -->")
 print(f"`pdsm` with its defaults (k = 256 samples, maps and deep map of 512², tolerance 0.004, "
       f"noise 0.5, bias 0.05, cull on) at 256², against `reference` N = 1024 of the same view: mean |dV| (% pixels off by > 0.05), "
       f"beside `sample-maps` with the same 256 samples and `wedges-bitmask`'s default. Frame: "
-      f"pdsm's over `hard`'s, the median of {rounds} alternating runs, each the median of 6 frames "
-      f"(the first builds the deep map). Maps: one along the light's normal, or the cube of deep "
+      f"pdsm's over `hard`'s once both are warm: the median over {rounds} alternating runs of 30 "
+      f"frames each of the ratio of their medians over frames 11–30 (the first builds the deep "
+      f"map; on llvmpipe every pass of the next few frames runs slower, both methods'); beside it "
+      f"in parentheses the same over frames 2–6, the measure of the runs before. Maps: one along the light's normal, or the cube of deep "
       f"maps around the light (its faces built) where a lookup of the one map's extent finds "
       f"receivers of the view outside it (the cube then built at once). Precompute: the sample "
       f"maps drawn and read back, merged on the CPU (all cores) and uploaded, in the first frame "
       f"(for the cube, a one map built before it, in parentheses: none where the probe chose "
       f"it). Depths kept: the share of the read texels' depths kept for the receivers (cull). GL_RENDERER {first['gl_renderer']}, CPU {cpu}.")
 print()
-print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard | maps | "
+print("| view | pdsm | sample-maps k = 256 | wedges-bitmask | pdsm frame / hard, warm (frames 2–6) | maps | "
       "precompute s | deep map MiB | points per texel (mean, longest) | depths kept % | "
       "clipped (receivers outside) |")
 print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -100,8 +103,11 @@ for row in rows:
     o, name = row.split("|")
     p = rep(o + "/pdsm-1")
     c = p["counters"]
-    ratios = [rep(f"{o}/pdsm-{r}")["frame_ms"] / rep(f"{o}/hard-{r}")["frame_ms"]
-              for r in range(1, rounds + 1)]
+    def ratio(first, last):
+        return statistics.median(
+            statistics.median(rep(f"{o}/pdsm-{r}")["frame_ms_each"][first:last]) /
+            statistics.median(rep(f"{o}/hard-{r}")["frame_ms_each"][first:last])
+            for r in range(1, rounds + 1))
     clipped = f"yes ({int(c['pdsm_pixels_outside'])})" if c["pdsm_clipped"] else "no"
     cube = c.get("pdsm_cube", 0) > 0
     maps = f"cube, {int(c['pdsm_faces'])} faces" if cube else "one"
@@ -109,7 +115,7 @@ for row in rows:
     if cube:
         pre += f" ({c['pdsm_first_map_ms'] / 1000:.1f})"
     print(f"| {name} | {err(p)} | {err(rep(o + '/sample-maps'))} | "
-          f"{err(rep(o + '/wedges-bitmask'))} | {statistics.median(ratios):.2f}× | {maps} | "
+          f"{err(rep(o + '/wedges-bitmask'))} | {ratio(10, 30):.2f}× ({ratio(1, 6):.2f}×) | {maps} | "
           f"{pre} | {c['pdsm_bytes'] / 2**20:.1f} | "
           f"{c['pdsm_mean_function']:.0f}, {int(c['pdsm_longest_function'])} | "
           f"{100 * c['pdsm_depth_kept']:.1f} | {clipped} |")

@@ -321,6 +321,33 @@ TEST_F(RenderCli, SizeAndSamplesHaveTheSharedLimits) {
     expectRejected(scene, "--samples must be between 1 and 65536", "--method hard --samples 0");
 }
 
+// --warmup N renders N frames first and leaves them out of every time: frame_ms_each holds the
+// --frames counted ones, in order; frame_ms is their median. A method that precomputes (pdsm's
+// deep map) does it in the first warm-up frame and keeps its counters. Out of range: exit 2.
+TEST_F(RenderCli, WarmupFramesAreLeftOutOfTheTimes) {
+    const fs::path scene = write("s.json", kValidScene);
+    expectRejected(scene, "penumbra-render: error: --warmup must be between 0 and 10000",
+                   "--method hard --warmup -1");
+    expectRejected(scene, "--warmup must be between 0 and 10000", "--method hard --warmup 10001");
+    const fs::path out = mDir / "out";
+    const RunResult r = run("--scene '" + scene.string() + "' --method pdsm --param samples=16 " +
+                            "--param resolution=128 --size 48x32 --warmup 2 --frames 3 --quiet " +
+                            "--out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    nlohmann::json report;
+    std::ifstream(out / "report.json") >> report;
+    EXPECT_EQ(report["parameters"]["frames"], 3);
+    EXPECT_EQ(report["parameters"]["warmup"], 2);
+    ASSERT_EQ(report["frame_ms_each"].size(), 3u);
+    std::vector<double> each = report["frame_ms_each"];
+    for (double ms : each) EXPECT_GT(ms, 0.0);
+    std::sort(each.begin(), each.end());
+    EXPECT_DOUBLE_EQ(report["frame_ms"].get<double>(), each[1]);
+    // Built in the first warm-up frame, reused in every counted one.
+    EXPECT_EQ(report["counters"]["pdsm_cached"], 1.0);
+    EXPECT_GT(report["counters"]["pdsm_precompute_ms"].get<double>(), 0.0);
+}
+
 // Sizes no GL implementation here can hold are refused with the limit, before anything is
 // allocated: 16384x16384 once failed after 5 GB with an incomplete framebuffer, 100000x100000
 // was blamed on its format.
@@ -499,13 +526,13 @@ TEST_F(RenderCli, ReportListsEveryParameterOfTheMethod) {
         return report["parameters"];
     };
     EXPECT_EQ(parameters("--method hard --seed 3"),
-              (nlohmann::json{{"samples", 1}, {"seed", 3}, {"frames", 1}}));
+              (nlohmann::json{{"samples", 1}, {"seed", 3}, {"frames", 1}, {"warmup", 0}}));
     EXPECT_EQ(parameters("--method wedges-blend"),
-              (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"parts", 4},
-                              {"bits", 8}, {"overlap", "paper"}}));
+              (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"warmup", 0},
+                              {"parts", 4}, {"bits", 8}, {"overlap", "paper"}}));
     EXPECT_EQ(parameters("--method wedges-blend --param overlap=centroid --param parts=8"),
-              (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"parts", 8},
-                              {"bits", 8}, {"overlap", "centroid"}}));
+              (nlohmann::json{{"samples", 1}, {"seed", 1}, {"frames", 1}, {"warmup", 0},
+                              {"parts", 8}, {"bits", 8}, {"overlap", "centroid"}}));
 }
 
 TEST_F(RenderCli, GoodRunWritesTheContractOutputs) {
