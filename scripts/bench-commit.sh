@@ -3,8 +3,9 @@
 # same machine: the wedge benches' scenes (scripts/wedge-scenes.sh) and two levels' spawn views,
 # 256x256. Per round, four runs: `hard` (this tree), METHOD at COMMIT ("old"), METHOD here
 # ("new") and METHOD here with EXTRA parameters ("variant"; default silhouettes=centre, the
-# wedges-bitmask of before per-receiver silhouettes). Each run's frame is the median of FRAMES
-# frames after a warm-up; the table gives medians over ROUNDS rounds (default 5) of the ratios
+# wedges-bitmask of before per-receiver silhouettes). Each run's frame is the median of its
+# FRAMES frames (default 30: the first, which compiles the shaders, and the ten or so after it
+# that llvmpipe runs slower are fewer than half of them; an older build has no --warmup); the table gives medians over ROUNDS rounds (default 5) of the ratios
 # within each round; VIEWS (file or file@camera, space-separated) measures those views only.
 # Writes docs/bench-commit.md.
 # Usage: bash scripts/bench-commit.sh COMMIT [build-dir]
@@ -24,7 +25,7 @@ BIN=$BUILD/bin/penumbra-render
 METHOD=${METHOD:-wedges-bitmask}
 EXTRA=${EXTRA:-silhouettes=centre}
 SIZE=${SIZE:-256x256}
-FRAMES=${FRAMES:-5}
+FRAMES=${FRAMES:-30}
 ROUNDS=${ROUNDS:-5}
 [ -x "$BIN" ] || { echo "bench-commit: build this tree first ($BIN missing)" >&2; exit 2; }
 
@@ -88,7 +89,7 @@ done
     echo "\`$METHOD\` at $short (\"old\", $(git log -1 --format='%ad' --date=short "$COMMIT"): $subject)"
     echo "against this tree's (\"new\", $(tree_name docs/bench-commit.md)) and this tree's with \`$EXTRA\` (\"variant\"),"
     echo "both built Release and run alternately, $SIZE: frame over this tree's \`hard\` of the same round,"
-    echo "and ratios, medians of $ROUNDS rounds (each run the median of $FRAMES frames after a warm-up)."
+    echo "and ratios, medians of $ROUNDS rounds (each run the median of its $FRAMES frames, the first among them)."
     echo "GL_RENDERER $renderer, CPU $(cpu_name) ($(nproc) cores)."
     echo
     echo "| view | hard ms | old / hard | new / hard | variant / hard | new / old | variant / old | new / variant |"
