@@ -30,14 +30,20 @@ void main() {
     ivec2 origin = tileXY * SURFACE_TILE;
     ivec2 end = min(origin + SURFACE_TILE, size);
     vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
+    float reach = 0.0; // the farthest from the eye
     for (int y = origin.y; y < end.y; ++y)
         for (int x = origin.x; x < end.x; ++x) {
             vec4 p = texelFetch(tPosition, ivec2(x, y), 0);
             if (p.w != 0.0) {
                 lo = min(lo, p.xyz);
                 hi = max(hi, p.xyz);
+                reach = max(reach, length(frame.eye.xyz - p.xyz));
             }
         }
+    // wedges-bitmask's potential edges may take a receiver up to 1/4096 of its distance to the
+    // eye towards it (lib/BitmaskEdge.glsl potentialReceiver): the bounds hold it there too.
+    lo -= vec3(reach / 4096.0);
+    hi += vec3(reach / 4096.0);
     uint tile = uint(tileXY.y * uTilesX + tileXY.x);
     tileBounds[2u * tile] = vec4(lo, 0.0);
     tileBounds[2u * tile + 1u] = vec4(hi, 0.0);

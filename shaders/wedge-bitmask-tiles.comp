@@ -33,6 +33,7 @@ layout(local_size_x = 8, local_size_y = 8) in; // one tile
 #endif
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
+layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 // The light samples ((s, t, angle about the centre, quadrant of its run), by angle) and the angle
 // bins after them (lib/Bindings.h), as a uniform block (BINDING_LIGHT_SAMPLES_UBO).
 layout(std140, binding = BINDING_LIGHT_SAMPLES_UBO) uniform LightSampleTable {
@@ -107,7 +108,7 @@ void main() {
     vec4 position = texelFetch(tPosition, px, 0);
     uint touched = 0u;
     if (position.w != 0.0) {
-        vec3 p = position.xyz;
+        vec3 p = potentialReceiver(position.xyz, texelFetch(tNormal, px, 0).xyz);
         vec3 eye = frame.eye.xyz;
         vec2 ndc = (vec2(px) + 0.5) / vec2(uSize) * 2.0 - 1.0;
         int t = tile;

@@ -14,6 +14,7 @@
 layout(early_fragment_tests) in;
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
+layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 layout(std430, binding = BINDING_LIGHT_SAMPLES) readonly buffer LightSamples {
     vec4 lightSamples[]; // (s, t, angle about the centre, 0), by angle (geometry/shadow/LightMask.h)
 };
@@ -49,7 +50,11 @@ void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec4 position = texelFetch(tPosition, px, 0);
     if (position.w == 0.0) discard; // no surface
+#ifdef BITMASK_POTENTIAL
+    vec3 p = potentialReceiver(position.xyz, texelFetch(tNormal, px, 0).xyz);
+#else
     vec3 p = position.xyz;
+#endif
     if (vBounded != 0u && !wedgeHullContains(vPlanes, p)) discard;
     CoverageLight light;
     vec3 h0, h1, h2;

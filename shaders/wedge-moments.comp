@@ -24,6 +24,7 @@
 layout(local_size_x = 64) in;
 
 layout(binding = TEXUNIT_POSITION) uniform sampler2D tPosition;
+layout(binding = TEXUNIT_NORMAL) uniform sampler2D tNormal;
 // The light samples ((s, t, angle about the centre, quadrant of its run), by angle) and the angle
 // bins after them (lib/Bindings.h), as a uniform block (BINDING_LIGHT_SAMPLES_UBO).
 layout(std140, binding = BINDING_LIGHT_SAMPLES_UBO) uniform LightSampleTable {
@@ -63,7 +64,7 @@ void main() {
     uint pixel = tileMoments[at];
     ivec2 px = ivec2(pixel & 0xFFFFu, pixel >> 16);
     int regions = int(tileMoments[at + 1u]);
-    vec3 p = texelFetch(tPosition, px, 0).xyz;
+    vec3 p = potentialReceiver(texelFetch(tPosition, px, 0).xyz, texelFetch(tNormal, px, 0).xyz);
     const CoverageLight light = frameCoverageLight();
     // Each edge's R: its sector's rays (from, to), its line and m.
     vec4 regionSector[MOMENT_EDGES];

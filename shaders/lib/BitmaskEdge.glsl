@@ -42,6 +42,8 @@ CoverageLight frameCoverageLight() {
 }
 
 #ifdef BITMASK_POTENTIAL
+#include "lib/PotentialReceiver.glsl"
+
 // One triangle's share of m_P(e): +1 when its third vertex lies on the far side of the plane
 // through P and the edge from the light centre (crossing the edge's projection, a segment from P
 // starts crossing the triangle), -1 on the centre's side (it stops), 0 without a triangle.

@@ -43,6 +43,23 @@ inline geometry::Scene wallBesideLight() {
     return scene;
 }
 
+// The light's centre exactly in the planes of two casters' faces, as a lamp hung at a level's
+// grid coordinates puts it (oa_dm1's eighth spawn view): a thin wall (one quad, plane z = 0) to
+// one side of the light and a pillar (a box) whose front face lies in the plane x = 1.5 of the
+// centre. Every coordinate is exact in float.
+inline geometry::Scene wallsThroughLightCentre() {
+    geometry::Scene scene;
+    scene.camera = {{6.0f, 3.0f, 6.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    scene.light = {{1.5f, 2.5f, 0.0f}, {0.5f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.5f}};
+    scene.objects.push_back({"wall", geometry::ShadowMethod::Auto,
+                             geometry::makeQuad({-1.25f, 1.5f, 0}, {1.75f, 0, 0}, {0, 1.5f, 0})});
+    scene.objects.push_back({"pillar", geometry::ShadowMethod::Auto,
+                             geometry::makeBox({1.25f, 1.0f, 2.0f}, {0.5f, 2.0f, 0.5f})});
+    scene.objects.push_back({"ground", geometry::ShadowMethod::Auto,
+                             geometry::makeQuad({0, 0, 0}, {4, 0, 0}, {0, 0, -4})});
+    return scene;
+}
+
 // On wallBesideLight's wall front (pixels with z = 0 above the ground), |V - the exact share of
 // the light in front of the wall's plane|: the pixels, the largest difference, and the pixels
 // off by more than 0.01.

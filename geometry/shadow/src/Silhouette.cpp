@@ -41,6 +41,7 @@ using namespace silhouette_detail;
 
 void SilhouetteFrame::clear() {
     oneSided = lightInside = false;
+    flatTriangles = 0;
     triangles.clear();
     edges.clear();
     loops.clear();
@@ -65,7 +66,8 @@ bool sameBounds(const Aabb& a, const Aabb& b) { return a.min == b.min && a.max =
 bool sameSettings(const SilhouetteSettings& a, const SilhouetteSettings& b) {
     return a.oneSidedClosed == b.oneSidedClosed && a.buildVolumes == b.buildVolumes &&
            a.capVertices == b.capVertices && a.buildWedges == b.buildWedges &&
-           a.chainLoops == b.chainLoops && a.influenceBounds == b.influenceBounds;
+           a.chainLoops == b.chainLoops && a.influenceBounds == b.influenceBounds &&
+           a.flatTrianglesFace == b.flatTrianglesFace;
 }
 
 } // namespace
@@ -107,7 +109,8 @@ const SilhouetteFrame& SilhouetteExtractor::update(const RectLight& light,
     frame.groups.clear();
     frame.wedges.clear();
 
-    s.classify(topo, lc, oneSided);
+    s.classify(topo, lc, oneSided, settings.flatTrianglesFace);
+    frame.flatTriangles = s.flatTriangles;
     s.mergeGroups();
 
     // Step 3: group ids in order of first triangle (local order), sizes and occluder bounds.

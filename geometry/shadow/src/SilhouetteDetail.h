@@ -185,6 +185,7 @@ struct SilhouetteExtractor::Scratch {
     std::vector<std::uint64_t> posBits, negBits; // orient > 0, orient < 0 (bit t % 64 of
                                                  // word t / 64; one padding word)
     std::vector<std::uint64_t> unsureBits;       // classify: left to the exact test
+    std::uint32_t flatTriangles = 0;             // classify: the light centre in their plane
     std::vector<std::uint8_t> uniform;       // per cluster
     std::vector<Component> components;       // of the non-uniform clusters, in cluster order
     std::vector<std::uint32_t> componentOffsets; // per cluster, into components
@@ -211,7 +212,8 @@ struct SilhouetteExtractor::Scratch {
     void buildOrientation(const Topology& topology);
     Containment lightContainment(const Topology& topology, const glm::vec3& light);
     Containment rayContainment(const Topology& topology, const glm::dvec3& light) const;
-    void classify(const Topology& topology, const glm::vec3& light, bool oneSided);
+    void classify(const Topology& topology, const glm::vec3& light, bool oneSided,
+                  bool flatTrianglesFace);
     void mergeGroups();
 
     std::uint32_t find(std::uint32_t x) {

@@ -11,7 +11,7 @@ namespace geometry {
 // Step 1: orientation of every triangle (local order), as bytes (for lookups by triangle) and
 // as bit sets (for the clusters' masks), 64 triangles per word.
 void SilhouetteExtractor::Scratch::classify(const Topology& topology, const glm::vec3& light,
-                                            bool oneSided) {
+                                            bool oneSided, bool flatTrianglesFace) {
     Scratch& s = *this;
     const std::uint32_t n = s.triangleCount;
     const float lx = light.x, ly = light.y, lz = light.z;
@@ -29,6 +29,7 @@ void SilhouetteExtractor::Scratch::classify(const Topology& topology, const glm:
     std::uint64_t* negBits = s.negBits.data();
     std::uint64_t* unsureBits = s.unsureBits.data();
     std::uint64_t anyUnsure = 0;
+    s.flatTriangles = 0;
     const std::uint32_t words = (n + 63) / 64;
     for (std::uint32_t w = 0; w < words; ++w) {
         const std::uint32_t first = 64 * w, count = std::min(64u, n - first);
@@ -92,7 +93,15 @@ void SilhouetteExtractor::Scratch::classify(const Topology& topology, const glm:
                 const glm::dvec3 a(positions[tri.x]);
                 const glm::dvec3 nn = glm::cross(glm::dvec3(positions[tri.y]) - a,
                                                   glm::dvec3(positions[tri.z]) - a);
-                const bool facing = glm::dot(nn, l - a) >= 0.0;
+                const double d = glm::dot(nn, l - a);
+                if (d == 0.0) {
+                    ++s.flatTriangles;
+                    if (!flatTrianglesFace) {
+                        orient[t] = 0; // the light in its plane: a flat volume, no part
+                        continue;
+                    }
+                }
+                const bool facing = d >= 0.0;
                 orient[t] = facing ? pos : neg;
                 if (facing) {
                     posBits[w] |= std::uint64_t{1} << i;

@@ -12,7 +12,8 @@ namespace {
 
 constexpr geometry::SilhouetteSettings twoSidedLean() {
     geometry::SilhouetteSettings s = geometry::SilhouetteSettings::lean();
-    s.oneSidedClosed = false; // D(p, c) two-sided for every mesh
+    s.oneSidedClosed = false;    // D(p, c) two-sided for every mesh
+    s.flatTrianglesFace = false; // a triangle whose plane holds the centre: no volume
     return s;
 }
 
@@ -29,6 +30,7 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
             Caster k;
             k.index = c;
             k.extractor = std::make_unique<geometry::SilhouetteExtractor>(casters.topology(c));
+            for (const glm::vec3& x : casters.topology(c).positions()) k.bounds.extend(x);
             mCasters.push_back(std::move(k));
         }
     }
@@ -40,6 +42,7 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
     // Sizes first.
     std::uint32_t triangles = 0, sides = 0, potential = 0, groups = 0;
     mStats = {};
+    mFlatTriangles = 0;
     for (Caster& k : mCasters) {
         const geometry::SilhouetteFrame& f = k.extractor->update(light, sceneBounds, settings);
         const geometry::PotentialEdgeStats s =
@@ -48,6 +51,7 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
         mStats.boundary += s.boundary;
         mStats.nonManifold += s.nonManifold;
         mStats.skipped += s.skipped;
+        mFlatTriangles += f.flatTriangles;
         triangles += static_cast<std::uint32_t>(f.triangles.size());
         sides += static_cast<std::uint32_t>(f.edges.size());
         potential += static_cast<std::uint32_t>(k.edges.size());
@@ -83,7 +87,6 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
         const std::uint32_t firstTri = tri, firstSide = side;
         for (const std::uint32_t t : f.triangles)
             tris[tri++] = (t & geometry::kTriangleFlipped) | ((t & ~geometry::kTriangleFlipped) + tb);
-        geometry::Aabb occluder;
         for (const geometry::SilhouetteGroup& g : f.groups) {
             gpuGroups[group] = shader::GpuGroup{
                 .influenceMin = glm::vec4(g.influenceBounds.min, 0.0f),
@@ -94,13 +97,13 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
                 .triangleCount = g.triangleCount};
             for (std::uint32_t e = g.firstEdge; e < g.firstEdge + g.edgeCount; ++e)
                 edges[side++] = shader::GpuEdge{f.edges[e].v0 + vb, f.edges[e].v1 + vb, group, 0u};
-            occluder.extend(g.occluderBounds);
             ++group;
         }
-        // The caster's potential edges under one group: the caster's whole occluder box (every
-        // triangle takes part two-sided, so the groups' boxes cover the caster).
+        // The caster's potential edges under one group: the caster's whole box. (Not the union
+        // of the centre's groups: a triangle whose plane holds the light's centre is in none, and
+        // a wall through the centre lost its wedges with it.)
         const geometry::Aabb influence =
-            geometry::occluderInfluenceBounds(occluder, light, sceneBounds);
+            geometry::occluderInfluenceBounds(k.bounds, light, sceneBounds);
         const std::uint32_t firstPot = pot;
         const auto positions = casters.topology(k.index).positions();
         for (const geometry::PotentialEdge& e : k.edges) {

@@ -42,6 +42,8 @@ public:
     std::uint32_t twinOffset() const { return mWedgeTotal; }
     std::uint32_t wedgeSlots() const { return mEdgeTotal + mWedgeTotal; }
     std::uint32_t centreEdgeCount() const { return mCentreEdges; } // side copies (two-sided)
+    // Caster triangles whose plane holds the light centre this frame (flat volumes: none drawn).
+    std::uint32_t flatTriangles() const { return mFlatTriangles; }
     // The potential edges' end points (world), in the order of the edges array's potential part.
     std::span<const glm::vec3> edgeStarts() const { return mEdgeA; }
     std::span<const glm::vec3> edgeEnds() const { return mEdgeB; }
@@ -56,6 +58,7 @@ private:
         std::uint32_t index = 0;
         std::unique_ptr<geometry::SilhouetteExtractor> extractor;
         std::vector<geometry::PotentialEdge> edges;
+        geometry::Aabb bounds; // every triangle's corners
     };
     std::vector<Caster> mCasters;
     std::vector<std::uint32_t> mSubset;
@@ -63,7 +66,7 @@ private:
     geometry::RectLight mLight;
     DrawSet mVolumes, mWedges;
     std::vector<CasterRange> mWedgeRuns;
-    std::uint32_t mEdgeTotal = 0, mWedgeTotal = 0, mCentreEdges = 0;
+    std::uint32_t mEdgeTotal = 0, mWedgeTotal = 0, mCentreEdges = 0, mFlatTriangles = 0;
     std::vector<glm::vec3> mEdgeA, mEdgeB;
     geometry::PotentialEdgeStats mStats;
     Buffer mData{BufferDesc{.label = "potential-silhouettes"}};

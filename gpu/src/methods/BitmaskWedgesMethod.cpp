@@ -167,6 +167,7 @@ public:
                    mLayout.defines()),
           mPotentialResolve(r.shaders, "bitmask-potential-resolve.frag", "bitmask-potential-resolve",
                             PipelineState{}, mLayout.defines()),
+          mReceiverNudge(r.shaders, "receiver-nudge.frag", "receiver-nudge", kReceiverNudgeState),
           mTiles(layout.potential && layout.evaluate != BitmaskOptions::Evaluate::Raster
                      ? std::make_unique<WedgeTilePass>(r.shaders, layout.defines())
                      : nullptr),
@@ -359,6 +360,11 @@ private:
         }
         {
             ScopedPass pass(&ctx.timers, "shadow-volume");
+            if (mPotential.flatTriangles() > 0) {
+                glBindTextureUnit(TEXUNIT_POSITION, t.position.id());
+                glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
+                mReceiverNudge.execute(t.visibilityFbo, t.width, t.height);
+            }
             mVolumes.drawCentre(t.visibilityFbo, t, mPotential.volumes());
         }
         // evaluate=tiles (or auto with kAutoTiledEdges potential edges drawn or more: on fewer
@@ -372,6 +378,9 @@ private:
             tiled() && (mLayout.evaluate == BitmaskOptions::Evaluate::Tiles || moments() ||
                         drawnEdges >= BitmaskOptions::kAutoTiledEdges);
         bool tiledFrame = false;
+        // The facet normals: the wedge passes take a receiver whose plane holds the light's
+        // centre a little towards the eye (lib/BitmaskEdge.glsl potentialReceiver).
+        glBindTextureUnit(TEXUNIT_NORMAL, t.normal.id());
         if (tryTiles) {
             ScopedPass pass(&ctx.timers, "wedges");
             mWedges.bindWedges();
@@ -446,6 +455,7 @@ private:
         ctx.addCounter("potential_interior_edges", static_cast<double>(e.interior));
         ctx.addCounter("potential_boundary_edges", static_cast<double>(e.boundary));
         ctx.addCounter("potential_nonmanifold_edges", static_cast<double>(e.nonManifold));
+        ctx.addCounter("centre_in_plane_triangles", mPotential.flatTriangles());
         ctx.addCounter("count_overflow_pixels", stats[MASK_STAT_OVERFLOW]);
         ctx.addCounter("count_negative_pixels", stats[MASK_STAT_NEGATIVE]);
         ctx.addCounter("own_plane_pixels", stats[MASK_STAT_OWN_PLANE]);
@@ -578,7 +588,11 @@ private:
     };
 
     MaskLayout mLayout;
-    FullscreenPass mCombine, mUmbra, mClear, mResolve, mPotentialResolve;
+    // silhouettes=potential: receivers whose plane holds the light centre, their depth moved
+    // as the wedge passes move them (receiver-nudge.frag).
+    static constexpr PipelineState kReceiverNudgeState{
+        .depthTest = true, .depthFunc = GL_ALWAYS, .depthWrite = true, .colorWrite = false};
+    FullscreenPass mCombine, mUmbra, mClear, mResolve, mPotentialResolve, mReceiverNudge;
     DrawSet mKeptWedges;                // silhouettes=potential, depth-aware: this frame's
     std::vector<CasterRange> mKeptRuns; // wedges and set-up runs
     const DrawSet* mDrawnWedges = nullptr; // the wedge set the last frame drew (debug view)

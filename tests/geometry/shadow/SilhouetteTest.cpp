@@ -770,6 +770,27 @@ TEST(Silhouette, ClosedMeshKeepsTheOneSidedRuleWhileTheLightIsOutside) {
     }
 }
 
+// A light centre exactly in a cube face's plane (x = 1: every coordinate exact in float). The
+// classic rule takes the face's two triangles as facing the light; wedges-bitmask's potential
+// silhouettes (flatTrianglesFace = false) leave them out: their volume is flat. Counted either
+// way; the other four faces that the plane does not hold keep their orientation.
+TEST(Silhouette, TrianglesWhosePlaneHoldsTheLightCentre) {
+    const Topology topo(makeBox({0.5f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}));
+    const glm::vec3 l(1.0f, 0.25f, 3.0f); // in the plane x = 1 of the face, outside the box
+    const Aabb box = boxAround(topo, 3.0f);
+    for (const bool face : {true, false}) {
+        SCOPED_TRACE(face ? "facing" : "left out");
+        SilhouetteExtractor extractor(topo);
+        SilhouetteSettings settings = SilhouetteSettings::lean();
+        settings.oneSidedClosed = false;
+        settings.flatTrianglesFace = face;
+        const SilhouetteFrame& frame = extractor.update(lightAt(l, 0.05f), box, settings);
+        EXPECT_EQ(frame.flatTriangles, 2u);
+        // Two-sided: every triangle takes part but those left out.
+        EXPECT_EQ(frame.triangles.size(), face ? 12u : 10u);
+    }
+}
+
 TEST(Silhouette, ContainmentEdgeCases) {
     const Aabb box{{-5.0f, -5.0f, -5.0f}, {5.0f, 5.0f, 5.0f}};
     // On the surface: too close to tell, treated as inside (two-sided, correct either way).

@@ -78,6 +78,11 @@ enum class InfluenceBoundsMode : std::uint8_t {
 
 struct SilhouetteSettings {
     bool oneSidedClosed = true; // classic rule for closed meshes while the light is outside
+    // A triangle whose plane holds the light centre exactly: facing it (the classic >= rule,
+    // a flat but closed volume, and its edges silhouettes for the centre's wedges), or, when
+    // false, in no group (its volume is empty; drawn, it z-fights with every receiver in its
+    // plane): wedges-bitmask's potential silhouettes, whose wedges come from every edge anyway.
+    bool flatTrianglesFace = true;
     bool buildVolumes = true;
     // Caps as vertices in volumeVertices (front caps, back caps, then sides), or, when false,
     // by reference only: the group's `triangles` entries (with kTriangleFlipped) are its caps,
@@ -118,6 +123,9 @@ struct SilhouetteFrame {
     // Closed mesh (with oneSidedClosed asked for) whose inside holds the light centre, or whose
     // surface passes too close to the centre to tell: classified two-sided for that reason.
     bool lightInside = false;
+    // Triangles whose plane holds the light centre exactly (in no group unless
+    // SilhouetteSettings::flatTrianglesFace).
+    std::uint32_t flatTriangles = 0;
     std::vector<std::uint32_t> triangles; // topology triangle ids | kTriangleFlipped, grouped
     std::vector<SilhouetteEdge> edges;    // grouped; within a group in loop order (chainLoops)
     std::vector<SilhouetteLoop> loops;
