@@ -5,7 +5,9 @@
 //    pattern's points on the light, each where its segment to P crosses depth zSearch
 //    (throughLight; on the front faces the paper's rectangle of half extent
 //    halfSize (1/zSearch - 1/zP), searchWidth = lightSize (zP - near) / zP); texels in front of
-//    P (below) are blockers, their depths averaged;
+//    P (below) are blockers, their depths averaged, but only if one of them, or one found by
+//    a second search at the deepest of them, lies in P's pyramid to the light (inPyramid, not
+//    in the paper; below);
 // 2. penumbra estimate: the light seen through the blockers' mean depth zBlocker (on the front
 //    faces half extent halfSize (1/zBlocker - 1/zP), the paper's
 //    w = lightSize (zP - zBlocker) / zBlocker per axis);
@@ -74,6 +76,10 @@ layout(location = 0) out float oVisibility;
 // The blocker search reaches no nearer to the light than this share of P's depth: a level's
 // walls reach the light's plane, and a search region sized from there would cover the map.
 #define SEARCH_DEPTH_RATIO (1.0 / 16.0)
+// inPyramid's margin around the light, in its half extents.
+#ifndef PYRAMID_SLACK
+#define PYRAMID_SLACK 0.02
+#endif
 
 struct Receiver {
     int face;
@@ -85,6 +91,10 @@ struct Receiver {
     vec3 lu, lv;  // the light's half axes in the face's coordinates
     vec3 N;       // P's normal, facing the light's centre
     float np;     // dot(N, P - c) moved by the offset (< 0; 0 at the centre)
+#ifndef DEEP_SHADOW_MAP
+    vec3 ln, lus, lvs; // the light's normal and dual axes in the face's coordinates
+    vec3 pl;           // P's height over the light's plane and its (s, t) along the dual axes
+#endif
 };
 
 // Where the segment from P to the light's point s (in [-1, 1]^2 over its half axes) crosses
@@ -177,6 +187,28 @@ Texels texelsAround(Receiver r, vec2 m) {
     return x;
 }
 
+#ifndef DEEP_SHADOW_MAP
+// 1 where the line from P through the texel's surface point meets the light's rectangle with
+// the point between P and the light (the point taken on the ray of map point m, the sample's, at
+// the texel's depth): a surface that can hide part of the light from P. PCSS alone takes every
+// texel in front of P's plane that its search or filter region reads; around a lamp in a room
+// those regions reach far to the sides, and walls and ledges beside P's pyramid to the light
+// shadowed lit floors (kaos2's twelfth spawn view: 0.24 mean). With X = z (m, 1) in P's face
+// and s_X = 1 / z: the line P + l (X - P) meets the light's plane at l = h_P / (h_P - h_X), and
+// X lies between when l > 1; the meeting point's (s, t) from the same terms, per texel only s_X.
+vec4 inPyramid(Receiver r, vec2 m, Texels x) {
+    vec3 A = vec3(m, 1.0);
+    float an = dot(r.ln, A), au = dot(r.lus, A), av = dot(r.lvs, A);
+    vec4 s = x.d / (pcss.normal.w * x.scale); // 0: nothing
+    vec4 w = 1.0 / (r.pl.x * s - an);
+    vec4 l = r.pl.x * s * w;
+    vec4 su = r.pl.y + r.pl.x * w * (au - r.pl.y * s);
+    vec4 sv = r.pl.z + r.pl.x * w * (av - r.pl.z * s);
+    return vec4(greaterThan(l, vec4(1.0))) *
+           vec4(lessThanEqual(max(abs(su), abs(sv)), vec4(1.0 + PYRAMID_SLACK)));
+}
+#endif
+
 // 1 where the texel's surface is in front of P (deep: the opacity in front of P).
 vec4 inFront(Texels x) {
     vec4 plane = vec4(planeDepth(x.plane, vec2(x.m0.x, x.m1.y)), planeDepth(x.plane, x.m1),
@@ -256,6 +288,12 @@ float shadowMapVisibility(vec3 position, vec3 N) {
     if (pcss.basisV.w == 0.0 || zSearch >= r.z) return 1.0;
     r.lu = pcss.lightU[r.face].xyz;
     r.lv = pcss.lightV[r.face].xyz;
+#ifndef DEEP_SHADOW_MAP
+    r.ln = normalize(cross(r.lu, r.lv));
+    r.lus = cross(r.lv, r.ln) / dot(r.lu, cross(r.lv, r.ln));
+    r.lvs = cross(r.ln, r.lu) / dot(r.lv, cross(r.ln, r.lu));
+    r.pl = vec3(dot(r.ln, r.p), dot(r.lus, r.p), dot(r.lvs, r.p));
+#endif
 
     // P's plane, moved towards the light: points c + z (m.x b1 + m.y b2 + axis) with
     // dot(N, . - P) = offset, so 1 / z = dot(N, (b1, b2, axis) (m, 1)) / (dot(N, P - c) + offset)
@@ -287,12 +325,43 @@ float shadowMapVisibility(vec3 position, vec3 N) {
     // 1. Blocker search.
     float blockerDepth = 0.0, blockerWeight = 0.0;
     int searchSamples = int(pcss.params.x);
+#ifndef DEEP_SHADOW_MAP
+    // Texels in front of P's plane are PCSS's blockers, but the search region is wide (a lamp
+    // in a room: most of a face), and a texel in it may lie beside P's pyramid to the light (a
+    // wall beside a lit floor): blockers hide nothing unless one of them lies in the pyramid
+    // (inPyramid, `confirmed`). A blocker deeper than the search plane may be met by the
+    // search's ray from the light's centre only past the pyramid; where none was confirmed, the
+    // search runs again at the deepest such texel's depth: a ray through that plane's region
+    // meets whatever it meets nearer the light inside the pyramid (which is convex and holds
+    // the light's centre), so a blocker that hides part of the light there is confirmed, and a
+    // surface beside the pyramid is not. Where a blocker is confirmed, PCSS as before.
+    float confirmed = 0.0, candidateDepth = 0.0;
+#endif
     for (int i = 0; i < searchSamples; ++i) {
-        Texels x = texelsAround(r, throughLight(r, pcss.pattern[i].zw, zSearch));
+        vec2 m = throughLight(r, pcss.pattern[i].zw, zSearch);
+        Texels x = texelsAround(r, m);
         vec4 w = x.weight * inFront(x);
-        blockerDepth += dot(w, x.scale * zNear / max(x.d, 1e-30));
+        vec4 depth = x.scale * zNear / max(x.d, 1e-30);
+        blockerDepth += dot(w, depth);
         blockerWeight += dot(w, vec4(1.0));
+#ifndef DEEP_SHADOW_MAP
+        vec4 pyramid = inPyramid(r, m, x);
+        confirmed += dot(w, pyramid);
+        vec4 outside = mix(vec4(0.0), depth, greaterThan(w * (1.0 - pyramid), vec4(0.0)));
+        candidateDepth = max(candidateDepth, max(max(outside.x, outside.y), max(outside.z, outside.w)));
+#endif
     }
+#ifndef DEEP_SHADOW_MAP
+    if (blockerWeight > 0.0 && confirmed == 0.0) {
+        float zAgain = clamp(candidateDepth, zSearch, r.z);
+        for (int i = 0; i < searchSamples; ++i) {
+            vec2 m = throughLight(r, pcss.pattern[i].zw, zAgain);
+            Texels x = texelsAround(r, m);
+            confirmed += dot(x.weight * inFront(x), inPyramid(r, m, x));
+        }
+        if (confirmed == 0.0) return 1.0;
+    }
+#endif
     if (blockerWeight == 0.0) return 1.0;
     // No umbra shortcut (every search sample blocked: V = 0 without filtering, the usual one):
     // a wide search region around a lamp in a room finds walls in front of the floor's plane

@@ -110,8 +110,13 @@ TEST_F(PcssMethod, RunsOnALevel) {
 // light's plane on every side. Before the side maps, the receivers beyond the 71.6° cap were
 // drawn lit (0.145 mean against hard's 0.0038 on oa_dm1's third spawn at 320x180); now pcss is
 // within 0.01 of hard there, against raytrace (N = 256, the true visibility's samples).
+// kaos2's twelfth spawn (camera 11), a lamp high over a stairwell: the search region around the
+// lamp took walls and ledges beside each floor point's pyramid to the light for blockers and
+// drew the lit floor at 0.6 (0.24 mean, 74 % of the pixels off by more than 0.05, at 320x180
+// against N = 4096); blockers now count only where one lies in the pyramid (inPyramid).
 TEST_F(PcssMethod, LampInARoomShadowsEveryDirection) {
-    for (const auto& [level, camera] : {std::pair{"oa_dm1.glb", 2}, std::pair{"kaos2.glb", 2}}) {
+    for (const auto& [level, camera] :
+         {std::pair{"oa_dm1.glb", 2}, std::pair{"kaos2.glb", 2}, std::pair{"kaos2.glb", 11}}) {
         SCOPED_TRACE(level);
         const geometry::Scene scene = testutil::levelWithLamp(level, camera);
         const Rendered r = testutil::render(scene, "pcss", 128, 72, 1);
@@ -150,7 +155,7 @@ TEST_F(PcssMethod, OverlapAgainstTheReferenceIsWorseThanWedges) {
     EXPECT_EQ(checkRange(r).outOfRange, 0u);
     // Two plates at different heights: where both are in the search region their depths are
     // averaged into one blocker plane, so the penumbrae of both are wrong where they overlap.
-    // Measured mean 0.0123, 6.0% of the pixels above 0.05.
+    // Measured mean 0.0121, 5.9% of the pixels above 0.05.
     EXPECT_LE(e.meanAbs, 0.016);
     EXPECT_LE(e.badPixelPct, 7.5);
     EXPECT_GE(e.meanAbs, 0.008); // the averaging error is real: not a lucky match
