@@ -62,6 +62,7 @@ layout(binding = TEXUNIT_PCSS) uniform sampler2DArray tShadow; // per face zNear
 layout(std430, binding = BINDING_PCSS_STATS) buffer PcssStats {
     uint outside;  // pixels in no face
     uint fallback; // OUTSIDE_OCCLUSION: pixels written
+    uint unconfirmed; // pixels whose texels in front lay outside their pyramid to the light: lit
 } stats;
 
 layout(location = 0) out float oVisibility;
@@ -359,7 +360,10 @@ float shadowMapVisibility(vec3 position, vec3 N) {
             Texels x = texelsAround(r, m);
             confirmed += dot(x.weight * inFront(x), inPyramid(r, m, x));
         }
-        if (confirmed == 0.0) return 1.0;
+        if (confirmed == 0.0) {
+            atomicAdd(stats.unconfirmed, 1u);
+            return 1.0;
+        }
     }
 #endif
     if (blockerWeight == 0.0) return 1.0;

@@ -125,9 +125,13 @@ TEST_F(PcssMethod, LampInARoomShadowsEveryDirection) {
         const auto e = geometry::compareVisibility(r.visibility.data, ref.visibility.data);
         const auto eh = geometry::compareVisibility(hard.visibility.data, ref.visibility.data);
         std::printf("  %s camera %d 128x72 vs raytrace N=256: pcss mean %.4f (%.2f%% > 0.05), "
-                    "hard %.4f (%.2f%%); %.0f side maps\n",
+                    "hard %.4f (%.2f%%); %.0f side maps, %.0f pixels' blockers unconfirmed\n",
                     level, camera, e.meanAbs, e.badPixelPct, eh.meanAbs, eh.badPixelPct,
-                    counter(r.stats, "pcss_side_maps"));
+                    counter(r.stats, "pcss_side_maps"),
+                    counter(r.stats, "pcss_blockers_unconfirmed"));
+        if (camera == 11) {
+            EXPECT_GT(counter(r.stats, "pcss_blockers_unconfirmed"), 1000.0);
+        }
         EXPECT_EQ(counter(r.stats, "pcss_pixels_outside"), 0.0);
         EXPECT_GE(counter(r.stats, "pcss_side_maps"), 1.0);
         EXPECT_LE(e.meanAbs, eh.meanAbs + 0.01);

@@ -52,7 +52,7 @@ PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pi
       mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
       mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o, pixels, deep)),
       mUniforms({.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}),
-      mStats({.size = 2 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
+      mStats({.size = 3 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
     // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
     // kernels reaching past the map find no blockers there. (deep-sm's maps are its own.)
     if (!deep) {
@@ -172,7 +172,9 @@ void PcssShadow::execute(const FrameContext& ctx) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
         mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
     }
-    std::uint32_t stats[2] = {0, 0}; // pixels in no face, pixels shaded (OUTSIDE_OCCLUSION)
+    // Pixels in no face, pixels shaded (OUTSIDE_OCCLUSION), pixels whose blockers lay outside
+    // their pyramid to the light (lit).
+    std::uint32_t stats[3] = {0, 0, 0};
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
     glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
 
@@ -182,6 +184,7 @@ void PcssShadow::execute(const FrameContext& ctx) {
     }
     if (mPixels == Pixels::OutsideOcclusion) {
         ctx.addCounter("occlusion_pixels_outside", stats[1]);
+        ctx.addCounter("occlusion_outside_blockers_unconfirmed", stats[2]);
         ctx.addCounter("occlusion_outside_maps", maps);
         ctx.addCounter("occlusion_outside_maps_cached", cached ? 1.0 : 0.0);
         return;
@@ -191,6 +194,7 @@ void PcssShadow::execute(const FrameContext& ctx) {
     ctx.addCounter("pcss_side_maps", sideMaps);
     ctx.addCounter("pcss_maps_cached", cached ? 1.0 : 0.0);
     ctx.addCounter("pcss_pixels_outside", stats[0]);
+    ctx.addCounter("pcss_blockers_unconfirmed", stats[2]);
     ctx.addCounter("pcss_frustum_clamped",
                    static_cast<double>(f.faces[0].clamped || f.faces[1].clamped));
     ctx.addCounter("pcss_caster_near",
