@@ -5,6 +5,7 @@
 // whose surface box misses that region needs none of the group's passes. Two vec4 per tile
 // (min, max); a tile without surface pixels gets min > max.
 #include "lib/Bindings.h"
+#include "lib/PotentialReceiver.glsl"
 
 // One invocation per tile, looping over its pixels: no barriers (llvmpipe runs work groups
 // with barriers slowly, and a tile is only 256 texel reads); 8 tiles of a row per work group,
@@ -30,20 +31,22 @@ void main() {
     ivec2 origin = tileXY * SURFACE_TILE;
     ivec2 end = min(origin + SURFACE_TILE, size);
     vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
-    float reach = 0.0; // the farthest from the eye
     for (int y = origin.y; y < end.y; ++y)
         for (int x = origin.x; x < end.x; ++x) {
             vec4 p = texelFetch(tPosition, ivec2(x, y), 0);
             if (p.w != 0.0) {
                 lo = min(lo, p.xyz);
                 hi = max(hi, p.xyz);
-                reach = max(reach, length(frame.eye.xyz - p.xyz));
             }
         }
-    // wedges-bitmask's potential edges may take a receiver up to 1/4096 of its distance to the
-    // eye towards it (lib/BitmaskEdge.glsl potentialReceiver): the bounds hold it there too.
-    lo -= vec3(reach / 4096.0);
-    hi += vec3(reach / 4096.0);
+    // wedges-bitmask's potential edges may take a receiver RECEIVER_NUDGE of its distance to the
+    // eye towards it (lib/PotentialReceiver.glsl): the bounds hold it there too, grown by that
+    // share of the box's farthest corner's distance (a tile without a surface keeps its empty
+    // box).
+    vec3 eye = frame.eye.xyz;
+    float grow = hi.x >= lo.x ? RECEIVER_NUDGE * length(max(abs(eye - lo), abs(eye - hi))) : 0.0;
+    lo -= vec3(grow);
+    hi += vec3(grow);
     uint tile = uint(tileXY.y * uTilesX + tileXY.x);
     tileBounds[2u * tile] = vec4(lo, 0.0);
     tileBounds[2u * tile + 1u] = vec4(hi, 0.0);
