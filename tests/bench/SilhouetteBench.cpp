@@ -31,6 +31,7 @@
 #include <geometry/reference/Framing.h>
 #include <geometry/scene/Primitives.h>
 #include <geometry/scene/Scene.h>
+#include <geometry/shadow/PotentialSilhouettes.h>
 #include <geometry/shadow/Silhouette.h>
 #include <geometry/shadow/Topology.h>
 
@@ -216,6 +217,39 @@ void silhouetteLean(benchmark::State& state, const MeshSpec* spec) {
     runExtractor(state, *spec, geometry::SilhouetteSettings::lean());
 }
 
+// wedges-bitmask's potential silhouette edges (its default, silhouettes=potential): per frame
+// with the light moving, geometry::PotentialSilhouettes::update (every edge that is a silhouette
+// from some light point, with its triangles' third vertices). The lean step above runs beside it
+// in that method's frame (the light centre's groups for the stencil pass).
+void potentialEdges(benchmark::State& state, const MeshSpec* spec) {
+    const BenchMesh* m = nullptr;
+    try {
+        m = &cachedMesh(*spec);
+    } catch (const std::exception& e) {
+        state.SkipWithError(e.what());
+        for (auto _ : state) {
+        }
+        return;
+    }
+    geometry::PotentialSilhouettes potential(*m->topology);
+    std::vector<geometry::PotentialEdge> edges;
+    potential.update(movedLight(m->light, 0), edges); // untimed: first-use allocations
+    std::int64_t i = 1;
+    const auto start = std::chrono::steady_clock::now();
+    for (auto _ : state) {
+        potential.update(movedLight(m->light, i++), edges);
+        benchmark::DoNotOptimize(edges.data());
+        benchmark::ClobberMemory();
+    }
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    const double tris = double(m->topology->triangles().size());
+    state.counters["triangles"] = tris;
+    state.counters["potential_edges"] = double(edges.size());
+    const double iterations = double(state.iterations());
+    if (iterations > 0.0 && tris > 0.0)
+        state.counters["ms_per_Mtri"] = 1e3 * elapsed.count() / iterations / (tris * 1e-6);
+}
+
 void topologyBuild(benchmark::State& state, const MeshSpec* spec) {
     const BenchMesh* m = nullptr;
     try {
@@ -315,6 +349,7 @@ int main(int argc, char** argv) {
         };
         reg("silhouette_full", silhouetteFull);
         reg("silhouette_lean", silhouetteLean);
+        reg("potential_edges", potentialEdges);
         reg("silhouette_full_caps", silhouetteFullCaps);
         reg("silhouette_volumes", silhouetteVolumes);
         reg("silhouette_classify", silhouetteClassify);

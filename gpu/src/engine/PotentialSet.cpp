@@ -30,6 +30,7 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
             Caster k;
             k.index = c;
             k.extractor = std::make_unique<geometry::SilhouetteExtractor>(casters.topology(c));
+            k.potential = std::make_unique<geometry::PotentialSilhouettes>(casters.topology(c));
             for (const glm::vec3& x : casters.topology(c).positions()) k.bounds.extend(x);
             mCasters.push_back(std::move(k));
         }
@@ -45,8 +46,7 @@ void PotentialSet::update(const CasterSet& casters, std::span<const std::uint32_
     mFlatTriangles = 0;
     for (Caster& k : mCasters) {
         const geometry::SilhouetteFrame& f = k.extractor->update(light, sceneBounds, settings);
-        const geometry::PotentialEdgeStats s =
-            geometry::potentialSilhouetteEdges(casters.topology(k.index), light, k.edges);
+        const geometry::PotentialEdgeStats s = k.potential->update(light, k.edges);
         mStats.interior += s.interior;
         mStats.boundary += s.boundary;
         mStats.nonManifold += s.nonManifold;

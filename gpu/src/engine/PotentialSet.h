@@ -57,6 +57,7 @@ private:
     struct Caster {
         std::uint32_t index = 0;
         std::unique_ptr<geometry::SilhouetteExtractor> extractor;
+        std::unique_ptr<geometry::PotentialSilhouettes> potential; // its light-free part, kept
         std::vector<geometry::PotentialEdge> edges;
         geometry::Aabb bounds; // every triangle's corners
     };

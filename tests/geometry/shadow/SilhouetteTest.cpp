@@ -1248,5 +1248,64 @@ TEST(PotentialSilhouetteEdges, FlatFaceDiagonalsAreLeftOut) {
     EXPECT_EQ(edges.size(), 5u);
 }
 
+// PotentialSilhouettes keeps what does not depend on the light (the side test's lengths, the
+// third vertices, the flat diagonals found so far) from frame to frame: a light moved over a
+// jagged sphere gives, frame after frame, what a fresh start gives for that light.
+TEST(PotentialSilhouetteEdges, KeptStateMatchesAFreshStart) {
+    MeshData sphere = makeIcosphere(glm::vec3(0.0f), 1.0f, 3);
+    displaceRadially(sphere, glm::vec3(0.0f), 0.06f, 77u);
+    const Topology topo(sphere);
+    PotentialSilhouettes kept(topo);
+    std::vector<PotentialEdge> a, b;
+    std::size_t different = 0;
+    for (int k = 0; k < 12; ++k) {
+        const float angle = 0.5f * float(k);
+        const RectLight light = testmeshes::squareLight(
+            {3.0f * std::cos(angle), 2.0f + 0.3f * float(k), 3.0f * std::sin(angle)}, 0.2f + 0.1f * float(k));
+        const PotentialEdgeStats s = kept.update(light, a);
+        const PotentialEdgeStats f = potentialSilhouetteEdges(topo, light, b);
+        ASSERT_EQ(a.size(), b.size()) << "light " << k;
+        for (std::size_t i = 0; i < a.size(); ++i)
+            different += a[i].v0 != b[i].v0 || a[i].v1 != b[i].v1 || a[i].apex[0] != b[i].apex[0] ||
+                         a[i].apex[1] != b[i].apex[1];
+        EXPECT_EQ(s.interior, f.interior);
+        EXPECT_EQ(s.skipped, f.skipped);
+        EXPECT_GT(s.skipped, 0u);  // the far side of the sphere
+        EXPECT_GT(s.interior, 0u); // the band around the terminator
+        EXPECT_NE(a.size(), 0u);
+    }
+    EXPECT_EQ(different, 0u);
+}
+
+// The side test's tolerance: a light corner exactly in a triangle's plane straddles it (its
+// square-root branch, where the cheap bound cannot decide), so a ridge whose two faces keep the
+// light on opposite sides is left out, and kept once a corner touches one face's plane.
+TEST(PotentialSilhouetteEdges, ACornerInAFacesPlaneKeepsItsEdge) {
+    MeshData roof;
+    roof.positions = {{-1.0f, 0.0f, -1.0f}, {-1.0f, 0.0f, 1.0f}, {0.0f, 1.0f, 0.0f},
+                      {1.0f, 0.0f, 0.0f}};
+    // Faces (0, 1, 2), in the plane x - y = -1, and (1, 3, 2), in x + y + 2z = 1: a convex ridge
+    // along 1 -> 2, consistently oriented; only that edge has two triangles.
+    roof.triangles = {{0, 1, 2}, {1, 3, 2}};
+    const Topology topo(roof);
+    PotentialSilhouettes potential(topo);
+    std::vector<PotentialEdge> edges;
+    RectLight light = testmeshes::squareLight({0.2f, 3.0f, 0.1f}, 0.125f);
+    const PotentialEdgeStats above = potential.update(light, edges);
+    EXPECT_EQ(above.boundary, 4u);
+    // The light wholly in front of both faces: the ridge is a silhouette from nowhere.
+    EXPECT_EQ(above.skipped, 1u);
+    EXPECT_EQ(edges.size(), 4u);
+    // The corner of largest x on the first face's plane, the other three in front of it and the
+    // whole light in front of the second face (coordinates exact in float).
+    light.center = {0.375f, 1.5f, 0.125f};
+    const glm::vec3 corner = light.center + light.u - light.v;
+    ASSERT_EQ(corner.x - corner.y, -1.0f);
+    const PotentialEdgeStats touching = potential.update(light, edges);
+    EXPECT_EQ(touching.interior, 1u);
+    EXPECT_EQ(touching.skipped, 0u);
+    EXPECT_EQ(edges.size(), 5u);
+}
+
 } // namespace
 } // namespace geometry

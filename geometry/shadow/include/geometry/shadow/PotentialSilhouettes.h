@@ -41,9 +41,29 @@ struct PotentialEdgeStats {
                                  // (flat faces' diagonals included)
 };
 
-// The potential silhouette edges of `topology` for `light`, appended to `out` (cleared first).
-// Double precision; a plane within a relative 1e-9 of a light corner counts as straddling it
-// (conservative: an extra edge changes nothing, its m_p is 0 wherever it is no silhouette).
+// The potential silhouette edges of one mesh, per frame. What does not depend on the light is
+// found once: each triangle's normal length and edge lengths (the tolerance of the side test),
+// each edge use's third vertex, and (on first need) whether a two-triangle edge is a flat
+// face's diagonal (exact arithmetic). Per frame: the side of each triangle's plane the light
+// lies on (double precision; a plane within a relative 1e-9 of a light corner counts as
+// straddling it, conservative: an extra edge changes nothing, its m_p is 0 wherever it is no
+// silhouette), then one pass over the edges. `topology` must outlive it.
+class PotentialSilhouettes {
+public:
+    explicit PotentialSilhouettes(const Topology& topology);
+    // The potential silhouette edges for `light`, appended to `out` (cleared first).
+    PotentialEdgeStats update(const RectLight& light, std::vector<PotentialEdge>& out);
+
+private:
+    const Topology& mTopology;
+    std::vector<double> mNormalLength; // per triangle: |(b - a) x (c - a)|
+    std::vector<double> mSideLength;   // per triangle: |b - a| + |c - a| (a bound's term)
+    std::vector<std::uint32_t> mApex;  // per edge use: its triangle's third vertex
+    std::vector<std::uint8_t> mFlat;   // per edge: 0 no, 1 a flat face's diagonal, 2 not known yet
+    std::vector<std::int8_t> mSide;    // per triangle, this frame: +1, -1 or 0 (straddling)
+};
+
+// The same for one light, without keeping anything (PotentialSilhouettes::update).
 PotentialEdgeStats potentialSilhouetteEdges(const Topology& topology, const RectLight& light,
                                             std::vector<PotentialEdge>& out);
 
