@@ -32,6 +32,8 @@ def load(path):
         if kind == "silhouette_full":
             row["edges"] = int(b.get("sil_edges", 0))
             row["groups"] = int(b.get("groups", 0))
+        if kind == "potential_edges":
+            row["potential_count"] = int(b.get("potential_edges", 0))
     return data, rows
 
 
@@ -61,15 +63,17 @@ def main(argv):
           f"({ctx.get('date')}). CPU ms per frame, light moving every frame. Full: "
           f"default settings (volumes with caps by reference, wedges, loops, edge-ray bounds). "
           f"Lean: `SilhouetteSettings::lean()` (triangle ids, directed edges, cone bounds). "
-          f"Upload: what the frame holds for the GPU (KB).\n")
+          f"Upload: what the frame holds for the GPU (KB). Potential: "
+          f"`PotentialSilhouettes::update`, the edges that are a silhouette from some light point "
+          f"(wedges-bitmask's default, `silhouettes=potential`, runs it beside the lean step).\n")
     base_cols = " | full, baseline build ms | lean / baseline full" if base_rows else ""
     print("| mesh | triangles | silhouette edges | groups | full step ms | lean step ms "
           f"| lean / full{base_cols} | full upload KB | lean upload KB | lean ms per 1M tri "
           "| caps as vertices ms | without wedges ms | classify + groups ms "
-          "| topology (once) ms |")
+          "| topology (once) ms | potential edges | potential ms | lean + potential ms per 1M tri |")
     print("|---|---:|---:|---:|---:|---:|---:|" + ("---:|---:|" if base_rows else "") +
-          "---:|---:|---:|---:|---:|---:|---:|")
-    fit_full, fit_lean = [], []
+          "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    fit_full, fit_lean, fit_potential = [], [], []
     for (mesh, tris), r in rows.items():
         full = r.get("silhouette_full")
         if full is None:
@@ -78,6 +82,8 @@ def main(argv):
         fit_full.append((tris, r["edges"], full))
         if lean is not None:
             fit_lean.append((tris, r["edges"], lean))
+        if "potential_edges" in r:
+            fit_potential.append((tris, r.get("potential_count", 0), r["potential_edges"]))
 
         def f(k):
             return f"{r[k]:.2f}" if k in r else "–"
@@ -99,12 +105,17 @@ def main(argv):
               f"| {f('silhouette_lean')} | {ratio}{base} | {kb('silhouette_full:upload')} "
               f"| {kb('silhouette_lean:upload')} | {per_mtri} "
               f"| {f('silhouette_full_caps')} | {f('silhouette_volumes')} "
-              f"| {f('silhouette_classify')} | {f('topology_build')} |")
-    for name, points in (("full step", fit_full), ("lean step", fit_lean)):
+              f"| {f('silhouette_classify')} | {f('topology_build')} "
+              f"| {r.get('potential_count', 0):,} | {f('potential_edges')} | " +
+              (f"{(lean + r['potential_edges']) / (tris * 1e-6):.1f}"
+               if lean is not None and "potential_edges" in r else "–") + " |")
+    for name, points, what in (("full step", fit_full, "silhouette edges"),
+                               ("lean step", fit_lean, "silhouette edges"),
+                               ("potential edges", fit_potential, "potential edges")):
         line = fit_line(points)
         if line:
             print(f"\nFit over these rows: {name} ≈ {line[0] * 1e6:.1f} ns × triangles + "
-                  f"{line[1] * 1e6:.0f} ns × silhouette edges.")
+                  f"{line[1] * 1e6:.0f} ns × {what}.")
 
 
 if __name__ == "__main__":
