@@ -135,7 +135,9 @@ PotentialEdgeStats PotentialSilhouettes::update(const RectLight& light,
             // orient(y, a, b, c) = det(a - y, b - a, c - a) = dot(a - y, n).
             const double d = glm::dot(ay, n);
             const double l1 = std::abs(ay.x) + std::abs(ay.y) + std::abs(ay.z);
-            const double bound = 1e-9 * len * (1.001 * l1 + mSideLength[t]);
+            // (At least the tolerance below: l1 >= |a - y|, and the 0.1 % covers the sums'
+            // rounding in either order.)
+            const double bound = 1.001e-9 * len * (l1 + mSideLength[t]);
             if (d > bound) {
                 ++pos;
                 continue;
