@@ -64,10 +64,10 @@ TEST_F(SampleMapsMethod, TreesAloneAgainstAlphaAwareRaytrace) {
     const std::filesystem::path foliage = std::filesystem::path(PENUMBRA_SHARED_DIR) / "foliage";
     struct Case {
         const char* file;
-        double mean, pcss; // measured
+        double mean, pcss; // measured (pcss: with its blockers confirmed in the pyramid)
     };
-    for (const Case& c : {Case{"oak_hungarian_1.glb", 0.0111, 0.0348},
-                          Case{"palm_date_new_1.glb", 0.0190, 0.0498}}) {
+    for (const Case& c : {Case{"oak_hungarian_1.glb", 0.0111, 0.0343},
+                          Case{"palm_date_new_1.glb", 0.0190, 0.0515}}) {
         SCOPED_TRACE(c.file);
         const auto scene = geometry::loadScene(foliage / c.file);
         const Rendered truth = testutil::render(scene, "raytrace", 128, 128, 256);
