@@ -5,9 +5,10 @@
 # image from 256² to 1024² (10k triangles, the scene's light). Each configuration is rendered
 # by both methods in ROUNDS alternating rounds (median frame of FRAMES after WARMUP untimed ones
 # per run; the rounds' median is kept), except the two largest spheres (~500k and ~1M
-# triangles), whose auto frame takes minutes on llvmpipe: one round of one frame each; the
-# penumbra pixels (0 < V < 1, from auto's V) are counted per configuration. Writes out/growth/ (scenes, runs, growth.json) and prints the
-# markdown of docs/bench-growth.md; the chart goes to docs/bench-growth.png.
+# triangles), whose auto frame takes a minute or two on llvmpipe: one round of one frame each.
+# The penumbra pixels (0.001 < V < 0.999 in auto's V) are counted per configuration. Writes
+# out/growth/ (scenes, runs, growth.json) and prints the markdown of docs/bench-growth.md; the
+# chart goes to docs/bench-growth.png.
 #
 #   ROUNDS=3 FRAMES=3 WARMUP=1 bash scripts/bench-growth.sh > docs/bench-growth.md
 # REPORT_ONLY=1 prints the page and draws the chart again from the runs in out/growth/.
@@ -20,8 +21,8 @@ render=build/bin/penumbra-render
 [[ -x $render ]] || { echo "bench-growth.sh: build first (bash scripts/build.sh)" >&2; exit 2; }
 out=out/growth
 if [[ -z ${REPORT_ONLY:-} ]]; then
-rm -rf "$out"
-mkdir -p "$out"
+    rm -rf "$out"
+    mkdir -p "$out"
 fi
 
 # name segments light-scale size runs (all: every round; once: round 1, one frame)
