@@ -71,13 +71,10 @@ rows, sweeps = args[:cut], args[cut + 1:]
 def rep(path):
     with open(path + "/report.json") as f:
         return json.load(f)
+sys.path.insert(0, "scripts")
+from pfm import read_pfm
 def pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, 3 if kind == b"PF" else 1)[..., 0]
+    return read_pfm(path)[..., 0]
 def err(r):
     e = r["error"]
     return f"{e['mean_abs_err']:.4f} ({e['bad_pixel_pct']:.1f})"

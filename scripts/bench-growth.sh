@@ -83,14 +83,8 @@ import matplotlib.pyplot as plt
 out, rounds, frames, warmup = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
 configs = [c.split() for c in sys.argv[5:]]
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        channels = 3 if kind == b"PF" else 1
-        data = np.fromfile(f, dtype="<f4" if scale < 0 else ">f4", count=w * h * channels)
-    return data.reshape(h, w, channels)[..., 0]
+sys.path.insert(0, "scripts")
+from pfm import read_pfm
 
 rows = []
 renderer = cpu = None
@@ -106,7 +100,7 @@ for name, segments, scale, size, once in configs:
             if m == "auto":
                 info = rep
         ms[m] = statistics.median(runs)
-    v = read_pfm(f"{out}/{name}/auto-1/visibility.pfm")
+    v = read_pfm(f"{out}/{name}/auto-1/visibility.pfm")[..., 0]
     penumbra = int(np.count_nonzero((v > 0.001) & (v < 0.999)))
     rows.append({"name": name, "once": once == "once", "segments": int(segments),
                  "light_scale": float(scale),

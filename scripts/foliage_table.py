@@ -8,14 +8,7 @@ import sys
 import numpy as np
 
 
-def pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        channels = 3 if kind == b"PF" else 1
-        data = np.fromfile(f, "<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, channels)
+from pfm import read_pfm as pfm  # (scripts/pfm.py, beside this file)
 
 
 def report(path):

@@ -36,13 +36,10 @@ for level in kaos2 oa_dm1 oa_dm4 oa_dm5; do
 import json, sys
 import numpy as np
 out, view, name, methods = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+sys.path.insert(0, "scripts")
+from pfm import read_pfm
 def pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, 3 if kind == b"PF" else 1)[..., 0]
+    return read_pfm(path)[..., 0]
 truth = pfm(f"{out}/{view}-truth.pfm")
 hard = json.load(open(f"{out}/{view}-hard.json"))["frame_ms_median"]
 cells = []

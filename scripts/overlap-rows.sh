@@ -31,19 +31,15 @@ root, out = args[0], args[1]
 split = args.index("--")
 scenes, methods = args[2:split], args[split + 1:]
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        f.readline()
-        w, h = map(int, f.readline().split())
-        f.readline()
-        return np.frombuffer(f.read(), dtype="<f4").reshape(h, w)[::-1]
+sys.path.insert(0, "scripts")
+from pfm import read_pfm
 
 cols = methods + ["reference"]
 fig, axes = plt.subplots(len(scenes), len(cols), figsize=(1.6 * len(cols), 1.75 * len(scenes)))
 for r, scene in enumerate(scenes):
     for c, m in enumerate(cols):
         ax = axes[r, c]
-        v = np.nan_to_num(read_pfm(f"{root}/{scene}/{m}/visibility.pfm"), nan=0.3)
+        v = np.nan_to_num(read_pfm(f"{root}/{scene}/{m}/visibility.pfm")[..., 0], nan=0.3)
         ax.imshow(v, cmap="gray", vmin=0, vmax=1, interpolation="nearest")
         ax.set_xticks([]); ax.set_yticks([])
         title = m if r == 0 else ""

@@ -111,6 +111,19 @@ const BenchMesh& cachedMesh(const MeshSpec& spec) {
     return *current;
 }
 
+// The spec's mesh, or nullptr once the benchmark is skipped with the reason (a level that does
+// not load).
+const BenchMesh* meshOrSkip(benchmark::State& state, const MeshSpec& spec) {
+    try {
+        return &cachedMesh(spec);
+    } catch (const std::exception& e) {
+        state.SkipWithError(e.what());
+        for (auto _ : state) {
+        }
+        return nullptr;
+    }
+}
+
 // Light of iteration i: the base light moved on a circle in its own plane, of radius 5% of its
 // smaller half-axis, 97 steps per turn. Every frame differs from the previous one.
 RectLight movedLight(const RectLight& base, std::int64_t i) {
@@ -134,6 +147,15 @@ std::size_t uploadBytes(const geometry::SilhouetteFrame& frame) {
            sizeof(glm::vec4) * frame.wedges.vertices.size();
 }
 
+// The target is stated as time per 1M triangles (<= 5 ms). A plain number, computed
+// here from `seconds`, the timed loop's wall time: the library's inverted rate would print it
+// with a misleading "s" unit.
+void setMsPerMtri(benchmark::State& state, double triangles, double seconds) {
+    const double iterations = double(state.iterations());
+    if (iterations > 0.0 && triangles > 0.0)
+        state.counters["ms_per_Mtri"] = 1e3 * seconds / iterations / (triangles * 1e-6);
+}
+
 // `seconds`: wall time of the timed loop, measured by the caller (Google Benchmark 1.7 does not
 // expose it to the benchmark function).
 void setCounters(benchmark::State& state, const BenchMesh& m,
@@ -149,25 +171,13 @@ void setCounters(benchmark::State& state, const BenchMesh& m,
     // per second, printed with an SI prefix ("250M/s" = 250 Mtri/s).
     state.counters["tri_rate"] =
         benchmark::Counter(tris, benchmark::Counter::kIsIterationInvariantRate);
-    // The target is stated as time per 1M triangles (<= 5 ms). A plain number, computed
-    // here: the library's inverted rate would print it with a misleading "s" unit.
-    const double iterations = double(state.iterations());
-    if (iterations > 0.0 && tris > 0.0) {
-        state.counters["ms_per_Mtri"] = 1e3 * seconds / iterations / (tris * 1e-6);
-    }
+    setMsPerMtri(state, tris, seconds);
 }
 
 void runExtractor(benchmark::State& state, const MeshSpec& spec,
                   const geometry::SilhouetteSettings& settings) {
-    const BenchMesh* m = nullptr;
-    try {
-        m = &cachedMesh(spec);
-    } catch (const std::exception& e) {
-        state.SkipWithError(e.what());
-        for (auto _ : state) {
-        }
-        return;
-    }
+    const BenchMesh* m = meshOrSkip(state, spec);
+    if (!m) return;
     geometry::SilhouetteExtractor extractor(*m->topology);
     // One untimed frame: first-use allocations of the scratch and output arrays are not part of
     // the steady per-frame cost.
@@ -222,15 +232,8 @@ void silhouetteLean(benchmark::State& state, const MeshSpec* spec) {
 // from some light point, with its triangles' third vertices). The lean step above runs beside it
 // in that method's frame (the light centre's groups for the stencil pass).
 void potentialEdges(benchmark::State& state, const MeshSpec* spec) {
-    const BenchMesh* m = nullptr;
-    try {
-        m = &cachedMesh(*spec);
-    } catch (const std::exception& e) {
-        state.SkipWithError(e.what());
-        for (auto _ : state) {
-        }
-        return;
-    }
+    const BenchMesh* m = meshOrSkip(state, *spec);
+    if (!m) return;
     geometry::PotentialSilhouettes potential(*m->topology);
     std::vector<geometry::PotentialEdge> edges;
     potential.update(movedLight(m->light, 0), edges); // untimed: first-use allocations
@@ -245,21 +248,12 @@ void potentialEdges(benchmark::State& state, const MeshSpec* spec) {
     const double tris = double(m->topology->triangles().size());
     state.counters["triangles"] = tris;
     state.counters["potential_edges"] = double(edges.size());
-    const double iterations = double(state.iterations());
-    if (iterations > 0.0 && tris > 0.0)
-        state.counters["ms_per_Mtri"] = 1e3 * elapsed.count() / iterations / (tris * 1e-6);
+    setMsPerMtri(state, tris, elapsed.count());
 }
 
 void topologyBuild(benchmark::State& state, const MeshSpec* spec) {
-    const BenchMesh* m = nullptr;
-    try {
-        m = &cachedMesh(*spec);
-    } catch (const std::exception& e) {
-        state.SkipWithError(e.what());
-        for (auto _ : state) {
-        }
-        return;
-    }
+    const BenchMesh* m = meshOrSkip(state, *spec);
+    if (!m) return;
     for (auto _ : state) {
         geometry::Topology topology(m->mesh);
         benchmark::DoNotOptimize(topology.edges().data());
