@@ -66,6 +66,7 @@ struct Options {
     std::optional<int> camera;           // --camera N: index into the glTF cameras
     bool sceneLight = false;             // --scene-light: no lamp at a glTF camera
     bool quiet = false;
+    float simplify = 0.0f; // --simplify E (apps/Flags.h)
     std::string debugView = "shaded"; // what image.png shows (gpu::debugViews())
     int debugGroup = 0;
 };
@@ -126,6 +127,8 @@ int run(const Options& opt) {
     }
     // At a glTF camera, the viewer's lamp for the view (as the viewer and the bench light it).
     const std::string lightSource = geometry::lightAtView(scene, opt.sceneLight);
+    // Under the final light: the bounds follow from its size and distance.
+    const apps::SimplifyApplied simplified = apps::applySimplify(scene, opt.simplify);
     const double loadMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -267,6 +270,12 @@ int run(const Options& opt) {
         std::fprintf(stderr, "penumbra-render: warning: %s\n", w.get<std::string>().c_str());
     report["warnings"] = std::move(warnings);
     report["wedges"] = wedges;
+    report["simplify"] = {{"visibility_error", simplified.visibilityError},
+                          {"meshes", simplified.stats.meshes},
+                          {"triangles_before", simplified.stats.trianglesBefore},
+                          {"triangles_after", simplified.stats.trianglesAfter},
+                          {"skipped", simplified.stats.skipped},
+                          {"ms", simplified.ms}};
     report["counters"] = std::move(counters);
     report["shadow_volume_triangles"] = last.volumeTriangles;
     nlohmann::json gpuJson = nlohmann::json::object(), cpuJson = nlohmann::json::object();
@@ -312,6 +321,8 @@ int run(const Options& opt) {
                         scene.skippedCameras == 1 ? "" : "s");
         std::printf("\n");
         std::printf("  light: %s\n", lightSource.c_str());
+        if (simplified.visibilityError > 0.0f)
+            std::printf("  %s\n", apps::simplifySummary(simplified).c_str());
         std::printf("  renderer: %s\n", info.renderer.c_str());
         // Where a method chose per object (auto), or left alpha-tested ones to auto's alpha
         // path: one line per object.
@@ -394,6 +405,7 @@ int main(int argc, char** argv) {
     app.add_option("--debug-group", opt.debugGroup,
                    "with --debug-view group-parts: the silhouette group shown (wrapped)")
         ->capture_default_str();
+    apps::addSimplifyOption(app, opt.simplify);
     app.add_flag("--quiet", opt.quiet, "print nothing on success");
     return apps::runCommandLine(app, argc, argv, "penumbra-render",
                                 apps::ParseErrorStyle::Prefixed, [&] {

@@ -354,6 +354,39 @@ TEST_F(RenderCli, WarmupFramesAreLeftOutOfTheTimes) {
     }
 }
 
+// --simplify E (apps/Flags.h): 0 is off, (0, 0.25] replaces what can be simplified and says
+// so on stdout and in report.json; anything else is bad input, exit 2.
+TEST_F(RenderCli, SimplifyReportsWhatItDidAndRefusesBadValues) {
+    const fs::path scene = write("s.json", replaced(kValidScene,
+        R"({"type": "box", "center": [0, 1, 0], "size": [0.6, 0.2, 0.6]})",
+        R"({"type": "sphere", "center": [0, 1, 0], "radius": 0.3, "segments": 96})"));
+    for (const char* bad : {"-0.1", "0.3", "nan", "inf", "lots"})
+        expectRejected(scene, "--simplify", std::string("--method hard --simplify ") + bad);
+    const fs::path out = mDir / "out";
+    RunResult r = run("--scene '" + scene.string() + "' --method hard --size 32x32 --simplify 0.1 " +
+                      "--out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("simplify: visibility error about 0.1: 2 meshes"), std::string::npos)
+        << r.output;
+    nlohmann::json report;
+    std::ifstream(out / "report.json") >> report;
+    EXPECT_FLOAT_EQ(report["simplify"]["visibility_error"].get<float>(), 0.1f);
+    EXPECT_EQ(report["simplify"]["meshes"], 2);
+    const std::size_t before = report["simplify"]["triangles_before"];
+    const std::size_t after = report["simplify"]["triangles_after"];
+    EXPECT_EQ(before, 2u + 96u * 48u * 2u - 2u * 96u); // the quad and the 96-segment sphere
+    EXPECT_LT(after, before);
+    EXPECT_EQ(report["triangles"], after);
+    // Off by default: nothing simplified, and nothing said.
+    r = run("--scene '" + scene.string() + "' --method hard --size 32x32 --out '" + out.string() +
+            "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(r.output.find("simplify:"), std::string::npos) << r.output;
+    std::ifstream(out / "report.json") >> report;
+    EXPECT_EQ(report["simplify"]["meshes"], 0);
+    EXPECT_EQ(report["triangles"], before);
+}
+
 // Sizes no GL implementation here can hold are refused with the limit, before anything is
 // allocated: 16384x16384 once failed after 5 GB with an incomplete framebuffer, 100000x100000
 // was blamed on its format.

@@ -1,5 +1,10 @@
 #include <apps/Flags.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
 #include <geometry/core/Error.h>
 
 #include <regex>
@@ -58,6 +63,42 @@ void checkSamples(int samples, const char* flag) {
         throw geometry::InputError(std::string(flag) + " must be between " +
                                    std::to_string(kMinSamples) + " and " +
                                    std::to_string(kMaxSamples));
+}
+
+CLI::Option* addSimplifyOption(CLI::App& app, float& visibilityError) {
+    return app
+        .add_option("--simplify", visibilityError,
+                    "replace finely tessellated meshes by simplified stand-ins whose visibility "
+                    "differs by about E at most (0 = off, up to 0.25; untextured, "
+                    "single-material, manifold meshes only; docs/benchmarks.md, Simplified "
+                    "stand-ins)")
+        ->capture_default_str();
+}
+
+SimplifyApplied applySimplify(geometry::Scene& scene, float visibilityError) {
+    if (!std::isfinite(visibilityError) || visibilityError < 0.0f || visibilityError > kMaxSimplify)
+        throw geometry::InputError("--simplify must be between 0 (off) and 0.25 (got " +
+                                   std::to_string(visibilityError) + ")");
+    SimplifyApplied applied;
+    applied.visibilityError = visibilityError;
+    if (visibilityError == 0.0f) return applied;
+    const auto t0 = std::chrono::steady_clock::now();
+    applied.stats = geometry::simplifyScene(scene, visibilityError);
+    applied.ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return applied;
+}
+
+std::string simplifySummary(const SimplifyApplied& a) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "simplify: visibility error about %g: %zu meshes, %zu -> %zu triangles in "
+                  "%.0f ms; %zu left as they were",
+                  double(a.visibilityError), a.stats.meshes, a.stats.trianglesBefore,
+                  a.stats.trianglesAfter, a.ms, a.stats.skipped);
+    std::string s = line;
+    if (a.stats.skipped > 0) s += " (first: " + a.stats.firstSkipReason + ")";
+    return s;
 }
 
 } // namespace apps

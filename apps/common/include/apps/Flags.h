@@ -1,4 +1,5 @@
-// The flags every app that renders declares alike: --size, --method, --param and --samples, each
+// The flags every app that renders declares alike: --size, --method, --param, --samples and
+// --simplify, each
 // declared once here with one set of limits, and the checks of their values (bad input throws a
 // geometry::InputError naming the flag: exit 2).
 //
@@ -14,6 +15,8 @@
 // An app that needs narrower bounds (the viewer's window) checks them itself, with its own message.
 #pragma once
 
+#include <geometry/scene/Scene.h>
+#include <geometry/shadow/Simplify.h>
 #include <gpu/Methods.h>
 
 #include <CLI/CLI.hpp>
@@ -54,5 +57,23 @@ CLI::Option* addSamplesOption(CLI::App& app, int& samples,
 // A sample count in [kMinSamples, kMaxSamples]; `flag` names it in the message ("--samples",
 // "--truth-samples").
 void checkSamples(int samples, const char* flag = "--samples");
+
+// --simplify E: every mesh that can be is replaced by a simplified stand-in whose visibility
+// differs by about E at most (geometry/shadow/Simplify.h: positions within E times half the
+// light's smaller side, normals within E times the angle the light subtends); 0 (the default)
+// keeps the scene as it is. E in [0, kMaxSimplify].
+inline constexpr float kMaxSimplify = 0.25f;
+CLI::Option* addSimplifyOption(CLI::App& app, float& visibilityError);
+
+struct SimplifyApplied {
+    float visibilityError = 0.0f; // as given; 0 = off
+    geometry::SimplifyStats stats;
+    double ms = 0.0;
+};
+// Applies --simplify to a loaded scene under its final light (after --camera picked the lamp).
+// Throws geometry::InputError naming the flag for a value out of range.
+SimplifyApplied applySimplify(geometry::Scene& scene, float visibilityError);
+// One line for stdout: what was simplified, how much, in how long, and what was left alone.
+std::string simplifySummary(const SimplifyApplied& applied);
 
 } // namespace apps
