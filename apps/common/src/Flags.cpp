@@ -69,9 +69,10 @@ CLI::Option* addSimplifyOption(CLI::App& app, float& visibilityError) {
     return app
         .add_option("--simplify", visibilityError,
                     "replace finely tessellated meshes by simplified stand-ins whose visibility "
-                    "differs by about E at most (0 = off, up to 0.25; untextured, "
-                    "single-material, manifold meshes only; docs/benchmarks.md, Simplified "
-                    "stand-ins)")
+                    "differs by about E at most (more where a shadow nears its caster's contact; "
+                    "0 = off, up to 0.25; untextured, single-material, manifold meshes only; "
+                    "docs/benchmarks.md, Simplified stand-ins)")
+        ->type_name("E")
         ->capture_default_str();
 }
 
@@ -84,6 +85,9 @@ SimplifyApplied applySimplify(geometry::Scene& scene, float visibilityError) {
     if (visibilityError == 0.0f) return applied;
     const auto t0 = std::chrono::steady_clock::now();
     applied.stats = geometry::simplifyScene(scene, visibilityError);
+    // The stand-ins move surfaces by up to E times half the light's side: one that now reaches
+    // the light is refused as the original would have been.
+    geometry::validateLight(scene, scene.light, "light (with --simplify's stand-ins)");
     applied.ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return applied;
