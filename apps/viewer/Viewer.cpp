@@ -178,6 +178,7 @@ public:
 
         mScene = std::make_unique<geometry::Scene>(
             geometry::loadScene(opt.file.empty() ? opt.scenePath : opt.file));
+        mSimplified = apps::applySimplify(*mScene, opt.simplify);
         mViews = sceneViews(*mScene);
         if (opt.camera < 0 || opt.camera >= static_cast<int>(mViews.size()))
             throw geometry::InputError("--camera " + std::to_string(opt.camera) + ": " +
@@ -248,6 +249,7 @@ private:
     std::optional<geometry::RectLight> mLastGoodLight;
     std::optional<geometry::RectLight> mRefusedLight;
     std::string mStartView; // for the report: the view the run started at
+    apps::SimplifyApplied mSimplified; // --simplify on the scene shown (the last loaded)
 
     bool mShowPanel = true, mShowOverlay = true;
     float mRenderScale = 1.0f;
@@ -341,13 +343,16 @@ void App::hangLamp() {
 void App::loadDropped(const std::string& path) {
     try {
         auto scene = std::make_unique<geometry::Scene>(geometry::loadScene(path));
+        const apps::SimplifyApplied simplified = apps::applySimplify(*scene, mOpt.simplify);
         auto renderer = std::make_unique<gpu::Renderer>(*scene, *mShaders);
+        mSimplified = simplified;
         mTracer.reset();                 // built on the old scene
         mRenderer = std::move(renderer); // the old renderer refers to the old scene: it goes first
         mScene = std::move(scene);
         mViewIndex = 0;
         resetSceneState();
-        setStatus("loaded " + path);
+        setStatus("loaded " + path +
+                  (mSimplified.visibilityError > 0.0f ? "; " + apps::simplifySummary(mSimplified) : ""));
     } catch (const std::exception& e) {
         setStatus(std::string("could not load ") + path + ": " + e.what());
     }
@@ -706,6 +711,11 @@ void App::drawPanel() {
 
     if (ImGui::CollapsingHeader("Counts", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::Text("triangles %zu", mStats.triangles);
+        if (mSimplified.visibilityError > 0.0f)
+            ImGui::TextWrapped("stand-ins (--simplify %g, for the light at load): %zu meshes, "
+                               "%zu -> %zu triangles",
+                               double(mSimplified.visibilityError), mSimplified.stats.meshes,
+                               mSimplified.stats.trianglesBefore, mSimplified.stats.trianglesAfter);
         ImGui::Text("silhouette groups %zu, edges %zu", mStats.silhouetteGroups,
                     mStats.silhouetteEdges);
         ImGui::Text("shadow-volume triangles %zu", mStats.volumeTriangles);
@@ -733,6 +743,8 @@ int App::run() {
                     mSettings.method.c_str(), mWidth, mHeight, mRenderScale,
                     mViews[static_cast<std::size_t>(mViewIndex)].name.c_str(),
                     mRendererName.c_str(), apps::cpuModel().c_str());
+    if (mOpt.frames > 0 && mSimplified.visibilityError > 0.0f)
+        std::printf("  %s\n", apps::simplifySummary(mSimplified).c_str());
     std::fflush(stdout); // scripts watch for this line
 
     GLFWwindow* window = mContext->window();
@@ -847,6 +859,12 @@ int App::run() {
             r["fps"] = ms > 0 ? 1000.0 / ms : 0.0;
             r["gpu_frame_ms_median"] = gpuMs;
             r["triangles"] = mStats.triangles;
+            r["simplify"] = {{"visibility_error", mSimplified.visibilityError},
+                             {"meshes", mSimplified.stats.meshes},
+                             {"triangles_before", mSimplified.stats.trianglesBefore},
+                             {"triangles_after", mSimplified.stats.trianglesAfter},
+                             {"skipped", mSimplified.stats.skipped},
+                             {"ms", mSimplified.ms}};
             // The last frame's counts and stages (GPU passes as last read from the timer ring).
             nlohmann::json last;
             for (const gpu::Counter& c : mStats.counters) last["counters"][c.name] = c.value;

@@ -34,6 +34,7 @@ struct Options {
     // or wait=PATH (pause until that file exists: scripts synchronise with it).
     std::string keys;
     std::string debugView = "shaded"; // gpu::debugViews() name
+    float simplify = 0.0f;            // --simplify E: stand-ins made under the light at load
 };
 
 // Throws geometry::InputError for bad options or input, gpu::ContextError when no window can

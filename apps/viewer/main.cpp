@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
     app.add_option("--debug-view", opt.debugView, "debug view at start (" + views + ")")
         ->capture_default_str();
     app.add_flag("--hide-ui", opt.hideUi, "start without the panel and overlay (Tab, F1)");
+    // As penumbra-render's, made once under the light the file is loaded with (a JSON scene's
+    // light, a glTF's framed light; dropped files too): a smaller or farther light later is not
+    // covered by the bound.
+    apps::addSimplifyOption(app, opt.simplify);
     return apps::runCommandLine(app, argc, argv, "penumbra-viewer",
                                 apps::ParseErrorStyle::Cli11, [&] {
         try {

@@ -227,6 +227,34 @@ TEST_F(Viewer, FlyThroughAndLightAnimationRun) {
     EXPECT_EQ(img.height, 80);
 }
 
+// --simplify as penumbra-render's (apps/Flags.h), made under the light the scene is loaded
+// with: the report and the first lines say what it replaced, and the frame draws the stand-in.
+TEST_F(Viewer, SimplifiedStandInsAreDrawnAndReported) {
+    requireDisplay();
+    if (HasFatalFailure() || IsSkipped()) return;
+    std::ifstream in(std::string(PENUMBRA_SOURCE_DIR) + "/data/sphere.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string json = text.str();
+    const auto at = json.find("\"segments\": 48");
+    ASSERT_NE(at, std::string::npos) << json;
+    json.replace(at, std::string("\"segments\": 48").size(), "\"segments\": 256");
+    const fs::path scene = mDir / "fine-sphere.json", report = mDir / "report.json";
+    std::ofstream(scene) << json;
+    const RunResult r = viewer("--scene '" + scene.string() + "' --method auto --size 128x80 " +
+                               "--frames 2 --simplify 0.1 --report '" + report.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("simplify: visibility error about 0.1: 2 meshes"), std::string::npos)
+        << r.output;
+    nlohmann::json j;
+    std::ifstream(report) >> j;
+    const std::size_t before = j["simplify"]["triangles_before"];
+    const std::size_t after = j["simplify"]["triangles_after"];
+    EXPECT_EQ(before, 2u + 2u * 256u * 127u); // the floor and the 256-segment sphere
+    EXPECT_LT(after, before / 4);
+    EXPECT_EQ(j["triangles"], after);
+}
+
 TEST_F(Viewer, ScriptedKeysDriveTheApp) {
     requireDisplay();
     if (HasFatalFailure() || IsSkipped()) return;
@@ -390,6 +418,7 @@ TEST(ViewerNoDisplay, BadInputIsRefusedBeforeAWindowOpens) {
         {"'" + kLevel + "' --samples 65537", "--samples must be between 1 and 65536"},
         {"'" + kLevel + "' --samples 0", "--samples must be between 1 and 65536"},
         {"'" + kLevel + "' --render-scale 2", "--render-scale"},
+        {"'" + kLevel + "' --simplify 0.5", "--simplify must be between 0 (off) and 0.25"},
         {"'" + kLevel + "' --keys 3:X --frames 5", "unknown key 'X'"},
         {"'" + kLevel + "' --debug-view nope", "nope"},
         {"'" + kLevel + "' --camera 99", "--camera 99"},
