@@ -31,7 +31,9 @@
 
 namespace geometry {
 
-namespace {
+// Named, not anonymous: the sanitizer build is a unity build, where every file's anonymous
+// namespace is one (Silhouette.cpp has a kNone of its own).
+namespace simplify_detail {
 
 using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -324,10 +326,10 @@ void collapseWithin(Mesh& m, const SimplifyOptions& options) {
     }
 }
 
-} // namespace
+} // namespace simplify_detail
 
 SimplifiedMesh simplifyMesh(const MeshData& mesh, const SimplifyOptions& options) {
-    checkOptions(options);
+    simplify_detail::checkOptions(options);
     SimplifiedMesh out;
     if (!mesh.texcoords.empty() || !mesh.textures.empty()) {
         out.mesh = mesh;
@@ -339,7 +341,7 @@ SimplifiedMesh simplifyMesh(const MeshData& mesh, const SimplifyOptions& options
         out.skipped = "more than one material";
         return out;
     }
-    if (mesh.triangles.size() < kMinTriangles) {
+    if (mesh.triangles.size() < simplify_detail::kMinTriangles) {
         out.mesh = mesh;
         return out;
     }
@@ -349,8 +351,9 @@ SimplifiedMesh simplifyMesh(const MeshData& mesh, const SimplifyOptions& options
         out.skipped = "non-manifold (OpenMesh cannot collapse it)";
         return out;
     }
-    const std::vector<glm::vec3> normals = weldedNormals(mesh, topo);
+    const std::vector<glm::vec3> normals = simplify_detail::weldedNormals(mesh, topo);
 
+    using Mesh = simplify_detail::Mesh;
     Mesh om;
     om.reserve(topo.positions().size(), topo.edges().size(), topo.triangles().size());
     std::vector<Mesh::VertexHandle> vh;
@@ -370,7 +373,7 @@ SimplifiedMesh simplifyMesh(const MeshData& mesh, const SimplifyOptions& options
     om.request_edge_status();
     om.request_halfedge_status();
     om.request_face_status();
-    collapseWithin(om, options);
+    simplify_detail::collapseWithin(om, options);
     om.garbage_collection();
 
     out.mesh.name = mesh.name;
@@ -387,7 +390,7 @@ SimplifiedMesh simplifyMesh(const MeshData& mesh, const SimplifyOptions& options
     }
     out.mesh.triangles.reserve(om.n_faces());
     for (const auto f : om.faces()) {
-        glm::uvec3 t(kNone);
+        glm::uvec3 t(simplify_detail::kNone);
         int k = 0;
         for (const auto v : om.fv_range(f)) {
             if (k < 3) t[k] = static_cast<std::uint32_t>(v.idx());

@@ -1,7 +1,6 @@
 // The flags every app that renders declares alike: --size, --method, --param, --samples and
-// --simplify, each
-// declared once here with one set of limits, and the checks of their values (bad input throws a
-// geometry::InputError naming the flag: exit 2).
+// --simplify, each declared once here with one set of limits, and the checks of their values
+// (bad input throws a geometry::InputError naming the flag: exit 2).
 //
 // The limits are the engine's:
 // - --size: each side 1 to 16384. 16384 is the GL_MAX_TEXTURE_SIZE every OpenGL 4.5
