@@ -270,12 +270,7 @@ int run(const Options& opt) {
         std::fprintf(stderr, "penumbra-render: warning: %s\n", w.get<std::string>().c_str());
     report["warnings"] = std::move(warnings);
     report["wedges"] = wedges;
-    report["simplify"] = {{"visibility_error", simplified.visibilityError},
-                          {"meshes", simplified.stats.meshes},
-                          {"triangles_before", simplified.stats.trianglesBefore},
-                          {"triangles_after", simplified.stats.trianglesAfter},
-                          {"skipped", simplified.stats.skipped},
-                          {"ms", simplified.ms}};
+    report["simplify"] = apps::simplifyJson(simplified);
     report["counters"] = std::move(counters);
     report["shadow_volume_triangles"] = last.volumeTriangles;
     nlohmann::json gpuJson = nlohmann::json::object(), cpuJson = nlohmann::json::object();

@@ -859,12 +859,7 @@ int App::run() {
             r["fps"] = ms > 0 ? 1000.0 / ms : 0.0;
             r["gpu_frame_ms_median"] = gpuMs;
             r["triangles"] = mStats.triangles;
-            r["simplify"] = {{"visibility_error", mSimplified.visibilityError},
-                             {"meshes", mSimplified.stats.meshes},
-                             {"triangles_before", mSimplified.stats.trianglesBefore},
-                             {"triangles_after", mSimplified.stats.trianglesAfter},
-                             {"skipped", mSimplified.stats.skipped},
-                             {"ms", mSimplified.ms}};
+            r["simplify"] = apps::simplifyJson(mSimplified);
             // The last frame's counts and stages (GPU passes as last read from the timer ring).
             nlohmann::json last;
             for (const gpu::Counter& c : mStats.counters) last["counters"][c.name] = c.value;

@@ -105,4 +105,13 @@ std::string simplifySummary(const SimplifyApplied& a) {
     return s;
 }
 
+nlohmann::json simplifyJson(const SimplifyApplied& a) {
+    return {{"visibility_error", a.visibilityError},
+            {"meshes", a.stats.meshes},
+            {"triangles_before", a.stats.trianglesBefore},
+            {"triangles_after", a.stats.trianglesAfter},
+            {"skipped", a.stats.skipped},
+            {"ms", a.ms}};
+}
+
 } // namespace apps

@@ -1,5 +1,5 @@
 // Simplified stand-ins (geometry/shadow/Simplify.h): weld with Topology, collapse half-edges on
-// OpenMesh's mesh in quadric-error order, write back a MeshData.
+// a copy of its OpenMesh mesh in quadric-error order, write back a MeshData.
 //
 // The collapse loop is our own rather than OpenMesh's decimater: the decimater asks every module
 // for a verdict on each candidate whenever a neighbour changes (about 40 candidates a collapse),
@@ -19,6 +19,8 @@
 #include <geometry/scene/Scene.h>
 #include <geometry/shadow/Topology.h>
 
+#include "HalfEdgeMesh.h"
+
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <algorithm>
@@ -27,6 +29,7 @@
 #include <limits>
 #include <queue>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace geometry {
@@ -345,30 +348,25 @@ SimplifiedMesh simplifyMesh(const MeshData& mesh, const SimplifyOptions& options
         out.mesh = mesh;
         return out;
     }
+    // Topology builds OpenMesh's mesh of the welded triangles (HalfEdgeMesh.h); for a manifold
+    // mesh no vertex is duplicated (vertex idx == welded id, face idx == triangle), and a copy
+    // of it is what the collapses work on.
     const Topology topo(mesh);
-    if (topo.manifoldness() == Manifoldness::NonManifold) {
+    const Topology::HalfEdgeMesh& hem = topo.halfEdgeMesh();
+    if (topo.manifoldness() == Manifoldness::NonManifold ||
+        hem.mesh.n_vertices() != hem.primaryVertices ||
+        hem.mesh.n_faces() != topo.triangles().size()) {
         out.mesh = mesh;
         out.skipped = "non-manifold (OpenMesh cannot collapse it)";
         return out;
     }
     const std::vector<glm::vec3> normals = simplify_detail::weldedNormals(mesh, topo);
-
     using Mesh = simplify_detail::Mesh;
-    Mesh om;
-    om.reserve(topo.positions().size(), topo.edges().size(), topo.triangles().size());
-    std::vector<Mesh::VertexHandle> vh;
-    vh.reserve(topo.positions().size());
-    for (const glm::vec3& p : topo.positions()) vh.push_back(om.add_vertex(Mesh::Point(p.x, p.y, p.z)));
-    for (const glm::uvec3& t : topo.triangles()) {
-        if (!om.add_face(vh[t.x], vh[t.y], vh[t.z]).is_valid()) {
-            out.mesh = mesh;
-            out.skipped = "a triangle OpenMesh could not add (non-manifold fan)";
-            return out;
-        }
-    }
+    static_assert(std::is_same_v<Mesh, Topology::HalfEdgeMesh::Mesh>);
+    Mesh om = hem.mesh;
     OpenMesh::VPropHandleT<std::uint32_t> weldedId;
     om.add_property(weldedId);
-    for (std::size_t i = 0; i < vh.size(); ++i) om.property(weldedId, vh[i]) = static_cast<std::uint32_t>(i);
+    for (const auto v : om.vertices()) om.property(weldedId, v) = static_cast<std::uint32_t>(v.idx());
     om.request_vertex_status();
     om.request_edge_status();
     om.request_halfedge_status();

@@ -19,6 +19,7 @@
 #include <gpu/Methods.h>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <utility>
@@ -74,5 +75,7 @@ struct SimplifyApplied {
 SimplifyApplied applySimplify(geometry::Scene& scene, float visibilityError);
 // One line for stdout: what was simplified, how much, in how long, and what was left alone.
 std::string simplifySummary(const SimplifyApplied& applied);
+// report.json's "simplify" object (penumbra-render, the viewer's --report).
+nlohmann::json simplifyJson(const SimplifyApplied& applied);
 
 } // namespace apps
