@@ -63,6 +63,7 @@ layout(std430, binding = BINDING_PCSS_STATS) buffer PcssStats {
     uint outside;  // pixels in no face
     uint fallback; // OUTSIDE_OCCLUSION: pixels written
     uint unconfirmed; // pixels whose texels in front lay outside their pyramid to the light: lit
+    uint searched; // pixels a caster's box could reach (the others are lit without a search)
 } stats;
 
 layout(location = 0) out float oVisibility;
@@ -260,6 +261,7 @@ float shadowMapVisibility(vec3 position, vec3 N) {
         reached = reached || segmentMeetsBox(position, invD, pcss.reach[2 * k].xyz,
                                              pcss.reach[2 * k + 1].xyz);
     if (!reached) return 1.0; // no segment to the light meets a caster
+    atomicAdd(stats.searched, 1u);
     vec3 toP = position - frame.lightCenter.xyz;
     Receiver r;
     r.face = faceOf(toP);

@@ -1,6 +1,8 @@
 // The PCSS shadow maps' frame (geometry/shadow/PcssFrame.h).
 #include <geometry/shadow/PcssFrame.h>
 
+#include <geometry/scene/AlphaMask.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -255,13 +257,14 @@ void splitClusters(std::vector<ClusterTriangle>& t, std::size_t begin, std::size
 } // namespace
 
 std::vector<Aabb> casterClusters(const Scene& scene, std::span<const std::size_t> objects,
-                                 int maxBoxes) {
+                                 int maxBoxes, AlphaRule rule) {
     std::vector<ClusterTriangle> t;
     for (const std::size_t o : objects) {
         const MeshData& m = scene.objects[o].mesh;
-        for (const glm::uvec3& tri : m.triangles) {
+        for (std::uint32_t i = 0; i < m.triangles.size(); ++i) {
             ClusterTriangle c;
-            for (int k = 0; k < 3; ++k) c.box.extend(m.positions[tri[k]]);
+            c.box = occlusionBounds(m, i, rule);
+            if (c.box.empty()) continue; // cut out wholly: hides no light
             c.centre = 0.5f * (c.box.min + c.box.max);
             t.push_back(c);
         }

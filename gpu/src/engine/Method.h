@@ -61,6 +61,11 @@ public:
     // the renderer's Targets: the renderer's size check sums them (Renderer::renderFrame).
     virtual std::size_t targetBytesPerPixel() const { return 0; }
     virtual void execute(const FrameContext& ctx) = 0;
+    // Multiplies this method's V into the target's (V_target * V, by blending) in its own
+    // passes, where its last pass writes every pixel once: true if it did; false, with nothing
+    // drawn, for a method that builds V in the target from 0. A composition (auto's later paths,
+    // VisibilityProduct) asks first: one pass instead of a copy, a clear and a multiply.
+    virtual bool executeMultiplied(const FrameContext& /*ctx*/) { return false; }
     // The method's share of a debug view (WedgeWireframe, GroupParts), drawn over Targets::image
     // after this frame's execute() and the shade pass, with `debug`'s helpers; may set
     // debug.note. false: the method has nothing for `view` (it drew nothing; the renderer says

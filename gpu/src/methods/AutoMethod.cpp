@@ -150,9 +150,14 @@ public:
             VisibilityMethod& method =
                 p == 0 ? *mWedges
                        : pathMethod(ctx, static_cast<geometry::ShadowPath>(p), !planeCounted);
-            if (!first) mProduct.beforeFactor(ctx);
-            method.execute(subContext(ctx, casters[p]));
-            if (!first) mProduct.afterFactor(ctx);
+            const FrameContext sub = subContext(ctx, casters[p]);
+            if (first) {
+                method.execute(sub);
+            } else if (!method.executeMultiplied(sub)) {
+                mProduct.beforeFactor(ctx);
+                method.execute(sub);
+                mProduct.afterFactor(ctx);
+            }
             first = false;
         }
     }

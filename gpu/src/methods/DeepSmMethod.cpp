@@ -17,6 +17,10 @@ public:
     explicit DeepSmMethod(const MethodResources& r) : mShadow(r, deepSmOptions(r.parameters)) {}
 
     void execute(const FrameContext& ctx) override { mShadow.execute(ctx); }
+    bool executeMultiplied(const FrameContext& ctx) override {
+        mShadow.execute(ctx, true); // the lookup writes every pixel once
+        return true;
+    }
 
 private:
     PcssShadow mShadow;

@@ -13,6 +13,10 @@ public:
     explicit PcssMethod(const MethodResources& r) : mShadow(r, pcssOptions(r.parameters)) {}
 
     void execute(const FrameContext& ctx) override { mShadow.execute(ctx); }
+    bool executeMultiplied(const FrameContext& ctx) override {
+        mShadow.execute(ctx, true); // the lookup writes every pixel once
+        return true;
+    }
 
 private:
     PcssShadow mShadow;

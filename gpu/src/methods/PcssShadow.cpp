@@ -2,6 +2,7 @@
 #include "methods/PcssShadow.h"
 
 #include "engine/ShaderBindings.h"
+#include "methods/MethodUtil.h"
 
 #include <geometry/core/Error.h>
 #include <geometry/core/Sampling.h>
@@ -52,7 +53,7 @@ PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pi
       mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
       mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o, pixels, deep)),
       mUniforms({.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}),
-      mStats({.size = 3 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
+      mStats({.size = 4 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
     // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
     // kernels reaching past the map find no blockers there. (deep-sm's maps are its own.)
     if (!deep) {
@@ -90,7 +91,7 @@ PcssShadow::PcssShadow(const MethodResources& r, const DeepSmOptions& deep)
     mDeep->data.upload(none, 0, GL_RGB32UI, sizeof(none), "deep-sm-data");
 }
 
-void PcssShadow::execute(const FrameContext& ctx) {
+void PcssShadow::execute(const FrameContext& ctx, bool multiply) {
     updateFrame(ctx);
     const geometry::PcssFrame& f = mFrame;
     shader::PcssUniforms u{};
@@ -170,11 +171,15 @@ void PcssShadow::execute(const FrameContext& ctx) {
             glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
         }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
-        mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
+        if (multiply)
+            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height,
+                            kMultiplyState, [] {});
+        else
+            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
     }
     // Pixels in no face, pixels shaded (OUTSIDE_OCCLUSION), pixels whose blockers lay outside
-    // their pyramid to the light (lit).
-    std::uint32_t stats[3] = {0, 0, 0};
+    // their pyramid to the light (lit), pixels a caster's box could reach.
+    std::uint32_t stats[4] = {0, 0, 0, 0};
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT); // the lookup's atomics
     glGetNamedBufferSubData(mStats.id(), 0, sizeof(stats), stats);
 
@@ -185,6 +190,7 @@ void PcssShadow::execute(const FrameContext& ctx) {
     if (mPixels == Pixels::OutsideOcclusion) {
         ctx.addCounter("occlusion_pixels_outside", stats[1]);
         ctx.addCounter("occlusion_outside_blockers_unconfirmed", stats[2]);
+        ctx.addCounter("occlusion_outside_pixels_searched", stats[3]);
         ctx.addCounter("occlusion_outside_maps", maps);
         ctx.addCounter("occlusion_outside_maps_cached", cached ? 1.0 : 0.0);
         return;
@@ -195,6 +201,7 @@ void PcssShadow::execute(const FrameContext& ctx) {
     ctx.addCounter("pcss_maps_cached", cached ? 1.0 : 0.0);
     ctx.addCounter("pcss_pixels_outside", stats[0]);
     ctx.addCounter("pcss_blockers_unconfirmed", stats[2]);
+    ctx.addCounter("pcss_pixels_searched", stats[3]);
     ctx.addCounter("pcss_frustum_clamped",
                    static_cast<double>(f.faces[0].clamped || f.faces[1].clamped));
     ctx.addCounter("pcss_caster_near",
@@ -207,11 +214,21 @@ void PcssShadow::updateFrame(const FrameContext& ctx) {
     std::vector<std::uint32_t> subset(ctx.casterSubset.begin(), ctx.casterSubset.end());
     if (mFitted && light == mLight && subset == mSubset)
         return;
-    const auto t0 = Clock::now();
+    const bool newCasters = !mFitted || subset != mSubset;
     mObjects.clear();
     for (const std::uint32_t c : subset)
         mObjects.push_back(ctx.casters.sceneObject(c));
-    mCasterBoxes = geometry::casterClusters(ctx.scene, mObjects, PCSS_REACH_BOXES);
+    // The boxes hold the casters' occluding points, whatever the light: made again only for
+    // other casters (an alpha-tested object's texels are read for them).
+    if (newCasters) {
+        const auto b0 = Clock::now();
+        // deep-sm's texels hold transmittance: every point of opacity above 0 hides light.
+        mCasterBoxes = geometry::casterClusters(
+            ctx.scene, mObjects, PCSS_REACH_BOXES,
+            mDeep ? geometry::AlphaRule::Transmittance : geometry::AlphaRule::Cutoff);
+        ctx.addCpuTime("pcss-reach-boxes", msSince(b0));
+    }
+    const auto t0 = Clock::now();
     mFrame = geometry::fitPcssFrame(ctx.scene, light, mObjects);
     mMapsDrawn = false;
     mLight = light;

@@ -11,10 +11,11 @@
 //   over that rectangle; depth compared with the receiver's plane moved `bias` texels towards
 //   the light; V times the light's share in front of the surface (`horizon`, as occlusion's).
 //   V is written at every pixel.
-// A receiver whose segment to the light's centre misses every box around the casters
-// (geometry::casterClusters, 16 at most) grown by the light's half extents is lit without a
-// search (only the horizon term applies): the alpha path's few grates and flames on a level
-// leave most pixels there.
+// A receiver whose segment to the light's centre misses every box around the casters'
+// occluding points (geometry::casterClusters, 16 at most: an alpha-tested triangle boxed around
+// its opaque texels only) grown by the light's half extents is lit without a search (only the
+// horizon term applies; `pcss_pixels_searched` counts the others): the alpha path's few grates,
+// flames and light beams on a level leave most pixels there, even with the lamp among them.
 // Receivers within zNear of the light's centre (in no face) get V = 1 and, where a caster's
 // box could reach them, are counted
 // (`pcss_pixels_outside`). The occlusion method owns one for the receivers its slicing frustum
@@ -56,7 +57,9 @@ public:
     // frame's maps are reused: they do not depend on the camera), and writes V of the pixels
     // into the visibility target; adds the pcss_* counters (All) or occlusion_pixels_outside,
     // occlusion_outside_maps and occlusion_outside_maps_cached (OutsideOcclusion).
-    void execute(const FrameContext& ctx);
+    // `multiply`: the lookup multiplies V into the target's (VisibilityMethod::executeMultiplied)
+    // instead of writing it.
+    void execute(const FrameContext& ctx, bool multiply = false);
 
 private:
     PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pixels, bool deep);

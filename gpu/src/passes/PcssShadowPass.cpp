@@ -12,8 +12,13 @@ namespace {
 Program loadShadowProgram(const ShaderLoader& shaders, bool alphaTested) {
     return shaders.load({.stages = {{GL_VERTEX_SHADER, "pcss-shadow.vert"},
                                     {GL_FRAGMENT_SHADER, "pcss-shadow.frag"}},
-                         .defines = alphaTested ? std::vector<std::string>{"ALPHA_TEST"}
-                                                : std::vector<std::string>{},
+                         // The base level, as raytrace's alpha rule and the reach test's boxes
+                         // (geometry::occlusionBounds) read it: a mip level's averaged alpha
+                         // would move leaf edges and let a card occlude beyond its boxes.
+                         .defines = alphaTested
+                                        ? std::vector<std::string>{"ALPHA_TEST",
+                                                                   "MATERIAL_BASE_LEVEL"}
+                                        : std::vector<std::string>{},
                          .label = alphaTested ? "pcss-shadow-alpha-test" : "pcss-shadow"});
 }
 

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace {
@@ -295,4 +296,150 @@ TEST(AlphaMaskTest, SurfacesAlongARayInOrderToTheFirstOpaqueOne) {
     EXPECT_EQ(hits.size(), 2u);
     const std::size_t bad[] = {7};
     EXPECT_THROW(geometry::RayTracer(scene, bad), std::invalid_argument);
+}
+
+namespace {
+
+// A card (two triangles) over x, z in [0, 4] at y = 1 with texcoords (0, 0) .. `uvMax` and a
+// size x size texture transparent but for the texels `opaque` (x, y).
+geometry::MeshData texturedCard(int size, const std::vector<glm::ivec2>& opaque, glm::vec2 uvMax,
+                                geometry::TextureWrap wrap = geometry::TextureWrap::Repeat) {
+    geometry::MeshData mesh;
+    mesh.positions = {{0, 1, 0}, {4, 1, 0}, {4, 1, 4}, {0, 1, 4}};
+    mesh.texcoords = {{0, 0}, {uvMax.x, 0}, {uvMax.x, uvMax.y}, {0, uvMax.y}};
+    mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+    mesh.triangleMaterial = {0, 0};
+    geometry::Material m;
+    m.alphaMode = geometry::AlphaMode::Mask;
+    m.alphaCutoff = 0.5f;
+    m.baseColorTexture = 0;
+    mesh.materials = {m};
+    geometry::TextureImage image;
+    image.width = image.height = size;
+    image.rgba8.assign(static_cast<std::size_t>(size) * size * 4, 255);
+    for (std::size_t i = 3; i < image.rgba8.size(); i += 4) image.rgba8[i] = 20;
+    for (const glm::ivec2 t : opaque)
+        image.rgba8[(static_cast<std::size_t>(t.y) * size + t.x) * 4 + 3] = 240;
+    image.wrapS = image.wrapT = wrap;
+    mesh.textures = {image};
+    return mesh;
+}
+
+// Every point of a fine barycentric grid over each triangle that occludes lies in its
+// occlusionBounds; returns how many did.
+std::size_t expectOccludersInsideBounds(const geometry::MeshData& mesh) {
+    std::size_t occluding = 0;
+    constexpr int n = 300;
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const geometry::Aabb box = geometry::occlusionBounds(mesh, t);
+        const glm::uvec3 tri = mesh.triangles[t];
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; i + j <= n; ++j) {
+                const glm::vec2 b(float(i) / n, float(j) / n);
+                if (!geometry::surfaceOccludes(mesh, t, b)) continue;
+                ++occluding;
+                const glm::vec3 p = (1.0f - b.x - b.y) * mesh.positions[tri.x] +
+                                    b.x * mesh.positions[tri.y] + b.y * mesh.positions[tri.z];
+                EXPECT_FALSE(box.empty()) << "triangle " << t;
+                EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, box.min)) &&
+                            glm::all(glm::lessThanEqual(p, box.max)))
+                    << "triangle " << t << " point " << p.x << " " << p.y << " " << p.z;
+            }
+    }
+    return occluding;
+}
+
+} // namespace
+
+// The reach test of pcss's alpha path boxes an alpha-tested triangle around its opaque texels
+// only (a light beam or flame card around a lamp is mostly cut away): every occluding point is
+// inside its box, which is far smaller than the triangle's where few texels are opaque.
+TEST(AlphaMaskTest, OcclusionBoundsHoldEveryOccludingPointAndLittleElse) {
+    // One opaque texel of 16 x 16 at (3, 12): u in [3/16, 4/16], v in [12/16, 13/16] (x = 4u,
+    // z = 4v), grown by the bilinear footprint (half a texel each way, and the next texel's).
+    const geometry::MeshData one = texturedCard(16, {{3, 12}}, {1, 1});
+    EXPECT_GT(expectOccludersInsideBounds(one), 100u);
+    geometry::Aabb both;
+    for (std::uint32_t t = 0; t < 2; ++t)
+        if (const geometry::Aabb b = geometry::occlusionBounds(one, t); !b.empty()) both.extend(b);
+    ASSERT_FALSE(both.empty());
+    const glm::vec3 e = both.max - both.min;
+    std::printf("  one opaque texel of 16 x 16 on a 4 x 4 card: bounds %.3f x %.3f x %.3f\n", e.x,
+                e.y, e.z);
+    EXPECT_LE(e.x, 3.0f * 4.0f / 16.0f + 1e-3f); // at most 3 texels wide, not the card's 4
+    EXPECT_LE(e.z, 3.0f * 4.0f / 16.0f + 1e-3f);
+    EXPECT_LE(e.y, 1e-3f);
+    EXPECT_LE(both.min.x, 3.0f / 4.0f); // and around the texel
+    EXPECT_GE(both.max.x, 1.0f);
+
+    // Nothing opaque: no box; an opaque material, or the factor alone: the triangle's.
+    const geometry::MeshData none = texturedCard(16, {}, {1, 1});
+    EXPECT_TRUE(geometry::occlusionBounds(none, 0).empty());
+    EXPECT_TRUE(geometry::occlusionBounds(none, 1).empty());
+    geometry::MeshData opaque = none;
+    opaque.materials[0].alphaMode = geometry::AlphaMode::Opaque;
+    EXPECT_EQ(geometry::occlusionBounds(opaque, 0).min, glm::vec3(0, 1, 0));
+    EXPECT_EQ(geometry::occlusionBounds(opaque, 0).max, glm::vec3(4, 1, 4));
+    geometry::MeshData untextured = none;
+    untextured.materials[0].baseColorTexture = -1;
+    EXPECT_FALSE(geometry::occlusionBounds(untextured, 0).empty()); // factor 1 >= 0.5
+    untextured.materials[0].baseColor.a = 0.4f;
+    EXPECT_TRUE(geometry::occlusionBounds(untextured, 0).empty());
+    // The transmittance rule (deep-sm): every texel above 0 hides some light, so the cut-away
+    // texels (alpha 20) count; a texture of zeros but one texel bounds that texel.
+    using geometry::AlphaRule;
+    const geometry::Aabb faint = geometry::occlusionBounds(none, 0, AlphaRule::Transmittance);
+    EXPECT_LE(faint.min.x, 0.0f); // the whole triangle: x, z in [0, 4]
+    EXPECT_GE(faint.max.x, 4.0f);
+    EXPECT_GE(faint.max.z, 4.0f);
+    geometry::MeshData zeros = one;
+    for (std::size_t i = 3; i < zeros.textures[0].rgba8.size(); i += 4)
+        if (zeros.textures[0].rgba8[i] == 20) zeros.textures[0].rgba8[i] = 0;
+    for (std::uint32_t t = 0; t < 2; ++t) {
+        const geometry::Aabb c = geometry::occlusionBounds(zeros, t);
+        const geometry::Aabb r = geometry::occlusionBounds(zeros, t, AlphaRule::Transmittance);
+        EXPECT_EQ(c.empty(), r.empty());
+        if (!c.empty()) {
+            EXPECT_EQ(c.min, r.min);
+        }
+    }
+    // The factor scales the texels: 240 * 0.5 / 255 < 0.5 cuts the opaque texel too.
+    geometry::MeshData faded = one;
+    faded.materials[0].baseColor.a = 0.5f;
+    EXPECT_TRUE(geometry::occlusionBounds(faded, 0).empty());
+    EXPECT_TRUE(geometry::occlusionBounds(faded, 1).empty());
+}
+
+// Wrapped, transformed and huge texcoords: still every occluding point inside.
+TEST(AlphaMaskTest, OcclusionBoundsFollowWrapModesTransformsAndLimits) {
+    using geometry::TextureWrap;
+    const std::vector<glm::ivec2> texels = {{0, 0}, {7, 3}, {2, 6}};
+    for (const TextureWrap wrap :
+         {TextureWrap::Repeat, TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat}) {
+        SCOPED_TRACE(static_cast<int>(wrap));
+        // Three repeats across the card and a half below 0.
+        geometry::MeshData mesh = texturedCard(8, texels, {3.0f, 2.5f}, wrap);
+        mesh.texcoords[0] = {-0.5f, -0.5f};
+        mesh.texcoords[1].y = -0.5f;
+        mesh.texcoords[3].x = -0.5f;
+        EXPECT_GT(expectOccludersInsideBounds(mesh), 100u);
+        // KHR_texture_transform: rotated and offset.
+        const float c = std::cos(0.7f), s = std::sin(0.7f);
+        mesh.materials[0].baseColorUvTransform =
+            glm::mat3(glm::vec3(c, s, 0), glm::vec3(-s, c, 0), glm::vec3(0.3f, -1.7f, 1));
+        EXPECT_GT(expectOccludersInsideBounds(mesh), 100u);
+    }
+    // Past kOcclusionBoundsTexels texels (a texture repeated 1000 times): the triangle's box.
+    const geometry::MeshData tiled = texturedCard(8, texels, {1000.0f, 1000.0f});
+    EXPECT_EQ(geometry::occlusionBounds(tiled, 0).min, glm::vec3(0, 1, 0));
+    EXPECT_EQ(geometry::occlusionBounds(tiled, 0).max, glm::vec3(4, 1, 4));
+    // Every corner at one texcoord: the triangle's box where that texel is opaque, none where not.
+    geometry::MeshData point = texturedCard(8, texels, {1, 1});
+    point.texcoords = std::vector<glm::vec2>(4, glm::vec2(7.5f / 8.0f, 3.5f / 8.0f));
+    EXPECT_EQ(geometry::occlusionBounds(point, 0).max, glm::vec3(4, 1, 4));
+    point.texcoords = std::vector<glm::vec2>(4, glm::vec2(4.5f / 8.0f, 4.5f / 8.0f));
+    EXPECT_TRUE(geometry::occlusionBounds(point, 0).empty());
+    // Non-finite texcoords: the triangle's box (sampleAlpha reads them as opaque).
+    point.texcoords[0].x = NAN;
+    EXPECT_EQ(geometry::occlusionBounds(point, 0).max, glm::vec3(4, 1, 4));
 }

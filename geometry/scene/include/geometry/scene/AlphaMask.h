@@ -37,4 +37,19 @@ float surfaceOpacity(const MeshData& mesh, std::uint32_t triangle, glm::vec2 bar
 // Whether that point occludes (alpha >= the material's effective cutoff).
 bool surfaceOccludes(const MeshData& mesh, std::uint32_t triangle, glm::vec2 barycentric);
 
+// Which points of a surface hide light: those that occlude under the alpha test
+// (surfaceOccludes), or, under the transmittance rule (surfaceOpacity), every point of
+// opacity above 0.
+enum class AlphaRule { Cutoff, Transmittance };
+
+// A box holding every point of triangle `triangle` of `mesh` that hides light under `rule`,
+// empty where none can. The triangle's own box for an opaque material; for an alpha-tested one,
+// only the parts whose bilinear footprint (sampleAlpha) reaches a texel that counts (at or over
+// the cutoff; above 0 for the transmittance rule): a light beam or flame card whose opaque
+// texels cover a few percent of it is boxed around those. The triangle's box where its UVs span
+// more than kOcclusionBoundsTexels texels (a texture repeated over a wall) or map it to a line.
+inline constexpr double kOcclusionBoundsTexels = 1 << 18;
+Aabb occlusionBounds(const MeshData& mesh, std::uint32_t triangle,
+                     AlphaRule rule = AlphaRule::Cutoff);
+
 } // namespace geometry

@@ -25,6 +25,8 @@
 //   halfSize (1/z - 1/zP), on the side faces the light seen edge-on.
 #pragma once
 
+#include <geometry/scene/AlphaMask.h>
+
 #include <geometry/scene/Scene.h>
 
 #include <glm/glm.hpp>
@@ -110,12 +112,16 @@ PcssFrame fitPcssFrame(const Scene& scene, const RectLight& light,
 float casterNearInFrustum(const PcssFrame& f, int face, glm::vec2 lo, glm::vec2 hi, float zMin,
                           const Scene& scene, std::span<const std::size_t> objects);
 
-// At most maxBoxes boxes that together hold every triangle of the objects (indices into
-// scene.objects): the triangles split at the median of their centres along the longest axis of
-// their bounds, recursively, each leaf's bounds a box. One object spread over a whole level (a
-// textured level's alpha-tested part: grates and flames in every room) gets boxes around its
-// clusters instead of the level's bounds. Empty for no triangles.
+// At most maxBoxes boxes that together hold every point of the objects (indices into
+// scene.objects) that occludes: each triangle's occlusionBounds (geometry/scene/AlphaMask.h: an
+// alpha-tested triangle only around its texels at or over the cutoff, none where it has none),
+// split at the median of their centres along the longest axis of their bounds, recursively,
+// each leaf's bounds a box. One object spread over a whole level (a textured level's
+// alpha-tested part: grates and flames in every room) gets boxes around its clusters instead of
+// the level's bounds, and a light beam around a lamp a box around its few opaque texels
+// instead of one holding the lamp. Empty where nothing occludes. `rule`: which points hide
+// light (deep-sm's transmittance rule: every point of opacity above 0).
 std::vector<Aabb> casterClusters(const Scene& scene, std::span<const std::size_t> objects,
-                                 int maxBoxes);
+                                 int maxBoxes, AlphaRule rule = AlphaRule::Cutoff);
 
 } // namespace geometry
