@@ -40,6 +40,10 @@
 // 1 - T: the blocker search weights each texel's nearest depth by it, the filter sums T. The
 // same frame, patterns, offsets and horizon as pcss's.
 //
+// Drawn over tiles (tile-rects.vert) where the frame's surface tiles are known: the tiles no
+// caster's shadow cone can reach skip this lookup, and with HORIZON get the horizon term alone
+// (HORIZON_ONLY).
+//
 // OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
 // not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are
 // written, and counted; the others keep the occlusion textures' V.
@@ -254,7 +258,7 @@ int faceOf(vec3 toP) {
 // V from the shadow map alone (1 where P is in no map, counted).
 float shadowMapVisibility(vec3 position, vec3 N) {
     int boxes = int(pcss.params2.x);
-    bool reached = boxes == 0;
+    bool reached = false; // no boxes: no point of the casters hides light (all cut away)
     vec3 d = frame.lightCenter.xyz - position;
     vec3 invD = 1.0 / (sign(d) * max(abs(d), vec3(1e-20)) + vec3(equal(d, vec3(0.0))) * 1e-20);
     for (int k = 0; k < boxes; ++k)
@@ -394,6 +398,11 @@ void main() {
         oVisibility = 1.0; // no surface
         return;
     }
+#ifdef HORIZON_ONLY
+    // A tile no caster's shadow cone reaches (PcssShadow::execute): the horizon term alone.
+    oVisibility = clamp(horizonFraction(position.xyz, texelFetch(tNormal, px, 0).xyz), 0.0, 1.0);
+    return;
+#endif
 #ifdef OUTSIDE_OCCLUSION
     if (occlusionCovers(position.xyz)) discard;
     atomicAdd(stats.fallback, 1u);

@@ -77,6 +77,9 @@
 #define MOMENT_SLOT_EDGES 4 // the first edge's word in a slot
 // pdsm: uint counters of the lookup (PDSM_STAT_*).
 #define BINDING_PDSM_STATS 20
+// tile-rects.vert: screen rectangles (vec4 NDC x0, y0, x1, y1 each), two triangles per
+// rectangle: a full-screen pass drawn over some tiles only.
+#define BINDING_SCREEN_RECTS 21
 #define PDSM_STAT_OUTSIDE 0 // receivers outside a clipped deep map (drawn lit; may be hidden)
 #define PDSM_STAT_COUNT 1
 #define WEDGE_TILES_TOTAL 0        // list entries over all tiles (after the heads' 3 per tile)
@@ -124,6 +127,7 @@
 #define UNIFORM_SKIN_EXTENT 17
 #define UNIFORM_SKIN_AXES 18
 #define UNIFORM_SKIN_PARAMS 21
+#define UNIFORM_FIRST_RECT 22 // tile-rects.vert: int, the first rectangle drawn
 
 // GpuWedge::kind
 #define WEDGE_BOUNDED 0u    // drawn as its conservative hull (8 triangles)

@@ -275,4 +275,26 @@ std::vector<Aabb> casterClusters(const Scene& scene, std::span<const std::size_t
     return out;
 }
 
+bool sweepMeetsBox(const Aabb& from, const glm::vec3& to, const Aabb& box) {
+    if (from.empty() || box.empty()) return false;
+    float lo = 0.0f, hi = 1.0f;
+    // a + s d <= m (below = true) or >= m, for s in [lo, hi].
+    auto clip = [&](float a, float d, float m, bool below) {
+        const float slack = below ? m - a : a - m; // needs s d <= slack (below), -s d <= slack
+        const float rate = below ? d : -d;
+        if (rate == 0.0f) {
+            if (slack < 0.0f) hi = -1.0f;
+        } else if (rate > 0.0f) {
+            hi = std::min(hi, slack / rate);
+        } else {
+            lo = std::max(lo, slack / rate);
+        }
+    };
+    for (int i = 0; i < 3; ++i) {
+        clip(from.min[i], to[i] - from.min[i], box.max[i], true);  // the swept box's low side
+        clip(from.max[i], to[i] - from.max[i], box.min[i], false); // its high side
+    }
+    return lo <= hi;
+}
+
 } // namespace geometry

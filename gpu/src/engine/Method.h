@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string_view>
 
@@ -28,6 +29,14 @@ struct MethodResources {
     const geometry::Scene& scene;
     // Every parameter the method declares, with its value (resolveParameters: given or default).
     std::span<const ParameterValue> parameters;
+};
+
+struct SurfaceTiles; // passes/SurfaceTilePass.h
+
+// What the methods of one frame share (auto's paths run in turn): the visible surface's tiles,
+// once one of them has measured them (measureSurface, a wait for the G-buffer), for the next.
+struct FrameScratch {
+    std::shared_ptr<const SurfaceTiles> surfaceTiles;
 };
 
 // What a method sees during one frame.
@@ -46,6 +55,7 @@ struct FrameContext {
     // The scene's surfaces as drawn (unwelded, texcoords and alpha-tested materials), indexed
     // by scene object (CasterSet::sceneObject maps a caster to it).
     const SceneGeometry& sceneGeometry;
+    FrameScratch* scratch = nullptr; // the renderer's, for this frame
 
     void addCpuTime(std::string_view stage, double ms) const;
     void addCounter(std::string_view name, double value) const;

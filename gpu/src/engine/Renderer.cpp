@@ -405,9 +405,10 @@ FrameStats Renderer::renderFrame(const RenderSettings& settings) {
     const float zero = 0.0f;
     glClearTexImage(m.targets.visibility.id(), 0, GL_RED, GL_FLOAT, &zero);
 
+    FrameScratch scratch;
     FrameContext ctx{settings, m.scene, light, m.targets, m.viewProj, m.casters, m.allCasters, m.timers, stats,
                      [&](float weight) { m.uploadFrameUniforms(settings, light, weight); },
-                     m.sceneGeometry};
+                     m.sceneGeometry, &scratch};
 
     // Light-centre silhouettes, uploaded once: every method reports them, most draw from them.
     auto t0 = Clock::now();

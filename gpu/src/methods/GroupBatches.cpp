@@ -68,30 +68,6 @@ bool screenRect(const geometry::Aabb& box, const glm::mat4& viewProj, int width,
     return r.x1 > r.x0 && r.y1 > r.y0;
 }
 
-// Surface boxes grown by a relative margin (float: the G-buffer position and the point a
-// shader reconstructs or depth-tests may differ in their last bits), with their spheres.
-struct TileSphere {
-    geometry::Aabb box;
-    glm::vec3 centre{0.0f};
-    float radius = 0.0f;
-};
-
-std::vector<TileSphere> tileSpheres(const SurfaceTiles& surface) {
-    std::vector<TileSphere> spheres(surface.boxes.size());
-    for (std::size_t i = 0; i < spheres.size(); ++i) {
-        const geometry::Aabb& b = surface.boxes[i];
-        if (b.empty()) continue;
-        const float margin =
-            1e-4f * (glm::length(b.max - b.min) + glm::length(glm::abs(b.min) + glm::abs(b.max))) +
-            1e-6f;
-        TileSphere& t = spheres[i];
-        t.box.extend(b.min - glm::vec3(margin));
-        t.box.extend(b.max + glm::vec3(margin));
-        t.centre = 0.5f * (t.box.min + t.box.max);
-        t.radius = 0.5f * glm::length(t.box.max - t.box.min);
-    }
-    return spheres;
-}
 
 } // namespace
 
@@ -294,11 +270,33 @@ bool depthAwareFrame(const FrameContext& ctx) {
     return groups >= kDepthAwareMinGroups;
 }
 
+std::vector<TileSphere> tileSpheres(const SurfaceTiles& surface) {
+    std::vector<TileSphere> spheres(surface.boxes.size());
+    for (std::size_t i = 0; i < spheres.size(); ++i) {
+        const geometry::Aabb& b = surface.boxes[i];
+        if (b.empty()) continue;
+        const float margin =
+            1e-4f * (glm::length(b.max - b.min) + glm::length(glm::abs(b.min) + glm::abs(b.max))) +
+            1e-6f;
+        TileSphere& t = spheres[i];
+        t.box.extend(b.min - glm::vec3(margin));
+        t.box.extend(b.max + glm::vec3(margin));
+        t.centre = 0.5f * (t.box.min + t.box.max);
+        t.radius = 0.5f * glm::length(t.box.max - t.box.min);
+    }
+    return spheres;
+}
+
 SurfaceTiles measureSurface(const FrameContext& ctx, SurfaceTilePass& surface) {
+    // Measured once a frame: a later path (auto's) takes the first one's.
+    if (ctx.scratch && ctx.scratch->surfaceTiles &&
+        ctx.scratch->surfaceTiles->tile == SurfaceTilePass::kTile)
+        return *ctx.scratch->surfaceTiles;
     ScopedPass pass(&ctx.timers, "surface-tiles");
     const auto t0 = Clock::now();
     SurfaceTiles tiles = surface.measure(ctx.targets);
     ctx.addCpuTime("surface-tiles", msSince(t0)); // mostly the wait for the G-buffer
+    if (ctx.scratch) ctx.scratch->surfaceTiles = std::make_shared<const SurfaceTiles>(tiles);
     return tiles;
 }
 

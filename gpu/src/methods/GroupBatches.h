@@ -91,6 +91,18 @@ std::vector<std::uint8_t> segmentsReachingSurface(std::span<const glm::vec3> a,
 // Whether this frame culls by the visible surface (RenderSettings::depthAwareCulling and at least
 // 64 silhouette groups), and the tiles measured for it (timed as the "surface-tiles" pass).
 bool depthAwareFrame(const FrameContext& ctx);
+// Measured once a frame: kept in the frame's FrameScratch, where a later method (auto's paths)
+// finds it without a second wait.
 SurfaceTiles measureSurface(const FrameContext& ctx, SurfaceTilePass& surface);
+
+// Surface boxes grown by a relative margin (float: the G-buffer position and the point a
+// shader reconstructs or depth-tests may differ in their last bits), with their spheres (for
+// geometry::sphereMayMeetCone); an empty box where a tile has no surface.
+struct TileSphere {
+    geometry::Aabb box;
+    glm::vec3 centre{0.0f};
+    float radius = 0.0f;
+};
+std::vector<TileSphere> tileSpheres(const SurfaceTiles& surface);
 
 } // namespace gpu

@@ -2,6 +2,7 @@
 #include "methods/PcssShadow.h"
 
 #include "engine/ShaderBindings.h"
+#include "methods/GroupBatches.h"
 #include "methods/MethodUtil.h"
 
 #include <geometry/core/Error.h>
@@ -52,8 +53,17 @@ PcssShadow::PcssShadow(const MethodResources& r, const PcssOptions& o, Pixels pi
     : mPixels(pixels), mResolution(o.resolution), mSearchSamples(o.blockerSamples),
       mFilterSamples(o.pcfSamples), mShadowPass(r.shaders),
       mLookup(r.shaders, "pcss-lookup.frag", "pcss-lookup", PipelineState{}, lookupDefines(o, pixels, deep)),
+      mLookupTiles(r.shaders, "pcss-lookup.frag", "pcss-lookup-tiles", PipelineState{},
+                   lookupDefines(o, pixels, deep), "tile-rects.vert"),
       mUniforms({.size = sizeof(shader::PcssUniforms), .label = "pcss-uniforms"}),
-      mStats({.size = 4 * sizeof(std::uint32_t), .label = "pcss-stats"}) {
+      mStats({.size = 4 * sizeof(std::uint32_t), .label = "pcss-stats"}),
+      mRects({.size = 0, .label = "pcss-screen-rects"}) {
+    if (o.horizon && pixels == Pixels::All) {
+        std::vector<std::string> defines = lookupDefines(o, pixels, deep);
+        defines.push_back("HORIZON_ONLY");
+        mHorizonTiles.emplace(r.shaders, "pcss-lookup.frag", "pcss-horizon-tiles",
+                              PipelineState{}, defines, "tile-rects.vert");
+    }
     // Depth zNear / z (float: precise far from the light); the border reads 0, "nothing", so
     // kernels reaching past the map find no blockers there. (deep-sm's maps are its own.)
     if (!deep) {
@@ -171,7 +181,9 @@ void PcssShadow::execute(const FrameContext& ctx, bool multiply) {
             glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
         }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
-        if (multiply)
+        if (drawLookupOverTiles(ctx, multiply)) {
+            // (drawn)
+        } else if (multiply)
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height,
                             kMultiplyState, [] {});
         else
@@ -207,6 +219,90 @@ void PcssShadow::execute(const FrameContext& ctx, bool multiply) {
     ctx.addCounter("pcss_caster_near",
                    f.faces[0].present ? f.faces[0].casterNear : f.faces[1].casterNear);
     ctx.addCounter("pcss_casters", static_cast<double>(mObjects.size()));
+}
+
+bool PcssShadow::drawLookupOverTiles(const FrameContext& ctx, bool multiply) {
+    const SurfaceTiles* tiles = ctx.scratch ? ctx.scratch->surfaceTiles.get() : nullptr;
+    const int width = ctx.targets.width, height = ctx.targets.height;
+    if (!tiles || mPixels != Pixels::All || tiles->tile <= 0 ||
+        tiles->tilesX * tiles->tile < width || tiles->tilesY * tiles->tile < height ||
+        tiles->boxes.size() != static_cast<std::size_t>(tiles->tilesX) * tiles->tilesY)
+        return false;
+    // The lookup's own reach test (a pixel whose segment to the light's centre misses every
+    // reach box grown by the light's half extents is lit), for a whole tile: no segment from
+    // its surface box to the centre meets one (geometry::sweepMeetsBox). A tile that fails it
+    // holds no pixel that passes, so V is what the lookup over the screen gives. Runs of tiles
+    // of one kind along a row are drawn as one rectangle.
+    const glm::vec3 half = glm::abs(ctx.light.u) + glm::abs(ctx.light.v);
+    std::vector<geometry::Aabb> grown;
+    for (const geometry::Aabb& box : mCasterBoxes) {
+        geometry::Aabb g;
+        g.extend(box.min - half);
+        g.extend(box.max + half);
+        grown.push_back(g);
+    }
+    const std::vector<TileSphere> spheres = tileSpheres(*tiles); // boxes with a rounding margin
+    std::vector<glm::vec4> reached, other;
+    std::size_t reachedTiles = 0, surfaceTiles = 0;
+    auto ndc = [](int pixel, int size) { return 2.0f * static_cast<float>(pixel) / static_cast<float>(size) - 1.0f; };
+    auto addRun = [&](std::vector<glm::vec4>& to, int tx0, int tx1, int ty) {
+        const int x0 = tx0 * tiles->tile, x1 = std::min(width, tx1 * tiles->tile);
+        const int y0 = ty * tiles->tile, y1 = std::min(height, (ty + 1) * tiles->tile);
+        if (x1 > x0 && y1 > y0)
+            to.push_back({ndc(x0, width), ndc(y0, height), ndc(x1, width), ndc(y1, height)});
+    };
+    for (int ty = 0; ty < tiles->tilesY; ++ty) {
+        int runStart = 0, runKind = 0; // 0: no surface, 1: reached, 2: surface not reached
+        for (int tx = 0; tx <= tiles->tilesX; ++tx) {
+            int kind = 0;
+            if (tx < tiles->tilesX) {
+                const TileSphere& t = spheres[static_cast<std::size_t>(ty) * tiles->tilesX + tx];
+                if (!t.box.empty()) {
+                    ++surfaceTiles;
+                    kind = 2;
+                    for (const geometry::Aabb& g : grown)
+                        if (geometry::sweepMeetsBox(t.box, ctx.light.center, g)) {
+                            kind = 1;
+                            ++reachedTiles;
+                            break;
+                        }
+                }
+            }
+            if (tx == tiles->tilesX || kind != runKind) {
+                if (runKind == 1) addRun(reached, runStart, tx, ty);
+                if (runKind == 2) addRun(other, runStart, tx, ty);
+                runStart = tx;
+                runKind = kind;
+            }
+        }
+    }
+    ctx.addCounter(mDeep ? "deep_sm_lookup_tiles" : "pcss_lookup_tiles", static_cast<double>(reachedTiles));
+    ctx.addCounter(mDeep ? "deep_sm_surface_tiles" : "pcss_surface_tiles", static_cast<double>(surfaceTiles));
+    // Pixels no rectangle covers keep V (multiply), or are lit (written).
+    if (!multiply) {
+        const float one = 1.0f;
+        glClearTexImage(ctx.targets.visibility.id(), 0, GL_RED, GL_FLOAT, &one);
+    }
+    const bool horizon = mHorizonTiles.has_value() && !other.empty();
+    const std::size_t count = reached.size() + (horizon ? other.size() : 0);
+    if (count == 0) return true;
+    std::vector<glm::vec4> all = reached;
+    if (horizon) all.insert(all.end(), other.begin(), other.end());
+    mRects.uploadResize(all.data(), all.size() * sizeof(glm::vec4));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SCREEN_RECTS, mRects.id());
+    const PipelineState state = multiply ? kMultiplyState : PipelineState{};
+    if (!reached.empty())
+        mLookupTiles.execute(ctx.targets.visibilityFbo, width, height, state,
+                             [] { glUniform1i(UNIFORM_FIRST_RECT, 0); },
+                             static_cast<GLsizei>(6 * reached.size()));
+    if (horizon) {
+        // The others' rectangles follow the reached ones in the buffer.
+        const GLint first = static_cast<GLint>(reached.size());
+        mHorizonTiles->execute(ctx.targets.visibilityFbo, width, height, state,
+                               [first] { glUniform1i(UNIFORM_FIRST_RECT, first); },
+                               static_cast<GLsizei>(6 * other.size()));
+    }
+    return true;
 }
 
 void PcssShadow::updateFrame(const FrameContext& ctx) {

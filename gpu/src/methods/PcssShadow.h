@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace gpu {
@@ -70,6 +71,10 @@ private:
     // deep-sm: traces and uploads the deep map of the frame's faces.
     void buildDeep(const FrameContext& ctx);
     void deepCounters(const FrameContext& ctx, bool cached, std::uint32_t outside) const;
+    // The lookup over the frame's surface tiles (FrameScratch) that the reach test can pass
+    // for (geometry::sweepMeetsBox), the horizon term alone over the others; false, nothing
+    // drawn, where the tiles are not known (the lookup then covers the screen).
+    bool drawLookupOverTiles(const FrameContext& ctx, bool multiply);
 
     struct Deep; // deep-sm's options, tracer, map and its textures
     std::unique_ptr<Deep> mDeep;
@@ -77,11 +82,16 @@ private:
     int mResolution, mSearchSamples, mFilterSamples;
     PcssShadowPass mShadowPass;
     FullscreenPass mLookup;
+    // The same lookup over rectangles of tiles (tile-rects.vert), and its horizon term alone
+    // for the tiles no caster reaches (HORIZON_ONLY; only with horizon=on).
+    FullscreenPass mLookupTiles;
+    std::optional<FullscreenPass> mHorizonTiles;
     Texture mMaps;
     Framebuffer mFaceFbo[geometry::kPcssFaces];
     glm::vec4 mPattern[PCSS_MAX_SAMPLES];
     Buffer mUniforms;
     Buffer mStats;
+    Buffer mRects; // BINDING_SCREEN_RECTS: the reached tiles' rectangles, then the others'
 
     bool mFitted = false;
     bool mMapsDrawn = false; // the maps hold mFrame's casters (reused while it stands)

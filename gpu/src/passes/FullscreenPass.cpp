@@ -28,14 +28,15 @@ void FullscreenPass::execute(const Framebuffer& target, int width, int height,
 
 void FullscreenPass::execute(const Framebuffer& target, int width, int height,
                              const PipelineState& state,
-                             const std::function<void()>& setUniforms) const {
+                             const std::function<void()>& setUniforms,
+                             GLsizei vertices) const {
     applyState(state);
     glBindFramebuffer(GL_FRAMEBUFFER, target.id());
     glViewport(0, 0, width, height);
     glUseProgram(mProgram.id());
     if (setUniforms) setUniforms();
     glBindVertexArray(mVao.id());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDrawArrays(GL_TRIANGLES, 0, vertices);
 }
 
 } // namespace gpu

@@ -21,9 +21,10 @@ public:
     void execute(const Framebuffer& target, int width, int height,
                  const ScissorRect* scissor = nullptr) const;
     // With a state of the caller's (e.g. a stencil function chosen per draw) and a hook that
-    // sets uniforms once the program is bound.
+    // sets uniforms once the program is bound; `vertices` for a vertex shader that draws more
+    // than the one triangle (tile-rects.vert: 6 per rectangle).
     void execute(const Framebuffer& target, int width, int height, const PipelineState& state,
-                 const std::function<void()>& setUniforms) const;
+                 const std::function<void()>& setUniforms, GLsizei vertices = 3) const;
 
 private:
     Program mProgram;

@@ -260,3 +260,66 @@ TEST(PcssFrame, CasterClustersAroundOpaqueTexelsLeaveTheLampOutsideTheBeams) {
     EXPECT_GT(wholeHolding, 0);
     EXPECT_EQ(clustersHolding, 0);
 }
+
+// sweepMeetsBox against brute force: points of the source box (corners, faces, inside), each
+// segment to the point sampled finely; a hit found by sampling must be reported, and a reported
+// hit must lie within a small distance of some sampled segment point (it is exact).
+TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
+    std::uint32_t state = 12345u;
+    auto rnd = [&] {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<float>(state >> 8) / static_cast<float>(1u << 24);
+    };
+    int hits = 0, misses = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        geometry::Aabb from, box;
+        const glm::vec3 a(rnd() * 4 - 2, rnd() * 4 - 2, rnd() * 4 - 2);
+        from.extend(a);
+        from.extend(a + glm::vec3(rnd(), rnd(), rnd()) * (trial % 4 == 0 ? 0.0f : 1.5f));
+        const glm::vec3 b(rnd() * 4 - 2, rnd() * 4 - 2, rnd() * 4 - 2);
+        box.extend(b);
+        box.extend(b + glm::vec3(rnd(), rnd(), rnd()) * 0.8f);
+        const glm::vec3 to(rnd() * 4 - 2, rnd() * 4 - 2, rnd() * 4 - 2);
+        bool sampled = false;
+        constexpr int n = 12, m = 200;
+        for (int i = 0; i <= n && !sampled; ++i)
+            for (int j = 0; j <= n && !sampled; ++j)
+                for (int k = 0; k <= n && !sampled; ++k) {
+                    const glm::vec3 p = from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
+                    for (int s = 0; s <= m && !sampled; ++s) {
+                        const glm::vec3 q = p + (to - p) * (float(s) / m);
+                        sampled = glm::all(glm::greaterThanEqual(q, box.min)) &&
+                                  glm::all(glm::lessThanEqual(q, box.max));
+                    }
+                }
+        const bool swept = geometry::sweepMeetsBox(from, to, box);
+        if (sampled) {
+            EXPECT_TRUE(swept) << trial;
+        }
+        hits += swept ? 1 : 0;
+        misses += swept ? 0 : 1;
+        if (swept && !sampled) {
+            // Exact: a box grown by the sampling's spacing is met by a sampled segment.
+            geometry::Aabb wider = box;
+            const float h = 0.06f * glm::length(from.max - from.min) + 0.05f;
+            wider.extend(box.min - glm::vec3(h));
+            wider.extend(box.max + glm::vec3(h));
+            bool near = false;
+            for (int i = 0; i <= n && !near; ++i)
+                for (int j = 0; j <= n && !near; ++j)
+                    for (int k = 0; k <= n && !near; ++k) {
+                        const glm::vec3 p = from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
+                        for (int s = 0; s <= m && !near; ++s) {
+                            const glm::vec3 q = p + (to - p) * (float(s) / m);
+                            near = glm::all(glm::greaterThanEqual(q, wider.min)) &&
+                                   glm::all(glm::lessThanEqual(q, wider.max));
+                        }
+                    }
+            EXPECT_TRUE(near) << trial;
+        }
+    }
+    EXPECT_GT(hits, 10); // measured 19 of 400
+    EXPECT_GT(misses, 40);
+    geometry::Aabb none;
+    EXPECT_FALSE(geometry::sweepMeetsBox(none, glm::vec3(0.0f), geometry::Aabb{}));
+}

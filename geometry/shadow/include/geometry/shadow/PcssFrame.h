@@ -124,4 +124,11 @@ float casterNearInFrustum(const PcssFrame& f, int face, glm::vec2 lo, glm::vec2 
 std::vector<Aabb> casterClusters(const Scene& scene, std::span<const std::size_t> objects,
                                  int maxBoxes, AlphaRule rule = AlphaRule::Cutoff);
 
+// Whether a segment from some point of box `from` to the point `to` meets `box`: the union of
+// the boxes (1 - s) from + s to, s in [0, 1] (the hull of `from` and `to`), tested per axis as
+// an interval of s. Exact up to rounding. pcss's reach test per pixel is the case of a box of
+// one point (to the light's centre, against a caster box grown by the light's half extents);
+// per screen tile, of the tile's surface box.
+bool sweepMeetsBox(const Aabb& from, const glm::vec3& to, const Aabb& box);
+
 } // namespace geometry
