@@ -16,7 +16,8 @@ out vec2 vUv;
 void main() {
     vec4 r = rects[uFirstRect + gl_VertexID / 6];
     int k = gl_VertexID % 6; // corners (0, 0) (1, 0) (1, 1), (0, 0) (1, 1) (0, 1)
-    vec2 corner = vec2(k == 1 || k == 2 || k == 4 ? 1.0 : 0.0, k == 2 || k == 4 || k == 5 ? 1.0 : 0.0);
+    vec2 corner = vec2(k == 1 || k == 2 || k == 4 ? 1.0 : 0.0,
+                       k == 2 || k == 4 || k == 5 ? 1.0 : 0.0);
     vec2 p = mix(r.xy, r.zw, corner);
     vUv = 0.5 * p + 0.5;
     gl_Position = vec4(p, 0.0, 1.0);

@@ -181,13 +181,9 @@ void PcssShadow::execute(const FrameContext& ctx, bool multiply) {
             glBindTextureUnit(TEXUNIT_PCSS, mMaps.id());
         }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PCSS_STATS, mStats.id());
-        if (drawLookupOverTiles(ctx, multiply)) {
-            // (drawn)
-        } else if (multiply)
+        if (!drawLookupOverTiles(ctx, multiply)) // else over the whole screen
             mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height,
-                            kMultiplyState, [] {});
-        else
-            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
+                            multiply ? kMultiplyState : PipelineState{}, {});
     }
     // Pixels in no face, pixels shaded (OUTSIDE_OCCLUSION), pixels whose blockers lay outside
     // their pyramid to the light (lit), pixels a caster's box could reach.
@@ -244,7 +240,9 @@ bool PcssShadow::drawLookupOverTiles(const FrameContext& ctx, bool multiply) {
     const std::vector<TileSphere> spheres = tileSpheres(*tiles); // boxes with a rounding margin
     std::vector<glm::vec4> reached, other;
     std::size_t reachedTiles = 0, surfaceTiles = 0;
-    auto ndc = [](int pixel, int size) { return 2.0f * static_cast<float>(pixel) / static_cast<float>(size) - 1.0f; };
+    auto ndc = [](int pixel, int size) {
+        return 2.0f * static_cast<float>(pixel) / static_cast<float>(size) - 1.0f;
+    };
     auto addRun = [&](std::vector<glm::vec4>& to, int tx0, int tx1, int ty) {
         const int x0 = tx0 * tiles->tile, x1 = std::min(width, tx1 * tiles->tile);
         const int y0 = ty * tiles->tile, y1 = std::min(height, (ty + 1) * tiles->tile);
@@ -276,8 +274,10 @@ bool PcssShadow::drawLookupOverTiles(const FrameContext& ctx, bool multiply) {
             }
         }
     }
-    ctx.addCounter(mDeep ? "deep_sm_lookup_tiles" : "pcss_lookup_tiles", static_cast<double>(reachedTiles));
-    ctx.addCounter(mDeep ? "deep_sm_surface_tiles" : "pcss_surface_tiles", static_cast<double>(surfaceTiles));
+    ctx.addCounter(mDeep ? "deep_sm_lookup_tiles" : "pcss_lookup_tiles",
+                   static_cast<double>(reachedTiles));
+    ctx.addCounter(mDeep ? "deep_sm_surface_tiles" : "pcss_surface_tiles",
+                   static_cast<double>(surfaceTiles));
     // Pixels no rectangle covers keep V (multiply), or are lit (written).
     if (!multiply) {
         const float one = 1.0f;

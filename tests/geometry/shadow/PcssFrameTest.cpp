@@ -285,7 +285,8 @@ TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
         for (int i = 0; i <= n && !sampled; ++i)
             for (int j = 0; j <= n && !sampled; ++j)
                 for (int k = 0; k <= n && !sampled; ++k) {
-                    const glm::vec3 p = from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
+                    const glm::vec3 p =
+                        from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
                     for (int s = 0; s <= m && !sampled; ++s) {
                         const glm::vec3 q = p + (to - p) * (float(s) / m);
                         sampled = glm::all(glm::greaterThanEqual(q, box.min)) &&
@@ -308,7 +309,8 @@ TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
             for (int i = 0; i <= n && !near; ++i)
                 for (int j = 0; j <= n && !near; ++j)
                     for (int k = 0; k <= n && !near; ++k) {
-                        const glm::vec3 p = from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
+                        const glm::vec3 p =
+                        from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
                         for (int s = 0; s <= m && !near; ++s) {
                             const glm::vec3 q = p + (to - p) * (float(s) / m);
                             near = glm::all(glm::greaterThanEqual(q, wider.min)) &&
