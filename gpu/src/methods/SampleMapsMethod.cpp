@@ -14,6 +14,7 @@
 #include "engine/Method.h"
 #include "engine/MethodOptions.h"
 #include "engine/ShaderBindings.h"
+#include "methods/MethodUtil.h"
 #include "passes/FullscreenPass.h"
 #include "passes/SampleMapPass.h"
 
@@ -112,7 +113,15 @@ public:
         }
     }
 
-    void execute(const FrameContext& ctx) override {
+    void execute(const FrameContext& ctx) override { run(ctx, false); }
+    bool executeMultiplied(const FrameContext& ctx) override {
+        run(ctx, true); // the lookup writes every pixel once
+        return true;
+    }
+
+private:
+    // `multiply`: the lookup multiplies V into the target's instead of writing it.
+    void run(const FrameContext& ctx, bool multiply) {
         update(ctx);
         const geometry::SampleMapFrame& f = mFrame;
         shader::SampleMapUniforms u{};
@@ -157,7 +166,8 @@ public:
             }
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SAMPLE_MAP_VIEWS, mViews.id());
             if (mLights) glBindTextureUnit(TEXUNIT_LINEAR_SKINS, mSkins.id());
-            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height);
+            mLookup.execute(ctx.targets.visibilityFbo, ctx.targets.width, ctx.targets.height,
+                            multiply ? kMultiplyState : PipelineState{}, {});
         }
         std::uint32_t stats[SAMPLE_MAP_STAT_COUNT] = {};
         if (mOptions.earlyOut) {
