@@ -40,9 +40,10 @@
 // 1 - T: the blocker search weights each texel's nearest depth by it, the filter sums T. The
 // same frame, patterns, offsets and horizon as pcss's.
 //
-// Drawn over tiles (tile-rects.vert) where the frame's surface tiles are known: the tiles no
-// caster's shadow cone can reach skip this lookup, and with HORIZON get the horizon term alone
-// (HORIZON_ONLY).
+// Drawn over tiles (tile-rects.vert) where the frame's surface tiles are known: a tile whose
+// surface box, swept to the light's centre, meets no reach box (geometry::sweepMeetsBox: no
+// pixel of it passes the reach test below) skips this lookup, and with HORIZON gets the horizon
+// term alone (HORIZON_ONLY).
 //
 // OUTSIDE_OCCLUSION: the occlusion method's fallback. Only the pixels its slicing frustum does
 // not cover (occlusionCovers: behind or in the light's plane, beyond the capped frustum) are
@@ -399,7 +400,7 @@ void main() {
         return;
     }
 #ifdef HORIZON_ONLY
-    // A tile no caster's shadow cone reaches (PcssShadow::execute): the horizon term alone.
+    // A tile no reach box's sweep meets (PcssShadow::drawLookupOverTiles): the horizon alone.
     oVisibility = clamp(horizonFraction(position.xyz, texelFetch(tNormal, px, 0).xyz), 0.0, 1.0);
     return;
 #endif

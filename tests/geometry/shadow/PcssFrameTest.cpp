@@ -281,7 +281,7 @@ TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
         box.extend(b + glm::vec3(rnd(), rnd(), rnd()) * 0.8f);
         const glm::vec3 to(rnd() * 4 - 2, rnd() * 4 - 2, rnd() * 4 - 2);
         bool sampled = false;
-        constexpr int n = 12, m = 200;
+        constexpr int n = 8, m = 120;
         for (int i = 0; i <= n && !sampled; ++i)
             for (int j = 0; j <= n && !sampled; ++j)
                 for (int k = 0; k <= n && !sampled; ++k) {
@@ -302,7 +302,7 @@ TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
         if (swept && !sampled) {
             // Exact: a box grown by the sampling's spacing is met by a sampled segment.
             geometry::Aabb wider = box;
-            const float h = 0.06f * glm::length(from.max - from.min) + 0.05f;
+            const float h = 0.07f * glm::length(from.max - from.min) + 0.05f;
             wider.extend(box.min - glm::vec3(h));
             wider.extend(box.max + glm::vec3(h));
             bool near = false;
