@@ -134,16 +134,12 @@ void PcssShadow::execute(const FrameContext& ctx, bool multiply) {
                   static_cast<float>(mResolution), 1.0f / static_cast<float>(mResolution));
     for (int i = 0; i < PCSS_MAX_SAMPLES; ++i)
         u.pattern[i] = mPattern[i];
-    {
-        // A point of the segment from P to a light point c + d lies within |d| of the segment
-        // from P to c, per axis within the light's half extent.
-        const glm::vec3 half = glm::abs(ctx.light.u) + glm::abs(ctx.light.v);
-        for (std::size_t k = 0; k < mCasterBoxes.size(); ++k) {
-            u.reach[2 * k] = glm::vec4(mCasterBoxes[k].min - half, 0.0f);
-            u.reach[2 * k + 1] = glm::vec4(mCasterBoxes[k].max + half, 0.0f);
-        }
-        u.params2 = glm::vec4(static_cast<float>(mCasterBoxes.size()), 0.0f, 0.0f, 0.0f);
+    mReach = reachBoxes(ctx.light);
+    for (std::size_t k = 0; k < mReach.size(); ++k) {
+        u.reach[2 * k] = glm::vec4(mReach[k].min, 0.0f);
+        u.reach[2 * k + 1] = glm::vec4(mReach[k].max, 0.0f);
     }
+    u.params2 = glm::vec4(static_cast<float>(mReach.size()), 0.0f, 0.0f, 0.0f);
     mUniforms.upload(&u, sizeof(u));
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_PCSS_UBO, mUniforms.id());
 
@@ -217,6 +213,20 @@ void PcssShadow::execute(const FrameContext& ctx, bool multiply) {
     ctx.addCounter("pcss_casters", static_cast<double>(mObjects.size()));
 }
 
+std::vector<geometry::Aabb> PcssShadow::reachBoxes(const geometry::RectLight& light) const {
+    // A point of the segment from P to a light point c + d lies within |d| of the segment from
+    // P to c, per axis within the light's half extent.
+    const glm::vec3 half = glm::abs(light.u) + glm::abs(light.v);
+    std::vector<geometry::Aabb> grown;
+    for (const geometry::Aabb& box : mCasterBoxes) {
+        geometry::Aabb g;
+        g.extend(box.min - half);
+        g.extend(box.max + half);
+        grown.push_back(g);
+    }
+    return grown;
+}
+
 bool PcssShadow::drawLookupOverTiles(const FrameContext& ctx, bool multiply) {
     const SurfaceTiles* tiles = ctx.scratch ? ctx.scratch->surfaceTiles.get() : nullptr;
     const int width = ctx.targets.width, height = ctx.targets.height;
@@ -229,14 +239,6 @@ bool PcssShadow::drawLookupOverTiles(const FrameContext& ctx, bool multiply) {
     // its surface box to the centre meets one (geometry::sweepMeetsBox). A tile that fails it
     // holds no pixel that passes, so V is what the lookup over the screen gives. Runs of tiles
     // of one kind along a row are drawn as one rectangle.
-    const glm::vec3 half = glm::abs(ctx.light.u) + glm::abs(ctx.light.v);
-    std::vector<geometry::Aabb> grown;
-    for (const geometry::Aabb& box : mCasterBoxes) {
-        geometry::Aabb g;
-        g.extend(box.min - half);
-        g.extend(box.max + half);
-        grown.push_back(g);
-    }
     const std::vector<TileSphere> spheres = tileSpheres(*tiles); // boxes with a rounding margin
     std::vector<glm::vec4> reached, other;
     std::size_t reachedTiles = 0, surfaceTiles = 0;
@@ -258,7 +260,7 @@ bool PcssShadow::drawLookupOverTiles(const FrameContext& ctx, bool multiply) {
                 if (!t.box.empty()) {
                     ++surfaceTiles;
                     kind = 2;
-                    for (const geometry::Aabb& g : grown)
+                    for (const geometry::Aabb& g : mReach) // this frame's, as the shader's
                         if (geometry::sweepMeetsBox(t.box, ctx.light.center, g)) {
                             kind = 1;
                             ++reachedTiles;

@@ -75,6 +75,9 @@ private:
     // for (geometry::sweepMeetsBox), the horizon term alone over the others; false, nothing
     // drawn, where the tiles are not known (the lookup then covers the screen).
     bool drawLookupOverTiles(const FrameContext& ctx, bool multiply);
+    // mCasterBoxes grown by `light`'s half extents: the reach test's boxes (the shader's per
+    // pixel, drawLookupOverTiles's per tile; kept for the frame in mReach).
+    std::vector<geometry::Aabb> reachBoxes(const geometry::RectLight& light) const;
 
     struct Deep; // deep-sm's options, tracer, map and its textures
     std::unique_ptr<Deep> mDeep;
@@ -99,6 +102,7 @@ private:
     std::vector<std::uint32_t> mSubset;
     std::vector<std::size_t> mObjects;
     std::vector<geometry::Aabb> mCasterBoxes; // geometry::casterClusters of mObjects
+    std::vector<geometry::Aabb> mReach;       // this frame's reachBoxes
     geometry::PcssFrame mFrame;
 };
 

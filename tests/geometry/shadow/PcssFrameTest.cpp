@@ -280,19 +280,24 @@ TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
         box.extend(b);
         box.extend(b + glm::vec3(rnd(), rnd(), rnd()) * 0.8f);
         const glm::vec3 to(rnd() * 4 - 2, rnd() * 4 - 2, rnd() * 4 - 2);
-        bool sampled = false;
+        // Whether a sampled segment (grid points of `from` to `to`) has a point in `b`.
         constexpr int n = 8, m = 120;
-        for (int i = 0; i <= n && !sampled; ++i)
-            for (int j = 0; j <= n && !sampled; ++j)
-                for (int k = 0; k <= n && !sampled; ++k) {
-                    const glm::vec3 p =
-                        from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
-                    for (int s = 0; s <= m && !sampled; ++s) {
-                        const glm::vec3 q = p + (to - p) * (float(s) / m);
-                        sampled = glm::all(glm::greaterThanEqual(q, box.min)) &&
-                                  glm::all(glm::lessThanEqual(q, box.max));
+        auto sampledMeet = [&](const geometry::Aabb& b) {
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n; ++j)
+                    for (int k = 0; k <= n; ++k) {
+                        const glm::vec3 p =
+                            from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
+                        for (int s = 0; s <= m; ++s) {
+                            const glm::vec3 q = p + (to - p) * (float(s) / m);
+                            if (glm::all(glm::greaterThanEqual(q, b.min)) &&
+                                glm::all(glm::lessThanEqual(q, b.max)))
+                                return true;
+                        }
                     }
-                }
+            return false;
+        };
+        const bool sampled = sampledMeet(box);
         const bool swept = geometry::sweepMeetsBox(from, to, box);
         if (sampled) {
             EXPECT_TRUE(swept) << trial;
@@ -305,19 +310,7 @@ TEST(PcssFrame, SweepMeetsBoxAgreesWithSampledSegments) {
             const float h = 0.07f * glm::length(from.max - from.min) + 0.05f;
             wider.extend(box.min - glm::vec3(h));
             wider.extend(box.max + glm::vec3(h));
-            bool near = false;
-            for (int i = 0; i <= n && !near; ++i)
-                for (int j = 0; j <= n && !near; ++j)
-                    for (int k = 0; k <= n && !near; ++k) {
-                        const glm::vec3 p =
-                        from.min + (from.max - from.min) * glm::vec3(i, j, k) / float(n);
-                        for (int s = 0; s <= m && !near; ++s) {
-                            const glm::vec3 q = p + (to - p) * (float(s) / m);
-                            near = glm::all(glm::greaterThanEqual(q, wider.min)) &&
-                                   glm::all(glm::lessThanEqual(q, wider.max));
-                        }
-                    }
-            EXPECT_TRUE(near) << trial;
+            EXPECT_TRUE(sampledMeet(wider)) << trial;
         }
     }
     EXPECT_GT(hits, 10); // measured 19 of 400
